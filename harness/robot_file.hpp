@@ -1,0 +1,37 @@
+#pragma once
+/// @file robot_file.hpp
+/// Reading robot files (YAML, design.md "Robot file"): a POE or a D-H description. Every error is a
+/// RobotFileError whose message reads `FILE: what is wrong` (with the YAML line where there is one).
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "lowpair/model.hpp"
+
+namespace lowpair {
+
+class RobotFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RobotFile {
+  std::string path;
+  std::string name;
+  std::string length_unit = "";
+  std::string angle_unit = "rad";  ///< "rad" or "deg": offsets, D-H angles, revolute ranges, pitch per angle
+  std::string description;
+  std::optional<PoeModel> poe;  ///< exactly one of poe / dh is set
+  std::optional<DhModel> dh;
+
+  double angleFactor() const;  ///< radians per angle_unit
+  int dof() const { return poe ? poe->dof() : dh->dof(); }
+  /// The POE model, converting the D-H description when that is what the file holds.
+  PoeModel poeModel() const;
+};
+
+/// @throws RobotFileError
+RobotFile readRobotFile(const std::string& path);
+
+}  // namespace lowpair

@@ -1,0 +1,328 @@
+#include "lowpair/convert.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "lowpair/check.hpp"
+#include "lowpair/kinematics.hpp"
+#include "lowpair/se3.hpp"
+#include "lowpair/tolerances.hpp"
+
+namespace lowpair {
+
+double wrapAngle(double angle) {
+  double out = std::remainder(angle, 2.0 * M_PI);  // [-pi, pi]
+  if (out <= -M_PI) out += 2.0 * M_PI;
+  return out;
+}
+
+namespace {
+
+struct Tolerances {
+  double parallel;  // on sin(alpha)
+  double length;    // snap lengths below this
+};
+
+double snapAngle(double angle) {
+  double x = wrapAngle(angle);
+  if (std::abs(x) <= kSnapAngle) return 0.0;  // also turns -0 into +0
+  if (M_PI - std::abs(x) <= kSnapAngle) return M_PI;
+  return x;
+}
+
+double snapLength(double x, double tol) { return std::abs(x) <= tol ? 0.0 : x; }
+
+DhParams canonical(const DhParams& row, const Tolerances& tol) {
+  return {snapAngle(row.theta), snapLength(row.d, tol.length), snapAngle(row.alpha), snapLength(row.a, tol.length)};
+}
+
+// Lemmas 1-3: the row A(theta, d, alpha, a) whose z axis is the joint's line, from the joint's unit
+// twist expressed in the current frame. For a revolute/helical joint only the line matters (the moment
+// m = v - h w); for a prismatic joint only the direction.
+DhParams rowFromTwist(JointType type, const Vec6& xi, double pitch, const Tolerances& tol, bool& parallel) {
+  DhParams row;
+  if (type == JointType::Prismatic) {
+    const Vec3 u = xi.tail<3>().normalized();
+    const double s = std::hypot(u.x(), u.y());
+    parallel = s <= tol.parallel;
+    if (parallel) {
+      row.alpha = u.z() > 0.0 ? 0.0 : M_PI;
+    } else {
+      row.alpha = std::atan2(s, u.z());
+      row.theta = std::atan2(u.x(), -u.y());
+    }
+    return row;
+  }
+  const Vec3 w = xi.head<3>().normalized();
+  const Vec3 m = xi.tail<3>() - pitch * w;  // p x w
+  const double s = std::hypot(w.x(), w.y());
+  parallel = s <= tol.parallel;
+  if (parallel) {
+    // z is (anti)parallel to the axis: d is free (0); the axis pierces the xy plane at
+    // (a cos theta, a sin theta) = sign(w3) (-m2, m1).
+    row.alpha = w.z() > 0.0 ? 0.0 : M_PI;
+    const double sign = w.z() > 0.0 ? 1.0 : -1.0;
+    const double px = -sign * m.y(), py = sign * m.x();
+    row.a = std::hypot(px, py);
+    row.theta = row.a <= tol.length ? 0.0 : std::atan2(py, px);
+    return row;
+  }
+  // eq. 17: a sin(alpha) = -m3 fixes the sign of alpha so that a >= 0.
+  const double a_sin_alpha = -m.z();
+  const double abs_alpha = std::atan2(s, w.z());
+  const bool intersecting = std::abs(a_sin_alpha) / s <= tol.length;
+  const double sign = (intersecting || a_sin_alpha > 0.0) ? 1.0 : -1.0;
+  row.alpha = sign * abs_alpha;
+  row.a = intersecting ? 0.0 : std::abs(a_sin_alpha) / s;
+  row.theta = std::atan2(sign * w.x(), -sign * w.y());
+  row.d = (w.x() * m.y() - w.y() * m.x()) / (s * s);
+  return row;
+}
+
+// Lemma 4: M = Rz(theta) Tz(d) Rx(alpha) Tx(a) Rz(theta_T) Tz(d_T), alpha in [0, pi].
+void splitTool(const Pose& M, const Tolerances& tol, DhParams& row, double& tool_theta, double& tool_d,
+               bool& parallel) {
+  const Mat3& R = M.R;
+  const Vec3& p = M.p;
+  const double s = std::hypot(R(0, 2), R(1, 2));
+  parallel = s <= tol.parallel;
+  if (parallel) {
+    row.alpha = R(2, 2) > 0.0 ? 0.0 : M_PI;
+    row.a = std::hypot(p.x(), p.y());
+    row.theta = row.a <= tol.length ? 0.0 : std::atan2(p.y(), p.x());
+    row.d = p.z();
+    tool_d = 0.0;
+    const double phi = std::atan2(R(1, 0), R(0, 0));  // Rz(phi) = R (alpha 0) or R Rx(pi) (alpha pi)
+    tool_theta = row.alpha == 0.0 ? phi - row.theta : row.theta - phi;
+    return;
+  }
+  // theta from the third column; alpha and theta_T from N = Rz(-theta) R = Rx(alpha) Rz(theta_T), so that
+  // the rounding in theta (relative eps / sin(alpha) when alpha is small) is absorbed by theta_T instead
+  // of rotating the tool.
+  row.theta = std::atan2(R(0, 2), -R(1, 2));
+  const double ct = std::cos(row.theta), st = std::sin(row.theta);
+  Mat3 N;
+  N.row(0) = ct * R.row(0) + st * R.row(1);
+  N.row(1) = -st * R.row(0) + ct * R.row(1);
+  N.row(2) = R.row(2);
+  row.alpha = std::atan2(-N(1, 2), N(2, 2));
+  const double c_alpha = std::cos(row.alpha), s_alpha = std::sin(row.alpha);
+  // Rx(-alpha) N = Rz(theta_T)
+  tool_theta = std::atan2(c_alpha * N(1, 0) + s_alpha * N(2, 0), N(0, 0));
+  const Vec3 b(ct * p.x() + st * p.y(), -st * p.x() + ct * p.y(), p.z());  // Rz(-theta) p
+  row.a = b.x();
+  tool_d = -b.y() / s_alpha;
+  row.d = b.z() - c_alpha * tool_d;
+}
+
+double lineAngle(double alpha) {
+  const double x = std::abs(wrapAngle(alpha));
+  return std::min(x, M_PI - x);
+}
+
+}  // namespace
+
+DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
+  const int n = model.dof();
+  LP_CHECK(n >= 1, "poeToDh: the model has no joints");
+  LP_CHECK(std::isfinite(options.parallel_threshold) && options.parallel_threshold >= 0.0 &&
+               options.parallel_threshold < 1.0,
+           "poeToDh: parallel_threshold must be in [0, 1), got " << options.parallel_threshold);
+  const double L = model.size();
+  Tolerances tol;
+  tol.parallel = options.parallel_threshold > 0.0 ? options.parallel_threshold : kParallelPerJoint * kEps * n;
+  tol.length = kSnapLength * L;
+
+  std::vector<DhRowReport> reports(static_cast<size_t>(n + 1));
+  std::vector<DhParams> rows(static_cast<size_t>(n + 1));
+  Pose G;  // T_base_frame of the rows found so far
+  for (int i = 0; i < n; ++i) {
+    const Joint& j = model.joint(i);
+    const Vec6 xi = adjointApply(G.inverse(), j.twist);
+    bool parallel = false;
+    const DhParams row = canonical(rowFromTwist(j.type, xi, j.pitch, tol, parallel), tol);
+    rows[static_cast<size_t>(i)] = row;
+    reports[static_cast<size_t>(i)].parallel = parallel;
+    G = G * dhTransform(row);  // snap, then compose
+  }
+  DhParams last;
+  double tool_theta = 0.0, tool_d = 0.0;
+  bool parallel = false;
+  splitTool(G.inverse() * model.toolPose(), tol, last, tool_theta, tool_d, parallel);
+  rows[static_cast<size_t>(n)] = canonical(last, tol);
+  reports[static_cast<size_t>(n)].parallel = parallel;
+  tool_theta = snapAngle(tool_theta);
+  tool_d = snapLength(tool_d, tol.length);
+
+  std::vector<DhJoint> joints(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const Joint& j = model.joint(i);
+    DhJoint& dj = joints[static_cast<size_t>(i)];
+    dj.name = j.name;
+    dj.type = j.type;
+    dj.pitch = j.pitch;
+    dj.scale = j.scale;
+    dj.range = j.range;
+    dj.link = rows[static_cast<size_t>(i + 1)];
+    // fold the offset: Q_i(scale dq) A(link_i) = A(theta + j c, d + k c, alpha, a), c = scale dq
+    const double c = j.scale * j.offset;
+    if (c != 0.0) {
+      if (j.type == JointType::Prismatic) {
+        dj.link.d = snapLength(dj.link.d + c, tol.length);
+      } else {
+        dj.link.theta = snapAngle(dj.link.theta + c);
+        if (j.type == JointType::Helical) dj.link.d = snapLength(dj.link.d + j.pitch * c, tol.length);
+      }
+    }
+  }
+
+  DhConversion out{DhModel(rows[0], std::move(joints), tool_theta, tool_d, model.name()), L, tol.parallel, {}, {}, {}};
+  double scale = L;
+  auto consider = [&](const DhParams& r, int row_index) {
+    DhRowReport& rep = reports[static_cast<size_t>(row_index)];
+    rep.row = row_index;
+    rep.axis_angle = lineAngle(r.alpha);
+    const double biggest = std::max(std::abs(r.d), std::abs(r.a));
+    scale = std::max(scale, biggest);
+    rep.ill_conditioned = biggest > kIllConditioned * L;
+    if (rep.ill_conditioned) {
+      std::ostringstream msg;
+      msg.precision(3);
+      const std::string what = row_index == 0 ? std::string("base row (joint 1's axis)")
+                                              : "row of " + jointLabel(row_index - 1, model.joint(row_index - 1).name);
+      msg << what << ": |d| = " << std::abs(r.d) << ", |a| = " << std::abs(r.a) << " exceed " << kIllConditioned
+          << " L (L = " << L << "); the line before and after this row meet at " << rep.axis_angle
+          << " rad: nearly parallel axes make the D-H table ill-conditioned (Wu et al. §V)";
+      out.warnings.push_back(msg.str());
+    }
+  };
+  consider(out.model.base(), 0);
+  for (int i = 0; i < n; ++i) consider(out.model.joint(i).link, i + 1);
+  if (std::abs(tool_d) > kIllConditioned * L) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "tool: |d_T| = " << std::abs(tool_d) << " exceeds " << kIllConditioned
+        << " L: the last joint axis is nearly parallel to the tool z axis";
+    out.warnings.push_back(msg.str());
+  }
+  scale = std::max(scale, std::abs(tool_d));
+  out.rows = std::move(reports);
+  out.fk_check.scale = scale;
+
+  if (options.fk_check_samples > 0) {
+    std::mt19937_64 rng(0x10a7a1);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    PoeData poe(model);
+    DhData dh(out.model);
+    VecX q = VecX::Zero(n);
+    for (int s = 0; s <= options.fk_check_samples; ++s) {
+      if (s > 0) {
+        for (int i = 0; i < n; ++i) {
+          const Joint& j = model.joint(i);
+          if (j.range) {
+            const auto& r = *j.range;
+            q[i] = r[0] + 0.5 * (unit(rng) + 1.0) * (r[1] - r[0]);
+          } else {
+            q[i] = unit(rng) * (j.type == JointType::Prismatic ? L / j.scale : M_PI);
+          }
+        }
+      } else {
+        for (int i = 0; i < n; ++i) q[i] = -model.joint(i).offset;
+      }
+      forwardKinematics(model, poe, q);
+      forwardKinematics(out.model, dh, q);
+      out.fk_check.max_rotation = std::max(out.fk_check.max_rotation, rotationError(poe.T_base_tool.R, dh.T_base_tool.R));
+      out.fk_check.max_translation = std::max(out.fk_check.max_translation, (poe.T_base_tool.p - dh.T_base_tool.p).norm());
+    }
+    out.fk_check.samples = options.fk_check_samples + 1;
+  }
+  if (options.parallel_threshold > kParallelPerJoint * kEps * n) {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "parallel threshold " << options.parallel_threshold << " is above rounding level ("
+        << kParallelPerJoint * kEps * n << "): nearly parallel axes were snapped; FK deviation "
+        << out.fk_check.max_translation << " (length), " << out.fk_check.max_rotation << " rad over "
+        << out.fk_check.samples << " configurations";
+    out.warnings.push_back(msg.str());
+  }
+  return out;
+}
+
+PoeModel dhToPoe(const DhModel& model) {
+  std::vector<Joint> joints;
+  Pose G = dhTransform(model.base());
+  for (const DhJoint& dj : model.joints()) {
+    Joint j;
+    j.name = dj.name;
+    j.type = dj.type;
+    j.pitch = dj.type == JointType::Helical ? dj.pitch : 0.0;
+    j.scale = dj.scale;
+    j.range = dj.range;
+    const Vec3 z = G.R.col(2);
+    if (dj.type == JointType::Prismatic) {
+      j.twist << Vec3::Zero(), z;
+    } else {
+      j.twist << z, G.p.cross(z) + j.pitch * z;
+    }
+    joints.push_back(j);
+    G = G * dhTransform(dj.link);
+  }
+  return PoeModel(std::move(joints), G * dhToolTransform(model.toolTheta(), model.toolD()), model.name());
+}
+
+ModifiedDh toModifiedDh(const DhModel& model) {
+  ModifiedDh out;
+  out.base_theta = model.base().theta;
+  out.base_d = model.base().d;
+  double alpha = model.base().alpha, a = model.base().a;
+  for (const DhJoint& dj : model.joints()) {
+    ModifiedDhJoint mj;
+    mj.name = dj.name;
+    mj.type = dj.type;
+    mj.alpha = alpha;
+    mj.a = a;
+    mj.theta = dj.link.theta;
+    mj.d = dj.link.d;
+    mj.pitch = dj.pitch;
+    mj.scale = dj.scale;
+    out.joints.push_back(mj);
+    alpha = dj.link.alpha;
+    a = dj.link.a;
+  }
+  out.tool_alpha = alpha;
+  out.tool_a = a;
+  out.tool_theta = model.toolTheta();
+  out.tool_d = model.toolD();
+  return out;
+}
+
+namespace {
+Pose rxTx(double alpha, double a) {
+  const double c = std::cos(alpha), s = std::sin(alpha);
+  Pose T;
+  T.R << 1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c;
+  T.p << a, 0.0, 0.0;
+  return T;
+}
+}  // namespace
+
+Pose modifiedDhForwardKinematics(const ModifiedDh& model, const Eigen::Ref<const VecX>& q) {
+  Pose T = dhToolTransform(model.base_theta, model.base_d);
+  for (size_t i = 0; i < model.joints.size(); ++i) {
+    const ModifiedDhJoint& j = model.joints[i];
+    const double x = j.scale * q[static_cast<Eigen::Index>(i)];
+    double theta = j.theta, d = j.d;
+    if (j.type == JointType::Prismatic) {
+      d += x;
+    } else {
+      theta += x;
+      if (j.type == JointType::Helical) d += j.pitch * x;
+    }
+    T = T * rxTx(j.alpha, j.a) * dhToolTransform(theta, d);
+  }
+  return T * rxTx(model.tool_alpha, model.tool_a) * dhToolTransform(model.tool_theta, model.tool_d);
+}
+
+}  // namespace lowpair

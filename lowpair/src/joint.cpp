@@ -1,0 +1,68 @@
+#include "lowpair/joint.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "lowpair/check.hpp"
+#include "lowpair/tolerances.hpp"
+
+namespace lowpair {
+
+std::string jointLabel(int index, const std::string& name) {
+  std::ostringstream out;
+  out << "joint " << index + 1;
+  if (!name.empty()) out << " (" << name << ")";
+  return out.str();
+}
+
+Joint normalizeJoint(const JointSpec& spec, int index) {
+  const std::string label = jointLabel(index, spec.name);
+  LP_CHECK(spec.twist.allFinite(), label << ": twist has a non-finite entry");
+  LP_CHECK(std::isfinite(spec.offset), label << ": offset is not finite");
+  if (spec.range) {
+    const auto& r = *spec.range;
+    LP_CHECK(std::isfinite(r[0]) && std::isfinite(r[1]), label << ": range is not finite");
+    LP_CHECK(r[0] <= r[1], label << ": range [" << r[0] << ", " << r[1] << "] has lo > hi");
+  }
+  Joint j;
+  j.name = spec.name;
+  j.offset = spec.offset;
+  j.range = spec.range;
+  const Vec3 w = spec.twist.head<3>();
+  const Vec3 v = spec.twist.tail<3>();
+  const double w_norm = w.norm();
+  const double v_norm = v.norm();
+  if (w_norm == 0.0) {
+    LP_CHECK(v_norm > 0.0, label << ": twist is zero");
+    LP_CHECK(!spec.type || *spec.type == JointType::Prismatic,
+             label << ": declared " << jointTypeName(*spec.type)
+                   << " but its twist has w = 0 (a prismatic joint)");
+    j.type = JointType::Prismatic;
+    j.scale = v_norm;
+    j.twist << Vec3::Zero(), v / v_norm;
+    return j;
+  }
+  LP_CHECK(!spec.type || *spec.type != JointType::Prismatic,
+           label << ": declared prismatic but its twist has w != 0 (|w| = " << w_norm << ")");
+  j.scale = w_norm;
+  Vec3 w_unit = w / w_norm;
+  Vec3 v_unit = v / w_norm;
+  const double pitch = w_unit.dot(v_unit);
+  const bool pitch_is_rounding = std::abs(w.dot(v)) <= kPitchZero * kEps * w_norm * v_norm;
+  JointType type = spec.type ? *spec.type : (pitch_is_rounding ? JointType::Revolute : JointType::Helical);
+  if (type == JointType::Revolute) {
+    LP_CHECK(pitch_is_rounding,
+             label << ": declared revolute but its twist has pitch w.v/|w|^2 = " << pitch
+                   << " (|w.v| / (|w| |v|) = " << std::abs(w.dot(v)) / (w_norm * v_norm)
+                   << ", above the rounding tolerance " << kPitchZero * kEps << "); declare it helical");
+    v_unit -= pitch * w_unit;  // remove the rounding-level pitch
+    j.pitch = 0.0;
+  } else {
+    j.pitch = pitch;
+  }
+  j.type = type;
+  j.twist << w_unit, v_unit;
+  return j;
+}
+
+}  // namespace lowpair

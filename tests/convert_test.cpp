@@ -1,0 +1,328 @@
+// POE -> D-H on the paper's PUMA 560 (Wu et al. Table I -> Table II), degenerate geometry on purpose,
+// canonical output, offsets, the modified export, tool/local forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lowpair/convert.hpp"
+#include "lowpair/kinematics.hpp"
+#include "lowpair/se3.hpp"
+#include "lowpair/tolerances.hpp"
+
+using namespace lowpair;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+Vec6 twist(double a, double b, double c, double d, double e, double f) { return (Vec6() << a, b, c, d, e, f).finished(); }
+
+PoeModel pumaNominal() {
+  std::vector<JointSpec> j(6);
+  j[0].twist = twist(0, 0, 1, 0, 0, 0);
+  j[1].twist = twist(0, -1, 0, 0, 0, 0);
+  j[2].twist = twist(0, -1, 0, 0, 0, -100);
+  j[3].twist = twist(0, 0, -1, -50, 250, 0);
+  j[4].twist = twist(0, -1, 0, -20, 0, -250);
+  j[5].twist = twist(0, 0, -1, -50, 250, 0);
+  return PoeModel::fromToolTwist(j, twist(0, 0, 0, 250, 50, -20), "puma-nominal");
+}
+
+PoeModel pumaActual() {
+  std::vector<JointSpec> j(6);
+  j[0].twist = twist(0.04, -0.02, 0.999, 0.02, 0.04, 0);
+  j[1].twist = twist(0, -1.00002, 0, -0.02, 0, 0.05);
+  j[2].twist = twist(0.178, -0.984, -0.001, -0.07, 0.009, -101);
+  j[3].twist = twist(0.062, 0.013, -0.998, -51, 249, 0.0752);
+  j[4].twist = twist(0.001, -1.00004, 0, -20.6, -0.0206, -249);
+  j[5].twist = twist(0.095, 0.031, -0.995, -51, 249, 0);
+  return PoeModel::fromToolTwist(j, twist(0.02, -0.01, 0.01, 249, 51, -20.6), "puma-actual");
+}
+
+// A printed value and the half unit of its last printed digit.
+struct Printed {
+  double value, half_unit;
+};
+Printed p4(double v) { return {v, 0.5e-4}; }
+
+struct Table2Row {
+  Printed theta, d, alpha, a;
+};
+
+void expectPrinted(double actual, const Printed& printed, const std::string& what) {
+  EXPECT_LE(std::abs(actual - printed.value), printed.half_unit * (1 + 1e-9) + 1e-12)
+      << what << ": got " << actual << ", Table II prints " << printed.value;
+}
+
+void expectRow(const DhParams& r, const Table2Row& t, const std::string& what) {
+  expectPrinted(r.theta / kDeg, t.theta, what + " theta");
+  expectPrinted(r.d, t.d, what + " d");
+  expectPrinted(r.alpha / kDeg, t.alpha, what + " alpha");
+  expectPrinted(r.a, t.a, what + " a");
+}
+
+double fkGap(const PoeModel& poe, const DhModel& dh, const VecX& q) {
+  const Pose a = poeForwardKinematics(poe, q), b = dhForwardKinematics(dh, q);
+  return std::max(rotationError(a.R, b.R), (a.p - b.p).norm() / poe.size());
+}
+
+}  // namespace
+
+TEST(PoeToDh, ReproducesTableIINominal) {
+  const DhConversion c = poeToDh(pumaNominal());
+  const DhModel& m = c.model;
+  expectRow(m.base(), {p4(0), p4(0), p4(0), p4(0)}, "base");
+  const Table2Row rows[6] = {{p4(0), p4(0), p4(90), p4(0)},    {p4(0), p4(0), p4(0), p4(100)},
+                             {p4(0), p4(-50), p4(90), p4(150)}, {p4(180), p4(20), p4(90), p4(0)},
+                             {p4(180), p4(0), p4(90), p4(0)},   {p4(0), p4(0), p4(180), p4(0)}};
+  for (int i = 0; i < 6; ++i) {
+    expectRow(m.joint(i).link, rows[i], "row " + std::to_string(i + 1));
+    EXPECT_EQ(m.joint(i).type, JointType::Revolute);
+    EXPECT_EQ(m.joint(i).scale, 1.0);
+  }
+  // Exactly zero where the paper prints 0 (IEEE atan2(+0, -0) would give 180 degrees).
+  EXPECT_EQ(m.base().theta, 0.0);
+  EXPECT_FALSE(std::signbit(m.base().theta));
+  EXPECT_EQ(m.joint(0).link.theta, 0.0);
+  EXPECT_FALSE(std::signbit(m.joint(0).link.theta));
+  EXPECT_EQ(m.joint(1).link.theta, 0.0);
+  expectPrinted(m.toolTheta() / kDeg, p4(0), "tool theta");
+  expectPrinted(m.toolD(), p4(0), "tool d");
+  EXPECT_TRUE(c.warnings.empty());
+}
+
+TEST(PoeToDh, ReproducesTableIIActual) {
+  const DhConversion c = poeToDh(pumaActual());
+  const DhModel& m = c.model;
+  expectRow(m.base(), {p4(63.4349), p4(1.0000), p4(2.5632), p4(0)}, "base");
+  const Table2Row rows[6] = {
+      {p4(116.5421), p4(-1.0214), p4(-88.8540), p4(0.0092)}, {p4(-88.0290), p4(-567.6554), p4(10.2538), p4(0.5114)},
+      {p4(-86.0527), p4(552.7518), p4(90.0434), p4(153.3035)}, {p4(-169.8271), p4(30.1922), p4(90.7413), p4(1.8365)},
+      {p4(-178.0999), p4(-0.7927), p4(91.7710), p4(3.1761)},  {p4(82.8018), p4(-37.0573), p4(175.0748), p4(-0.7202)}};
+  // pitch in mm/deg and scale, as printed
+  const Printed pitch[6] = {{0, 0}, {0, 0}, {0.0014, 0.5e-4}, {-0.0000009, 0.5e-7}, {0.00000001, 0.5e-8}, {0.0502, 0.5e-4}};
+  const Printed scale[6] = {{1.0000005, 0.5e-7}, {1.00002, 0.5e-5}, {0.99997, 0.5e-5},
+                            {1.000008, 0.5e-6},  {1.00004, 0.5e-5}, {1.000005, 0.5e-6}};
+  const JointType types[6] = {JointType::Revolute, JointType::Revolute, JointType::Helical,
+                              JointType::Helical,  JointType::Helical,  JointType::Helical};
+  for (int i = 0; i < 6; ++i) {
+    const std::string label = "row " + std::to_string(i + 1);
+    expectRow(m.joint(i).link, rows[i], label);
+    EXPECT_EQ(m.joint(i).type, types[i]) << label;
+    expectPrinted(m.joint(i).pitch * kDeg, pitch[i], label + " pitch (mm/deg)");
+    expectPrinted(m.joint(i).scale, scale[i], label + " scale");
+  }
+  expectPrinted(m.toolTheta() / kDeg, p4(83.1872), "tool theta");
+  expectPrinted(m.toolD(), p4(-35.4328), "tool d");
+  EXPECT_LE(c.fk_check.max_rotation, 1e-12);
+  EXPECT_LE(c.fk_check.max_translation, 1e-12 * c.fk_check.scale);
+}
+
+TEST(PoeToDh, PrismaticJointsConvert) {
+  // The authors' MATLAB divides by |w| = 0 here.
+  std::vector<JointSpec> j(4);
+  j[0].twist = twist(0, 0, 0, 0, 0, 2.5);          // prismatic along z, scale 2.5
+  j[1].twist = twist(0, 0, 0, 1, 0, 0);            // prismatic along x, perpendicular
+  j[2].twist = twist(1, 0, 0, 0, 0.3, -0.2);       // revolute parallel to the prismatic x
+  j[3].twist = twist(0, 0, 0, 3, 0, 0);            // prismatic parallel to the revolute axis
+  const PoeModel poe(j, expSE3(twist(0.1, 0.2, 0.3, 1, 2, 3)));
+  const DhConversion c = poeToDh(poe);
+  EXPECT_EQ(c.model.joint(0).type, JointType::Prismatic);
+  EXPECT_DOUBLE_EQ(c.model.joint(0).scale, 2.5);
+  for (const auto& jt : c.model.joints()) EXPECT_TRUE(std::isfinite(jt.link.theta + jt.link.d + jt.link.alpha + jt.link.a));
+  EXPECT_LE(fkGap(poe, c.model, (VecX(4) << 0.3, -0.7, 1.1, 0.2).finished()), 1e-14);
+}
+
+TEST(PoeToDh, ExactlyParallelAndAntiParallelAxes) {
+  std::vector<JointSpec> j(4);
+  j[0].twist = twist(0, 1, 0, 0, 0, 0);
+  j[1].twist = twist(0, 1, 0, -0.5, 0, 0.3);   // parallel
+  j[2].twist = twist(0, -1, 0, 0.2, 0, -0.7);  // anti-parallel
+  j[3].twist = twist(0, 1, 0, -0.5, 0, 0.3);   // collinear with joint 2
+  const PoeModel poe(j, Pose());
+  const DhConversion c = poeToDh(poe);
+  // rows 1..3 are placed by joints 2..4, all parallel to joint 1; row 4 comes from the tool (Lemma 4)
+  EXPECT_TRUE(c.rows[1].parallel);
+  EXPECT_TRUE(c.rows[2].parallel);
+  EXPECT_TRUE(c.rows[3].parallel);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(c.model.joint(i).link.d, 0.0);  // free choice for parallel axes
+    EXPECT_GE(c.model.joint(i).link.a, 0.0);
+  }
+  EXPECT_LE(fkGap(poe, c.model, (VecX(4) << 0.3, -2.7, 1.1, 3.0).finished()), 1e-14);
+}
+
+TEST(PoeToDh, NearlyParallelAxesAreAccurateAndReported) {
+  for (double tilt : {1e-3, 1e-6, 1e-9, 1e-12, 1e-14, 1e-16}) {
+    std::vector<JointSpec> j(3);
+    j[0].twist = twist(0, 0, 1, 0, 0, 0);
+    const Vec3 w = Vec3(std::sin(tilt), 0, std::cos(tilt));
+    const Vec3 p(0.3, 0.4, 0);
+    j[1].twist << w, p.cross(w);
+    j[2].twist = twist(1, 0, 0, 0, 0.1, 0);
+    const PoeModel poe(j, expSE3(twist(0, 0, 0, 0.5, 0.5, 0.2)));
+    const DhConversion c = poeToDh(poe);
+    const double bound = 1e-12 * c.fk_check.scale;
+    EXPECT_LE(c.fk_check.max_translation, bound) << "tilt " << tilt;
+    EXPECT_LE(c.fk_check.max_rotation, 1e-12) << "tilt " << tilt;
+    const bool ill = std::abs(c.model.joint(0).link.d) > kIllConditioned * poe.size();
+    EXPECT_EQ(c.rows[1].ill_conditioned, ill);
+    if (ill) {
+      EXPECT_FALSE(c.warnings.empty());
+    }
+    if (!c.rows[1].parallel) {
+      EXPECT_NEAR(c.rows[1].axis_angle, tilt, 1e-15 + 1e-12 * tilt);
+    }
+  }
+}
+
+TEST(PoeToDh, ParallelThresholdOptionReportsDeviation) {
+  std::vector<JointSpec> j(2);
+  j[0].twist = twist(0, 0, 1, 0, 0, 0);
+  const Vec3 w = Vec3(std::sin(1e-7), 0, std::cos(1e-7));
+  j[1].twist << w, Vec3(0.3, 0.4, 0).cross(w);
+  const PoeModel poe(j, expSE3(twist(0, 0, 0, 0.5, 0.5, 0.2)));
+  ConvertOptions snap;
+  snap.parallel_threshold = 1e-6;
+  const DhConversion c = poeToDh(poe, snap);
+  EXPECT_TRUE(c.rows[1].parallel);
+  EXPECT_GT(c.fk_check.max_translation, 1e-9);  // snapping a 1e-7 rad tilt moves the tool
+  EXPECT_LT(c.fk_check.max_translation, 1e-5);
+  ASSERT_FALSE(c.warnings.empty());
+  EXPECT_NE(c.warnings.back().find("snapped"), std::string::npos);
+}
+
+TEST(PoeToDh, OffsetsFoldIntoThetaAndD) {
+  std::vector<JointSpec> j(3);
+  j[0].twist = twist(0, 0, 2, 0, 0, 0);  // revolute, scale 2
+  j[0].offset = 0.25;
+  j[1].twist = twist(1, 0, 0, 0.4, 0, 0.3);  // helical, pitch 0.4
+  j[1].offset = -0.5;
+  j[2].twist = twist(0, 0, 0, 0, 0, 0.5);  // prismatic, scale 0.5
+  j[2].offset = 0.2;
+  const PoeModel poe(j, expSE3(twist(0.3, 0, 0, 1, 1, 1)));
+  const DhConversion c = poeToDh(poe);
+  ConvertOptions no_offsets;
+  std::vector<JointSpec> j0 = j;
+  for (auto& s : j0) s.offset = 0;
+  const DhConversion c0 = poeToDh(PoeModel(j0, poe.toolPose()));
+  EXPECT_NEAR(c.model.joint(0).link.theta, wrapAngle(c0.model.joint(0).link.theta + 2 * 0.25), 1e-15);
+  EXPECT_NEAR(c.model.joint(1).link.theta, wrapAngle(c0.model.joint(1).link.theta - 0.5), 1e-15);
+  EXPECT_NEAR(c.model.joint(1).link.d, c0.model.joint(1).link.d - 0.4 * 0.5, 1e-15);
+  EXPECT_NEAR(c.model.joint(2).link.d, c0.model.joint(2).link.d + 0.5 * 0.2, 1e-15);
+  EXPECT_LE(fkGap(poe, c.model, (VecX(3) << 0.1, 0.2, 0.3).finished()), 1e-14);
+}
+
+TEST(PoeToDh, CanonicalOutput) {
+  // Intersecting axes (a = 0) take alpha >= 0; rows placed by joint axes have a >= 0; no -0.
+  const DhConversion c = poeToDh(pumaNominal());
+  auto check = [](const DhParams& r, bool axis_row) {
+    EXPECT_GT(r.theta, -M_PI);
+    EXPECT_LE(r.theta, M_PI);
+    EXPECT_GT(r.alpha, -M_PI);
+    EXPECT_LE(r.alpha, M_PI);
+    for (double x : {r.theta, r.d, r.alpha, r.a}) EXPECT_FALSE(x == 0.0 && std::signbit(x));
+    if (axis_row) {
+      EXPECT_GE(r.a, 0.0);
+      if (r.a == 0.0) {
+        EXPECT_GE(r.alpha, 0.0);
+      }
+    }
+  };
+  check(c.model.base(), true);
+  for (int i = 0; i < 5; ++i) check(c.model.joint(i).link, true);
+  check(c.model.joint(5).link, false);
+}
+
+TEST(PoeToDh, AxisAlongMinusZAndToolAlongLastAxis) {
+  std::vector<JointSpec> j(2);
+  j[0].twist = twist(0, 0, -1, 0, 0, 0);  // along -z through the origin
+  j[1].twist = twist(0, 0, -1, 0.5, 0, 0);
+  Pose tool;
+  tool.R = expSO3(Vec3(M_PI, 0, 0));  // tool z = -z, parallel to the last axis
+  tool.p = Vec3(0, 0.5, -1);
+  const PoeModel poe(j, tool);
+  const DhConversion c = poeToDh(poe);
+  EXPECT_EQ(c.model.base().alpha, M_PI);
+  EXPECT_EQ(c.model.base().theta, 0.0);
+  EXPECT_TRUE(c.rows[2].parallel);
+  EXPECT_LE(fkGap(poe, c.model, (VecX(2) << 0.7, -2.0).finished()), 1e-14);
+}
+
+TEST(DhToPoe, RoundTripOnTheActualPuma) {
+  const PoeModel poe = pumaActual();
+  const DhConversion c = poeToDh(poe);
+  const PoeModel back = dhToPoe(c.model);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(back.joint(i).type, poe.joint(i).type);
+    EXPECT_NEAR(back.joint(i).pitch, poe.joint(i).pitch, 1e-15 * poe.size());
+    EXPECT_EQ(back.joint(i).scale, poe.joint(i).scale);
+    // the same line: same direction, same moment
+    EXPECT_LE((back.joint(i).twist - poe.joint(i).twist).cwiseAbs().maxCoeff(), 1e-12 * poe.size());
+  }
+  const VecX q = (VecX(6) << 0.1, -0.4, 2.0, -3.0, 0.5, 1.5).finished();
+  const Pose a = poeForwardKinematics(poe, q), b = poeForwardKinematics(back, q);
+  EXPECT_LE(rotationError(a.R, b.R), 1e-14);
+  EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.size());
+}
+
+TEST(ModifiedDh, SameChainRegrouped) {
+  const PoeModel poe = pumaActual();
+  const DhConversion c = poeToDh(poe);
+  const ModifiedDh m = toModifiedDh(c.model);
+  EXPECT_EQ(m.joints[0].alpha, c.model.base().alpha);
+  EXPECT_EQ(m.joints[1].a, c.model.joint(0).link.a);
+  EXPECT_EQ(m.tool_alpha, c.model.joint(5).link.alpha);
+  const VecX q = (VecX(6) << 0.1, -0.4, 2.0, -3.0, 0.5, 1.5).finished();
+  const Pose a = dhForwardKinematics(c.model, q), b = modifiedDhForwardKinematics(m, q);
+  EXPECT_LE(rotationError(a.R, b.R), 1e-14);
+  EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.size());
+}
+
+TEST(PoeForms, ToolAndLocalRoundTrips) {
+  const PoeModel poe = pumaActual();
+  const VecX q = (VecX(6) << 0.1, -0.4, 2.0, -3.0, 0.5, 1.5).finished();
+  const Pose ref = poeForwardKinematics(poe, q);
+  const ToolPoeModel tool = toToolPoe(poe);
+  const LocalPoeModel local = toLocalPoe(poe);
+  for (const Pose& T : {forwardKinematics(tool, q), forwardKinematics(local, q),
+                        poeForwardKinematics(fromToolPoe(tool), q), poeForwardKinematics(fromLocalPoe(local), q)}) {
+    EXPECT_LE(rotationError(ref.R, T.R), 1e-14);
+    EXPECT_LE((ref.p - T.p).norm(), 1e-13 * poe.size());
+  }
+  // local twists are [0 0 1 0 0 h]
+  for (size_t i = 0; i < local.joints.size(); ++i) {
+    Vec6 expect;
+    expect << 0, 0, 1, 0, 0, local.joints[i].pitch;
+    EXPECT_LE((local.joints[i].twist - expect).cwiseAbs().maxCoeff(), 1e-13);
+  }
+}
+
+TEST(JointNormalization, TypesAndErrors) {
+  JointSpec s;
+  s.twist = twist(0, 0, 2, 1, 0, 0);
+  Joint j = normalizeJoint(s, 0);
+  EXPECT_EQ(j.type, JointType::Revolute);
+  EXPECT_EQ(j.scale, 2.0);
+  s.twist = twist(0, 0, 2, 1, 0, 0.1);
+  EXPECT_EQ(normalizeJoint(s, 0).type, JointType::Helical);
+  EXPECT_DOUBLE_EQ(normalizeJoint(s, 0).pitch, 0.05);  // w.v / |w|^2 = 0.2 / 4
+  s.type = JointType::Revolute;
+  EXPECT_THROW(normalizeJoint(s, 0), std::invalid_argument);  // helical twist declared revolute
+  s.type = JointType::Prismatic;
+  EXPECT_THROW(normalizeJoint(s, 0), std::invalid_argument);
+  s.type.reset();
+  s.twist = Vec6::Zero();
+  EXPECT_THROW(normalizeJoint(s, 0), std::invalid_argument);
+  s.twist = twist(0, 0, 1, NAN, 0, 0);
+  EXPECT_THROW(normalizeJoint(s, 0), std::invalid_argument);
+  s.twist = twist(0, 0, 0, 0, 3, 4);
+  s.type = JointType::Revolute;
+  EXPECT_THROW(normalizeJoint(s, 0), std::invalid_argument);
+  // the actual PUMA's tiny pitch survives (8e-7 mm/rad on a 250 mm arm)
+  s.type.reset();
+  s.twist = twist(0.001, -1.00004, 0, -20.6, -0.0206, -249);
+  const Joint tiny = normalizeJoint(s, 4);
+  EXPECT_EQ(tiny.type, JointType::Helical);
+  EXPECT_NEAR(tiny.pitch, 8.24e-7 / (1.00004 * 1.00004 + 1e-6), 1e-10);
+}
