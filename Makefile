@@ -34,3 +34,10 @@ run: build
 
 clean:
 	rm -rf $(BUILD)
+
+# Benchmarks (bench/README.md): Release build, Google Benchmark JSON to $(BENCH_OUT), filter $(BENCH_FILTER).
+BENCH_OUT ?= $(BUILD)/bench.json
+BENCH_FILTER ?= .
+.PHONY: bench
+bench: configure
+	BUILD=$(BUILD) BENCH_OUT=$(BENCH_OUT) BENCH_FILTER='$(BENCH_FILTER)' bash bench/run.sh

@@ -1,0 +1,43 @@
+#pragma once
+/// @file commands.hpp
+/// Subcommands of the `lowpair` CLI. Each `add...` registers its subcommands on the app and appends a
+/// runner per subcommand; main() parses, runs the one selected and maps errors to exit status 2.
+/// A runner returns the exit status (0 ok, 1 a validation fell outside tolerance) and throws
+/// RobotFileError / UsageError / std::invalid_argument for bad input.
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lowpair/types.hpp"
+#include "robot_file.hpp"
+
+namespace lowpair {
+
+using Runner = std::function<int()>;
+using Commands = std::vector<std::pair<CLI::App*, Runner>>;
+
+/// A usage error about an argument (not a file): printed as "error: SUBJECT: message".
+struct UsageError : std::runtime_error {
+  UsageError(std::string subject, const std::string& message)
+      : std::runtime_error(message), subject_(std::move(subject)) {}
+  const std::string& subject() const { return subject_; }
+
+ private:
+  std::string subject_;
+};
+
+/// Parses "Q1,Q2,..." into `dof` finite numbers. @throws UsageError (subject: `subject`)
+VecX parseJointVector(const std::string& text, int dof, const std::string& subject);
+
+/// Reads a robot file (.yaml). @throws RobotFileError
+RobotFile loadRobot(const std::string& path);
+
+void addConvertCommands(CLI::App& app, Commands& out);   // poe2dh, dh2poe, fk (convert_commands.cpp)
+void addJacobianCommands(CLI::App& app, Commands& out);  // jacobian, singular (jacobian_commands.cpp)
+void addValidateCommand(CLI::App& app, Commands& out);   // validate (validate_command.cpp)
+
+}  // namespace lowpair

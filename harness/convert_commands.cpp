@@ -1,0 +1,82 @@
+// poe2dh, dh2poe, fk.
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "lowpair/convert.hpp"
+#include "lowpair/kinematics.hpp"
+#include "output.hpp"
+
+namespace lowpair {
+
+using nlohmann::json;
+
+void addConvertCommands(CLI::App& app, Commands& commands) {
+  struct Options {
+    std::string robot_path, q_text, model_kind = "file";
+    bool as_json = false, modified = false;
+    double parallel_threshold = 0.0;
+  };
+  auto o = std::make_shared<Options>();
+
+  auto* poe2dh = app.add_subcommand("poe2dh", "POE -> standard D-H table (base, joints, tool, pitch, scale)");
+  poe2dh->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  poe2dh->add_flag("--json", o->as_json, "print JSON (angles in rad, pitch in length/rad)");
+  poe2dh->add_flag("--modified", o->modified, "print the same chain as a modified (Craig) D-H table");
+  poe2dh->add_option("--parallel-threshold", o->parallel_threshold,
+                     "treat axes with sin(angle) below this as parallel (default: rounding level 16 eps n); "
+                     "larger values change the model and the FK check reports by how much");
+  commands.emplace_back(poe2dh, [o] {
+    const RobotFile file = loadRobot(o->robot_path);
+    ConvertOptions options;
+    options.parallel_threshold = o->parallel_threshold;
+    const DhConversion c = poeToDh(file.poeModel(), options);
+    if (o->as_json) {
+      std::cout << (o->modified ? modifiedDhJson(file, c) : dhJson(file, c)).dump(1) << "\n";
+    } else if (o->modified) {
+      printModifiedDh(std::cout, file, c);
+    } else {
+      printDh(std::cout, file, c);
+    }
+    return 0;
+  });
+
+  auto* dh2poe = app.add_subcommand("dh2poe", "D-H -> POE twists");
+  dh2poe->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  dh2poe->add_flag("--json", o->as_json, "print JSON");
+  commands.emplace_back(dh2poe, [o] {
+    const RobotFile file = loadRobot(o->robot_path);
+    const PoeModel m = file.poeModel();
+    if (o->as_json) {
+      std::cout << poeJson(file, m).dump(1) << "\n";
+    } else {
+      printPoe(std::cout, file, m);
+    }
+    return 0;
+  });
+
+  auto* fk = app.add_subcommand("fk", "forward kinematics T_base_tool(q)");
+  fk->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  fk->add_option("--q", o->q_text, "joint values Q1,Q2,... (rad for revolute/helical, length for prismatic)")->required();
+  fk->add_option("--model", o->model_kind, "poe or dh (default: the file's own description)")
+      ->check(CLI::IsMember({"poe", "dh", "file"}));
+  fk->add_flag("--json", o->as_json, "print JSON");
+  commands.emplace_back(fk, [o] {
+    const RobotFile file = loadRobot(o->robot_path);
+    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot_path);
+    const std::string kind = o->model_kind == "file" ? (file.poe ? "poe" : "dh") : o->model_kind;
+    const Pose T = kind == "poe" ? poeForwardKinematics(file.poeModel(), q)
+                                 : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q);
+    if (o->as_json) {
+      json j = {{"name", file.name}, {"source", file.path}, {"model", kind}, {"length_unit", file.length_unit},
+                {"q", std::vector<double>(q.data(), q.data() + q.size())}, {"T_base_tool", poseJson(T)}};
+      std::cout << j.dump(1) << "\n";
+    } else {
+      std::cout << "T_base_tool (" << kind << " model of " << (file.name.empty() ? file.path : file.name) << "):\n";
+      printPose(std::cout, T, file.length_unit.empty() ? "length" : file.length_unit);
+    }
+    return 0;
+  });
+}
+
+}  // namespace lowpair
