@@ -1,0 +1,86 @@
+#pragma once
+/// @file mujoco_robot.hpp
+/// MuJoCo ground truth (the only place that includes MuJoCo): load an MJCF (or a URDF, through a
+/// temporary copy with `fusestatic="false"` and mass bounds), walk the chain from the base to the tip,
+/// extract the POE model at `qpos0` from MuJoCo's own world-frame joint axes and anchors, and evaluate
+/// tip poses and Jacobians at configurations.
+///
+/// Joint mapping: hinge -> revolute, slide -> prismatic, a hinge and a slide on the same axis coupled by
+/// a joint equality (`joint1` the slide, `joint2` the hinge, `polycoef="0 h 0 0 0"`) -> one helical joint
+/// of pitch h. The extracted model has scale 1: its joint variable is MuJoCo's `qpos - qpos0` of the hinge
+/// or slide (rad or length).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lowpair/model.hpp"
+
+struct mjModel_;
+struct mjData_;
+
+namespace lowpair {
+
+/// One library joint in MuJoCo terms.
+struct MujocoJoint {
+  std::string name;
+  JointType type = JointType::Revolute;
+  int qpos = -1;        ///< qpos address of the hinge or slide
+  int dof = -1;         ///< dof address of the hinge or slide
+  int slide_qpos = -1;  ///< helical: the coupled slide's qpos address
+  int slide_dof = -1;   ///< helical: the coupled slide's dof address
+  double pitch = 0.0;   ///< helical: slide = pitch * hinge (length/rad)
+  std::optional<std::array<double, 2>> range;  ///< from the MJCF when limited
+};
+
+class MujocoRobot {
+ public:
+  /// @param tip a site or body name; @param base a body name (default: the world)
+  /// @throws RobotFileError ("FILE: what") for anything the library cannot represent.
+  MujocoRobot(const std::string& path, const std::string& tip, const std::string& base = "");
+  ~MujocoRobot();
+  MujocoRobot(const MujocoRobot&) = delete;
+  MujocoRobot& operator=(const MujocoRobot&) = delete;
+
+  int dof() const { return static_cast<int>(joints_.size()); }
+  const std::vector<MujocoJoint>& joints() const { return joints_; }
+  /// The POE model extracted at qpos0 (scale 1), in the base frame.
+  const PoeModel& poeModel() const { return *poe_; }
+  const std::string& path() const { return path_; }
+  const std::string& tip() const { return tip_; }
+  const mjModel_* model() const { return model_.get(); }
+
+  /// A per-thread evaluator (owns its mjData).
+  class Evaluator {
+   public:
+    explicit Evaluator(const MujocoRobot& robot);
+    ~Evaluator();
+    Evaluator(Evaluator&&) noexcept;
+    /// T_base_tip at motion variables x (rad/length per joint; qpos = qpos0 + x, slide = pitch * x).
+    Pose tipPose(const Eigen::Ref<const VecX>& x);
+    /// Geometric Jacobian of the tip, rows [v; w] in base coordinates (Paden–Sastry eq. 3.13), d/dx,
+    /// from mj_jacSite / mj_jacBody (after mj_kinematics and mj_comPos); a helical column is
+    /// hinge column + pitch * slide column. Also returns the pose.
+    Pose tipJacobian(const Eigen::Ref<const VecX>& x, Eigen::Ref<Mat6X> J_geometric);
+
+   private:
+    void setConfiguration(const Eigen::Ref<const VecX>& x);
+    Pose worldTip() const;
+    const MujocoRobot* robot_;
+    std::unique_ptr<mjData_, void (*)(mjData_*)> data_;
+    std::vector<double> jacp_, jacr_;
+  };
+
+ private:
+  struct ModelDeleter {
+    void operator()(mjModel_* m) const;
+  };
+  std::string path_, tip_;
+  std::unique_ptr<mjModel_, ModelDeleter> model_;
+  int tip_site_ = -1, tip_body_ = -1, base_body_ = 0;
+  Pose T_world_base_;
+  std::vector<MujocoJoint> joints_;
+  std::unique_ptr<PoeModel> poe_;
+};
+
+}  // namespace lowpair

@@ -1,0 +1,188 @@
+#include "report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+namespace lowpair {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+json validationJson(const std::vector<ScenarioResult>& results, const RunOptions& options) {
+  json doc;
+  bool pass = true;
+  doc["scenarios"] = json::array();
+  for (const auto& r : results) {
+    json s = {{"name", r.scenario.name},  {"file", r.scenario.path}, {"model", r.scenario.model},
+              {"tip", r.scenario.tip},    {"samples", r.samples},    {"seed", options.seed ? *options.seed : r.scenario.seed},
+              {"size", r.size},           {"seconds", r.seconds},    {"pass", r.pass}};
+    if (options.shards > 1) s["shard"] = std::to_string(options.shard) + "/" + std::to_string(options.shards);
+    s["comparisons"] = json::array();
+    for (const auto& c : r.comparisons) {
+      json j = {{"name", c.name},
+                {"max_rotation", c.max_rotation},
+                {"mean_rotation", c.mean_rotation},
+                {"p99_rotation", c.p99_rotation},
+                {"max_translation", c.max_translation},
+                {"mean_translation", c.mean_translation},
+                {"p99_translation", c.p99_translation},
+                {"tolerance_rotation", c.tolerance_rotation},
+                {"tolerance_translation", c.tolerance_translation},
+                {"worst_q", c.worst_q},
+                {"pass", c.pass}};
+      if (c.pose) j["max_rotation_euler_zyx"] = c.max_rotation_euler;
+      s["comparisons"].push_back(j);
+    }
+    pass = pass && r.pass;
+    doc["scenarios"].push_back(s);
+  }
+  doc["pass"] = pass;
+  return doc;
+}
+
+void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& results) {
+  char line[400];
+  std::snprintf(line, sizeof line, "%-28s %-52s %7s %11s %11s %11s %11s %9s %9s  %s\n", "scenario", "comparison",
+                "samples", "max rot", "p99 rot", "max tr/L", "p99 tr/L", "tol rot", "tol tr/L", "");
+  out << line;
+  bool pass = true;
+  for (const auto& r : results) {
+    for (const auto& c : r.comparisons) {
+      std::snprintf(line, sizeof line, "%-28s %-52s %7d %11.2e %11.2e %11.2e %11.2e %9.0e %9.0e  %s\n",
+                    r.scenario.name.c_str(), c.name.c_str(), r.samples, c.max_rotation, c.p99_rotation,
+                    c.max_translation / r.size, c.p99_translation / r.size, c.tolerance_rotation,
+                    c.tolerance_translation / r.size, c.pass ? "pass" : "FAIL");
+      out << line;
+    }
+    pass = pass && r.pass;
+  }
+  out << (pass ? "all comparisons within tolerance" : "FAILED: a comparison is outside its tolerance (marked FAIL)")
+      << "  (rotation in rad; translation relative to the robot size L; Jacobian rows: angular block as 'rot', "
+         "linear as 'tr')\n";
+}
+
+namespace {
+
+void run(const std::string& cmd) {
+  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("command failed: " + cmd);
+}
+
+std::string safe(const std::string& name) {
+  std::string s = name;
+  for (char& ch : s) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
+  }
+  return s;
+}
+
+void plots(const fs::path& dir, const ScenarioResult& r) {
+  const std::string base = safe(r.scenario.name);
+  const fs::path data = dir / (base + "_errors.dat");
+  {
+    std::ofstream out(data);
+    out << "# sample";
+    for (const auto& c : r.comparisons) out << " " << c.name << ":rotation " << c.name << ":translation/L";
+    out << "\n";
+    for (size_t s = 0; s < static_cast<size_t>(r.samples); ++s) {
+      out << s;
+      for (const auto& c : r.comparisons) {
+        // log axes: exact agreement (0) is drawn at 1e-18
+        out << " " << std::max(1e-18f, c.rotation_errors[s]) << " " << std::max(1e-18f, c.translation_errors[s]);
+      }
+      out << "\n";
+    }
+  }
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 1200,800 font ',10'\n"
+     << "set output '" << (dir / (base + "_errors.png")).string() << "'\n"
+     << "set multiplot layout 2,1 title '" << r.scenario.name << ": error of every sample against MuJoCo (L = "
+     << r.size << ")'\n"
+     << "set logscale y\nset format y '10^{%L}'\nset yrange [1e-18:1e-9]\nset key outside right\nset grid\n"
+     << "set ylabel 'rotation error (rad)'\n"
+     << "plot ";
+  for (size_t c = 0; c < r.comparisons.size(); ++c) {
+    gp << (c ? ", " : "") << "'" << data.string() << "' using 1:" << 2 + 2 * c << " with points pt 7 ps 0.3 title '"
+       << r.comparisons[c].name << "'";
+  }
+  gp << "\nset ylabel 'translation error / L'\nset xlabel 'sample'\nplot ";
+  for (size_t c = 0; c < r.comparisons.size(); ++c) {
+    gp << (c ? ", " : "") << "'" << data.string() << "' using 1:" << 3 + 2 * c << " with points pt 7 ps 0.3 title '"
+       << r.comparisons[c].name << "'";
+  }
+  gp << "\nunset multiplot\n";
+  // histogram of log10(error)
+  gp << "set output '" << (dir / (base + "_histogram.png")).string() << "'\n"
+     << "set multiplot layout 1,2 title '" << r.scenario.name << ": distribution of log10(error)'\n"
+     << "unset logscale y\nset format y '%g'\nset yrange [*:*]\nset xrange [-18:-9]\nset style fill transparent solid 0.4\n"
+     << "set boxwidth 0.1\nbin(x) = 0.1 * floor(log10(x) / 0.1)\nset ylabel 'samples'\n"
+     << "set xlabel 'log10 rotation error (rad)'\nplot ";
+  for (size_t c = 0; c < r.comparisons.size(); ++c) {
+    gp << (c ? ", " : "") << "'" << data.string() << "' using (bin($" << 2 + 2 * c
+       << ")):(1.0) smooth frequency with boxes title '" << r.comparisons[c].name << "'";
+  }
+  gp << "\nset xlabel 'log10 translation error / L'\nplot ";
+  for (size_t c = 0; c < r.comparisons.size(); ++c) {
+    gp << (c ? ", " : "") << "'" << data.string() << "' using (bin($" << 3 + 2 * c
+       << ")):(1.0) smooth frequency with boxes title '" << r.comparisons[c].name << "'";
+  }
+  gp << "\nunset multiplot\n";
+  const fs::path script = dir / (base + ".gnuplot");
+  std::ofstream(script) << gp.str();
+  run("gnuplot '" + script.string() + "' 2>/dev/null");
+}
+
+}  // namespace
+
+void writeReport(const std::string& dir, const std::vector<ScenarioResult>& results, const RunOptions& options) {
+  // build everything in a sibling temporary folder, then move the files in
+  const fs::path target = fs::absolute(dir);
+  const fs::path parent = target.parent_path();
+  fs::create_directories(parent);
+  const fs::path tmp = parent / (target.filename().string() + ".partial-" + std::to_string(::getpid()));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  try {
+    std::ofstream(tmp / "report.json") << validationJson(results, options).dump(1) << "\n";
+    std::ostringstream md;
+    md << "# lowpair validation report\n\nEvery comparison: MuJoCo's tip pose (or Jacobian) against the library.\n"
+       << "Rotation errors are geodesic angles (rad, atan2 form); translation errors are distances divided by the "
+          "robot size L.\n\n";
+    md << "| scenario | comparison | samples | max rot (rad) | p99 rot | max tr / L | p99 tr / L | pass |\n"
+       << "|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : results) {
+      for (const auto& c : r.comparisons) {
+        char row[512];
+        std::snprintf(row, sizeof row, "| %s | %s | %d | %.2e | %.2e | %.2e | %.2e | %s |\n", r.scenario.name.c_str(),
+                      c.name.c_str(), r.samples, c.max_rotation, c.p99_rotation, c.max_translation / r.size,
+                      c.p99_translation / r.size, c.pass ? "pass" : "**FAIL**");
+        md << row;
+      }
+    }
+    md << "\n";
+    for (const auto& r : results) {
+      plots(tmp, r);
+      const std::string base = safe(r.scenario.name);
+      md << "## " << r.scenario.name << "\n\nModel `" << r.scenario.model << "`, tip `" << r.scenario.tip << "`, L = "
+         << r.size << ", " << r.samples << " samples in " << r.seconds << " s.\n\n"
+         << "![errors](" << base << "_errors.png)\n\n![histogram](" << base << "_histogram.png)\n\n";
+    }
+    std::ofstream(tmp / "summary.md") << md.str();
+    fs::create_directories(target);
+    for (const auto& entry : fs::directory_iterator(tmp)) {
+      fs::rename(entry.path(), target / entry.path().filename());
+    }
+    fs::remove_all(tmp);
+  } catch (...) {
+    fs::remove_all(tmp);
+    throw;
+  }
+}
+
+}  // namespace lowpair

@@ -1,0 +1,113 @@
+#pragma once
+/// @file singularity.hpp
+/// Singular configurations (Paden & Sastry 1984): numerical rank of the geometric Jacobian, the
+/// geometric classes C1..C7 of design.md read off the joint lines, and the wrist/arm decoupling of §5.
+///
+/// **Dimensionless Jacobian.** The analysis uses `J_n = D_r J_geometric D_c` with
+/// `D_r = diag(I/L, I)` (linear rows divided by the robot size L) and `D_c = diag(1/scale_i)` for
+/// revolute/helical and `diag(L/scale_i)` for prismatic joints. Each column of `J_n` is then the unit
+/// screw of its joint in units of L: `[z x (o_tool - o)/L + (h/L) z; z]` or `[z; 0]`, so every entry is
+/// O(1) whatever the robot's unit and joint scales, and the rank (invariant under the invertible row and
+/// column scalings) is measured on a well-scaled matrix. sigma_min, manipulability and condition are
+/// those of `J_n`.
+///
+/// **Rank rule.** `rank = #{sigma_k > tol}`, `tol = kRankFactor * max(6, n) * eps * sigma_max(J_n)`
+/// (`~1.3e-12 sigma_max` for six joints). Rationale: the computed J_n of a configuration that is exactly
+/// singular differs from an exactly singular matrix by the rounding of the forward kinematics and of the
+/// closed-form joint values, a few eps per joint times ||J_n||; by Weyl's inequality its smallest singular
+/// value is then below `c n eps sigma_max` with c of order 10. kRankFactor = 1000 leaves two orders of
+/// margin above that, and stays six orders below the sigma_min ~ 1e-6 of a pose rounded to 1e-3 degrees
+/// (robots.md §7), which is therefore regular.
+///
+/// **Line classes.** Each joint is a line (unit direction z_i, point o_i nearest the base origin) at the
+/// configuration. Two directions are parallel when `|z_i x z_j| <= kLineTolerance` (rad); a point is on
+/// a line or plane when its distance is `<= kLineTolerance * L`. kLineTolerance (1e-13, ~450 eps) is an
+/// order below the rank tolerance: a class that holds within it moves a few columns of J_n by at most
+/// ~kLineTolerance * (1 + |o_tool - o_i|/L), which keeps sigma_min below tol, so for a 6-joint robot a
+/// reported class implies a rank deficiency. Classes use revolute joints only (h = 0; helical joints of
+/// different pitch on one line are independent screws), C7 adds a prismatic one.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "lowpair/model.hpp"
+#include "lowpair/types.hpp"
+
+namespace lowpair {
+
+/// Rank tolerance factor (see the file comment).
+constexpr double kRankFactor = 1e3;
+/// Angle (rad) and relative distance (times L) tolerance of the line classes.
+constexpr double kLineTolerance = 1e-13;
+/// C6: the reciprocal wrench has zero pitch when `|pitch| <= kWrenchPitchTolerance * L`. Applied only to
+/// wrenches of a rank-deficient Jacobian, so it cannot make a regular pose singular; it is looser than
+/// kLineTolerance because a null vector carries the rounding error divided by the gap sigma_{r} - sigma_{r+1}.
+constexpr double kWrenchPitchTolerance = 1e-8;
+/// `other`: a joint takes part in a dependency when its coefficient in a unit null vector exceeds this.
+constexpr double kNullCoefficient = 1e-8;
+
+/// The joint line at a configuration (base frame).
+struct JointLine {
+  JointType type = JointType::Revolute;
+  Vec3 direction = Vec3::UnitZ();  ///< unit z_i (prismatic: the sliding direction)
+  Vec3 point = Vec3::Zero();       ///< o_i: the point of the axis nearest the base origin (0 for prismatic)
+  double pitch = 0.0;              ///< length/rad
+};
+
+/// One singular class found at a configuration.
+struct SingularClass {
+  std::string id;            ///< "C1".."C7" or "other" (design.md)
+  std::vector<int> joints;   ///< 1-based joint numbers
+  std::string description;   ///< one line, e.g. "joint axes 4 and 6 are collinear"
+};
+
+/// Paden–Sastry §5: three consecutive revolute axes meeting in one point P (a spherical wrist). With the
+/// row operation row1 += (o_tool - P) x row2 (eq. 5.2) the Jacobian becomes block triangular:
+/// `[[a_k] 0; * [z_4 z_5 z_6]]` with arm vectors `a_k = z_k x (P - o_k) + h_k z_k` (revolute/helical) or
+/// `a_k = z_k` (prismatic) for the other joints. J is singular iff the wrist axes are coplanar (a) or the
+/// arm vectors are coplanar (b).
+struct DecoupledAnalysis {
+  bool applies = false;
+  std::array<int, 3> wrist_joints{};  ///< 1-based
+  Vec3 wrist_point = Vec3::Zero();    ///< P, base frame
+  std::vector<int> arm_joints;        ///< 1-based, the other joints
+  bool wrist_singular = false;        ///< (a): rank [z_w1 z_w2 z_w3] < 3
+  bool arm_singular = false;          ///< (b): rank [a_k / L or z_k] < min(3, number of arm joints)
+  double wrist_sigma_min = 0.0;       ///< of the 3x3 wrist block (dimensionless)
+  double arm_sigma_min = 0.0;         ///< of the 3 x (n-3) arm block in units of L
+};
+
+struct SingularityReport {
+  int dof = 0;
+  int rank = 0;                 ///< numerical rank of J_n (see the file comment)
+  bool singular = false;        ///< rank < min(6, dof)
+  double size = 1.0;            ///< L
+  double tolerance = 0.0;       ///< the rank threshold on the singular values of J_n
+  VecX singular_values;         ///< of J_n, descending, min(6, dof) of them
+  double sigma_min = 0.0;       ///< smallest of singular_values
+  /// Yoshikawa manipulability `sqrt(det(J_n J_n^T))` for dof >= 6; for dof < 6 (where that is 0) the
+  /// product of the singular values `sqrt(det(J_n^T J_n))`.
+  double manipulability = 0.0;
+  double condition = 0.0;       ///< sigma_max / sigma_min (+inf when sigma_min = 0)
+  int rank_linear = 0;          ///< rank of the 3 x n linear block (tool-origin velocities)
+  int rank_angular = 0;         ///< rank of the 3 x n angular block
+  std::vector<JointLine> lines; ///< the joint lines used by the classification
+  std::vector<SingularClass> classes;
+  DecoupledAnalysis decoupled;
+  /// Unit vectors x with J_n x ~ 0 for each singular value below tol (coefficients of the unit joint
+  /// screws; the joint velocity is `qdot_i = x_i / scale_i`, times L for prismatic joints).
+  std::vector<VecX> null_space;
+};
+
+/// Joint lines of a POE model at q (from the forward-kinematics prefix frames).
+std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const VecX>& q);
+
+/// Rank, singular values, classes C1..C7 / `other` and the decoupled wrist/arm analysis at q.
+/// For a 6-joint robot a class is reported exactly when the rank is deficient (`other` when no listed
+/// class explains the dependency). For other joint counts `singular` means rank < min(6, dof), the line
+/// classes are still listed as degenerate axis sets, and `other` is added when singular without a class.
+/// @throws std::invalid_argument unless q has dof finite entries.
+SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<const VecX>& q);
+
+}  // namespace lowpair
