@@ -1,6 +1,169 @@
-// jacobian, singular: registered by the Jacobian/singularity work (issue 4).
+// jacobian, singular (design.md "The lowpair command line"; Paden & Sastry 1984).
+#include <cmath>
+#include <iostream>
+#include <memory>
+
 #include "commands.hpp"
+#include "lowpair/jacobian.hpp"
+#include "lowpair/kinematics.hpp"
+#include "lowpair/singularity.hpp"
+#include "output.hpp"
 
 namespace lowpair {
-void addJacobianCommands(CLI::App&, Commands&) {}
+
+using nlohmann::json;
+
+namespace {
+
+std::vector<double> toVector(const VecX& x) { return std::vector<double>(x.data(), x.data() + x.size()); }
+
+// A number for JSON: non-finite values (an infinite condition number) become null.
+json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+std::string robotLabel(const RobotFile& file) { return file.name.empty() ? file.path : file.name; }
+
+json singularJson(const RobotFile& file, const VecX& q, const SingularityReport& r) {
+  json classes = json::array();
+  for (const SingularClass& c : r.classes) {
+    classes.push_back({{"class", c.id}, {"joints", c.joints}, {"description", c.description}});
+  }
+  json decoupled = {{"applies", r.decoupled.applies}};
+  if (r.decoupled.applies) {
+    decoupled["wrist_joints"] = r.decoupled.wrist_joints;
+    decoupled["wrist_point"] = toVector(r.decoupled.wrist_point);
+    decoupled["arm_joints"] = r.decoupled.arm_joints;
+    decoupled["wrist_singular"] = r.decoupled.wrist_singular;
+    decoupled["arm_singular"] = r.decoupled.arm_singular;
+    decoupled["wrist_sigma_min"] = r.decoupled.wrist_sigma_min;
+    decoupled["arm_sigma_min"] = r.decoupled.arm_sigma_min;
+  }
+  json null_space = json::array();
+  for (const VecX& x : r.null_space) null_space.push_back(toVector(x));
+  return {{"name", file.name},
+          {"source", file.path},
+          {"q", toVector(q)},
+          {"length_unit", file.length_unit},
+          {"size", r.size},
+          {"rank", r.rank},
+          {"dof", r.dof},
+          {"singular", r.singular},
+          {"tolerance", r.tolerance},
+          {"singular_values", toVector(r.singular_values)},
+          {"sigma_min", r.sigma_min},
+          {"manipulability", r.manipulability},
+          {"condition", number(r.condition)},
+          {"rank_linear", r.rank_linear},
+          {"rank_angular", r.rank_angular},
+          {"classes", classes},
+          {"decoupled", decoupled},
+          {"null_space", null_space}};
+}
+
+void printSingular(std::ostream& out, const RobotFile& file, const SingularityReport& r) {
+  auto sci = [](double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3e", x);
+    return std::string(buf);
+  };
+  out << robotLabel(file) << ": " << (r.singular ? "SINGULAR" : "regular") << ", rank " << r.rank << " of "
+      << std::min(6, r.dof) << " (" << r.dof << " joints; linear " << r.rank_linear << ", angular "
+      << r.rank_angular << ")\n";
+  out << "  dimensionless Jacobian (linear rows / L, L = " << fixed(r.size) << " " << file.length_unit
+      << "): sigma_min " << sci(r.sigma_min) << ", manipulability " << sci(r.manipulability) << ", condition "
+      << (std::isfinite(r.condition) ? sci(r.condition) : std::string("inf")) << ", rank tolerance "
+      << sci(r.tolerance) << "\n";
+  out << "  singular values:";
+  for (Eigen::Index k = 0; k < r.singular_values.size(); ++k) out << " " << sci(r.singular_values(k));
+  out << "\n";
+  for (const SingularClass& c : r.classes) out << "  " << c.id << ": " << c.description << "\n";
+  if (r.decoupled.applies) {
+    const auto& d = r.decoupled;
+    out << "  decoupled (Paden-Sastry 5): wrist joints " << d.wrist_joints[0] << ", " << d.wrist_joints[1] << ", "
+        << d.wrist_joints[2] << " -> wrist " << (d.wrist_singular ? "SINGULAR" : "regular") << " (sigma_min "
+        << sci(d.wrist_sigma_min) << "), arm " << (d.arm_singular ? "SINGULAR" : "regular") << " (sigma_min "
+        << sci(d.arm_sigma_min) << ")\n";
+  } else {
+    out << "  decoupled (Paden-Sastry 5): no three consecutive revolute axes meet in a point\n";
+  }
+  for (const VecX& x : r.null_space) {
+    out << "  null vector (unit-screw coefficients):";
+    for (Eigen::Index i = 0; i < x.size(); ++i) out << " " << fixed(x(i), 6);
+    out << "\n";
+  }
+}
+
+}  // namespace
+
+void addJacobianCommands(CLI::App& app, Commands& commands) {
+  struct Options {
+    std::string robot_path, q_text, frame = "spatial";
+    bool as_json = false;
+  };
+  auto o = std::make_shared<Options>();
+
+  auto* jac = app.add_subcommand("jacobian", "manipulator Jacobian at q (spatial/body [w; v], geometric [v; w])");
+  jac->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  jac->add_option("--q", o->q_text, "joint values Q1,Q2,... (rad for revolute/helical, length for prismatic)")
+      ->required();
+  jac->add_option("--frame", o->frame,
+                  "spatial ([w; v] in the base frame), body ([w; v] in the tool frame) or geometric "
+                  "(Paden-Sastry eq. 3.13: [v; w], v = tool-origin velocity, base coordinates)")
+      ->check(CLI::IsMember({"spatial", "body", "geometric"}));
+  jac->add_flag("--json", o->as_json, "print JSON");
+  commands.emplace_back(jac, [o] {
+    const RobotFile file = loadRobot(o->robot_path);
+    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot_path);
+    const PoeModel model = file.poeModel();
+    PoeData data(model);
+    Mat6X J(6, model.dof());
+    if (o->frame == "spatial") spatialJacobian(model, data, q, J);
+    if (o->frame == "body") bodyJacobian(model, data, q, J);
+    if (o->frame == "geometric") geometricJacobian(model, data, q, J);
+    const bool geometric = o->frame == "geometric";
+    if (o->as_json) {
+      json rows = json::array();
+      for (int r = 0; r < 6; ++r) rows.push_back(toVector(J.row(r).transpose()));
+      json j = {{"name", file.name},
+                {"source", file.path},
+                {"frame", o->frame},
+                {"rows", geometric ? "[v; w]" : "[w; v]"},
+                {"length_unit", file.length_unit},
+                {"q", toVector(q)},
+                {"jacobian", rows}};
+      std::cout << j.dump(1) << "\n";
+    } else {
+      std::cout << o->frame << " Jacobian of " << robotLabel(file) << " (rows "
+                << (geometric ? "[v; w]" : "[w; v]") << ", angular in rad, linear in "
+                << (file.length_unit.empty() ? "length" : file.length_unit) << ", per unit joint variable):\n";
+      const char* names[2][6] = {{"wx", "wy", "wz", "vx", "vy", "vz"}, {"vx", "vy", "vz", "wx", "wy", "wz"}};
+      for (int r = 0; r < 6; ++r) {
+        std::cout << "  " << names[geometric ? 1 : 0][r];
+        for (int c = 0; c < J.cols(); ++c) {
+          const std::string cell = fixed(J(r, c), 6);
+          std::cout << std::string(cell.size() < 13 ? 13 - cell.size() : 1, ' ') << cell;
+        }
+        std::cout << "\n";
+      }
+    }
+    return 0;
+  });
+
+  auto* sing = app.add_subcommand("singular", "singularity analysis at q: rank, sigma_min, classes C1..C7, wrist/arm split");
+  sing->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  sing->add_option("--q", o->q_text, "joint values Q1,Q2,... (rad for revolute/helical, length for prismatic)")
+      ->required();
+  sing->add_flag("--json", o->as_json, "print JSON");
+  commands.emplace_back(sing, [o] {
+    const RobotFile file = loadRobot(o->robot_path);
+    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot_path);
+    const SingularityReport r = analyzeSingularity(file.poeModel(), q);
+    if (o->as_json) {
+      std::cout << singularJson(file, q, r).dump(1) << "\n";
+    } else {
+      printSingular(std::cout, file, r);
+    }
+    return 0;
+  });
+}
+
 }  // namespace lowpair

@@ -100,11 +100,11 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
     }
   }
   std::ostringstream gp;
-  gp << "set terminal pngcairo size 1200,800 font ',10'\n"
+  gp << "set terminal pngcairo noenhanced size 1200,800 font ',10'\n"
      << "set output '" << (dir / (base + "_errors.png")).string() << "'\n"
      << "set multiplot layout 2,1 title '" << r.scenario.name << ": error of every sample against MuJoCo (L = "
      << r.size << ")'\n"
-     << "set logscale y\nset format y '10^{%L}'\nset yrange [1e-18:1e-9]\nset key outside right\nset grid\n"
+     << "set logscale y\nset format y '10^{%L}'\nset yrange [1e-18:1e-9]\nset key top left\nset grid\n"
      << "set ylabel 'rotation error (rad)'\n"
      << "plot ";
   for (size_t c = 0; c < r.comparisons.size(); ++c) {

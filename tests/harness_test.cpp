@@ -1,0 +1,184 @@
+// lowpair validate: an MJCF the project has never seen (arbitrary pos/quat/euler, joint pos/axis/ref,
+// a coupled hinge+slide), an independently written robot file checked against it, a negative control,
+// rejected inputs, thread/shard independence, and no report on failure.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+
+namespace {
+
+struct CliRun {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string tempDir() {
+  static std::string dir = [] {
+    char tmpl[] = "/tmp/lowpair_harness_test_XXXXXX";
+    return std::string(mkdtemp(tmpl));
+  }();
+  return dir;
+}
+
+CliRun run(const std::string& args) {
+  const std::string err_path = tempDir() + "/stderr.txt";
+  const std::string cmd = std::string(LOWPAIR_CLI) + " " + args + " 2>" + err_path;
+  CliRun r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
+  const int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream err(err_path);
+  r.err.assign(std::istreambuf_iterator<char>(err), {});
+  return r;
+}
+
+std::string writeFile(const std::string& name, const std::string& text) {
+  const std::string path = tempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string model(const std::string& name) { return std::string(LOWPAIR_MODELS) + "/" + name; }
+
+// Body frames rotated with euler (degrees, MuJoCo's default) and quat, joint anchors off the body
+// origin, nonzero refs, and a helical joint as a hinge plus a coupled slide (pitch 0.1 m/rad).
+const char* kUnseenMjcf = R"(<mujoco model="unseen">
+  <worldbody>
+    <body name="b1" pos="0 0 1" euler="0 0 90">
+      <inertial pos="0 0 0" mass="0.1" diaginertia="0.01 0.01 0.01"/>
+      <joint name="j1" type="hinge" pos="0 0.5 0" axis="1 0 0" ref="0.3"/>
+      <body name="b2" pos="1 0 0">
+        <inertial pos="0 0 0" mass="0.1" diaginertia="0.01 0.01 0.01"/>
+        <joint name="j2" type="slide" axis="0 0 1" ref="0.2"/>
+        <body name="b3" pos="0 0 0.5" quat="0.70710678118654757 0.70710678118654757 0 0">
+          <inertial pos="0 0 0" mass="0.1" diaginertia="0.01 0.01 0.01"/>
+          <joint name="j3" type="hinge" axis="0 0 1"/>
+          <joint name="j3s" type="slide" axis="0 0 1"/>
+          <site name="tool" pos="0.2 0 0"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <equality><joint joint1="j3s" joint2="j3" polycoef="0 0.1 0 0 0"/></equality>
+</mujoco>
+)";
+
+// Written by hand from the geometry above: axis 1 is world y through (-0.5, 0, 1); joint 2 slides along
+// world z; axis 3 is world x through (0, 1, 1.5) with pitch 0.1; the tool sits at (0, 1.2, 1.5) with
+// rotation Rz(90 deg) Rx(90 deg).
+const char* kUnseenRobot = R"(name: unseen
+length_unit: m
+poe:
+  joints:
+    - {twist: [0, 1, 0, -1, 0, -0.5]}
+    - {type: prismatic, twist: [0, 0, 0, 0, 0, 1]}
+    - {type: helical, twist: [1, 0, 0, 0.1, 1.5, -1]}
+  tool_pose: [[0, 0, 1, 0], [1, 0, 0, 1.2], [0, 1, 0, 1.5], [0, 0, 0, 1]]
+)";
+
+}  // namespace
+
+TEST(Validate, UnseenMjcfAndIndependentRobotFile) {
+  const std::string xml = writeFile("unseen.xml", kUnseenMjcf);
+  const std::string yaml = writeFile("unseen.yaml", kUnseenRobot);
+  const CliRun r = run("validate " + xml + " --tip tool --robot " + yaml + " --samples 2000 --json");
+  ASSERT_EQ(r.status, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["pass"].get<bool>());
+  const auto& cmps = j["scenarios"][0]["comparisons"];
+  std::vector<std::string> names;
+  for (const auto& c : cmps) names.push_back(c["name"]);
+  EXPECT_NE(std::find(names.begin(), names.end(), "robot_file_vs_mujoco:unseen.yaml"), names.end());
+  for (const auto& c : cmps) {
+    EXPECT_LE(c["max_translation"].get<double>(), c["tolerance_translation"].get<double>()) << c["name"];
+  }
+}
+
+TEST(Validate, NegativeControlPerturbedAxisFails) {
+  // the elbow's robot file with axis 2 tilted by 1e-6 rad about its point (0, 0, 1): still revolute
+  std::ifstream in(model("elbow_mls.yaml"));
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::regex axis2(R"(twist: \[-1, 0, 0, 0, -1, 0\])");
+  ASSERT_TRUE(std::regex_search(text, axis2)) << "elbow_mls.yaml changed: update this test";
+  text = std::regex_replace(text, axis2, "twist: [-0.9999999999995, 0.000001, 0, -0.000001, -0.9999999999995, 0]", std::regex_constants::format_first_only);
+  const std::string perturbed = writeFile("perturbed.yaml", text);
+  const CliRun r = run("validate " + model("elbow_mls.xml") + " --tip tool --robot " + perturbed + " --samples 500");
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("robot_file_vs_mujoco:perturbed.yaml .* FAIL"))) << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("poe_vs_mujoco .* pass"))) << r.out;
+}
+
+TEST(Validate, ResultsIndependentOfThreadsAndShards) {
+  const std::string s = std::string(LOWPAIR_SCENARIOS) + "/puma560_okamura_actual.yaml";
+  const auto one = nlohmann::json::parse(run("validate " + s + " --samples 3000 --threads 1 --json").out);
+  const auto two = nlohmann::json::parse(run("validate " + s + " --samples 3000 --threads 2 --json").out);
+  EXPECT_EQ(one["scenarios"][0]["comparisons"], two["scenarios"][0]["comparisons"]);
+  const auto a = nlohmann::json::parse(run("validate " + s + " --samples 3000 --shard 1/2 --json").out);
+  const auto b = nlohmann::json::parse(run("validate " + s + " --samples 3000 --shard 2/2 --json").out);
+  for (size_t c = 0; c < one["scenarios"][0]["comparisons"].size(); ++c) {
+    const double full = one["scenarios"][0]["comparisons"][c]["max_translation"];
+    const double ma = a["scenarios"][0]["comparisons"][c]["max_translation"];
+    const double mb = b["scenarios"][0]["comparisons"][c]["max_translation"];
+    const double merged = std::max(ma, mb);
+    EXPECT_EQ(full, merged);
+  }
+  EXPECT_EQ(a["scenarios"][0]["samples"].get<int>() + b["scenarios"][0]["samples"].get<int>(),
+            one["scenarios"][0]["samples"].get<int>());
+}
+
+namespace {
+void expectRejected(const std::string& args, const std::string& what) {
+  const std::string report = tempDir() + "/should_not_exist";
+  const CliRun r = run(args + " --report " + report);
+  EXPECT_EQ(r.status, 2) << args << "\n" << r.out << r.err;
+  EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
+  EXPECT_FALSE(std::filesystem::exists(report)) << "report written on a failed run";
+}
+}  // namespace
+
+TEST(ValidateRejects, BallJointInChain) {
+  std::string text = kUnseenMjcf;
+  text.replace(text.find("type=\"slide\" axis=\"0 0 1\" ref=\"0.2\""), 35, "type=\"ball\"");
+  expectRejected("validate " + writeFile("ball.xml", text) + " --tip tool", "ball joint");
+}
+
+TEST(ValidateRejects, TipNotFound) {
+  expectRejected("validate " + model("elbow_mls.xml") + " --tip nowhere", "tip 'nowhere'");
+}
+
+TEST(ValidateRejects, NonlinearEquality) {
+  std::string text = kUnseenMjcf;
+  text.replace(text.find("0 0.1 0 0 0"), 11, "0 0.1 0.5 0 0");
+  expectRejected("validate " + writeFile("nonlinear.xml", text) + " --tip tool", "polycoef");
+}
+
+TEST(ValidateRejects, RobotFileMismatch) {
+  expectRejected("validate " + model("elbow_mls.xml") + " --tip tool --robot " + model("panda.yaml"), "joints");
+  expectRejected("validate " + model("stanford_corke.xml") + " --tip tool --robot " + model("puma560_corke.yaml"),
+                 "prismatic");
+}
+
+TEST(ValidateRejects, MissingModelAndBadOptions) {
+  expectRejected("validate /nonexistent.xml --tip tool", "cannot open");
+  expectRejected("validate " + model("elbow_mls.xml"), "--tip");
+  expectRejected("validate " + model("elbow_mls.xml") + " --tip tool --shard 3/2", "--shard");
+}
+
+TEST(ValidateReport, WritesJsonSummaryAndPictures) {
+  const std::string dir = tempDir() + "/report";
+  const CliRun r = run("validate " + model("elbow_mls.xml") + " --tip tool --samples 300 --report " + dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* f : {"report.json", "summary.md", "elbow_mls_errors.png", "elbow_mls_histogram.png"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
+  }
+}
