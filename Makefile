@@ -30,7 +30,7 @@ check: build
 	ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
 
 run: build
-	@for f in models/*.yaml; do ./$(BUILD)/lowpair poe2dh $$f || exit $$?; echo; done
+	./$(BUILD)/lowpair validate --report $(BUILD)/report
 
 clean:
 	rm -rf $(BUILD)
