@@ -3,6 +3,7 @@
 // configurations (robots.cpp) and skips with an error on a mismatch; then it cycles through the pool.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <memory>
 #include <random>
 #include <string>
@@ -97,6 +98,30 @@ void fkFastDh(benchmark::State& state, RobotId id) {
   for (auto _ : state) {
     kernel.forward(&r.q[static_cast<size_t>(k * r.dof)], T);
     benchmark::DoNotOptimize(T);
+    k = (k + 1) & (kPool - 1);
+  }
+}
+
+void jacobianFastDh(benchmark::State& state, RobotId id) {
+  const RobotCase& r = robotCase(id);
+  const DhKernel kernel(robotModels(id).dh);
+  Pose T;
+  Mat6X J(6, r.dof);
+  Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jr(6, r.dof);
+  double err = 0.0, pose[12];
+  for (int k = 0; k < kPool; ++k) {
+    kernel.geometricJacobian(&r.q[static_cast<size_t>(k * r.dof)], T, J);
+    poseTo12(T, pose);
+    Jr = J;
+    err = std::max({err, poseMismatch(r, k, pose), jacobianMismatch(r, k, Jr.data())});
+  }
+  if (rejected(state, err, "fast D-H geometric Jacobian")) return;
+  int k = 0;
+  for (auto _ : state) {
+    kernel.geometricJacobian(&r.q[static_cast<size_t>(k * r.dof)], T, J);
+    benchmark::DoNotOptimize(J.data());
+    benchmark::DoNotOptimize(T);
+    benchmark::ClobberMemory();
     k = (k + 1) & (kPool - 1);
   }
 }
@@ -296,6 +321,7 @@ const bool registered = [] {
     RegisterBenchmark(("BM_Fk_Poe_" + n).c_str(), fkPoe, id);
     RegisterBenchmark(("BM_Fk_Dh_" + n).c_str(), fkDh, id);
     RegisterBenchmark(("BM_Fk_FastDh_" + n).c_str(), fkFastDh, id);
+    RegisterBenchmark(("BM_Jacobian_FastDh_" + n).c_str(), jacobianFastDh, id);
 #ifdef LOWPAIR_BENCH_HAS_JACOBIAN
     RegisterBenchmark(("BM_Jacobian_Spatial_" + n).c_str(), jacobianSpatial, id);
     RegisterBenchmark(("BM_Jacobian_Geometric_" + n).c_str(), jacobianGeometric, id);

@@ -2,6 +2,7 @@
 // 1e-12 x robot size on every benchmark robot, and its sinCos is accurate to about 1 ulp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -79,5 +80,22 @@ TEST(DhKernel, SingleAndBatchEqualLibraryFk) {
     }
     EXPECT_LE(batch, kAgree) << r.name;
     EXPECT_LE(batch_vs_single, kAgree) << r.name;
+  }
+}
+
+TEST(DhKernel, GeometricJacobianEqualsLibrary) {
+  for (RobotId id : kRobots) {
+    const RobotCase& r = robotCase(id);
+    const DhKernel kernel(robotModels(id).dh);
+    Pose T;
+    Mat6X J(6, r.dof);
+    Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jr(6, r.dof);
+    double err = 0.0;
+    for (int k = 0; k < kPool; ++k) {
+      kernel.geometricJacobian(&r.q[static_cast<size_t>(k * r.dof)], T, J);
+      Jr = J;
+      err = std::max({err, pose12Error(r, k, T), jacobianMismatch(r, k, Jr.data())});
+    }
+    EXPECT_LE(err, kAgree) << r.name;
   }
 }

@@ -33,7 +33,14 @@ class HelperThread {
     done_.store(false, std::memory_order_relaxed);
     generation_.fetch_add(1, std::memory_order_release);
     job(context, 0);
-    while (!done_.load(std::memory_order_acquire)) LOWPAIR_BENCH_PAUSE();
+    // spin briefly, then yield: on a loaded 2-core machine the helper may be waiting for this core
+    for (int spins = 0; !done_.load(std::memory_order_acquire); ++spins) {
+      if (spins < 4096) {
+        LOWPAIR_BENCH_PAUSE();
+      } else {
+        std::this_thread::yield();
+      }
+    }
   }
 
  private:
@@ -43,7 +50,7 @@ class HelperThread {
       unsigned long g;
       int spins = 0;
       while ((g = generation_.load(std::memory_order_acquire)) == seen) {
-        if (++spins < 4096) {
+        if (++spins < (1 << 16)) {
           LOWPAIR_BENCH_PAUSE();
         } else {
           std::this_thread::yield();

@@ -77,6 +77,28 @@ void DhKernel::forward(const Eigen::Ref<const VecX>& q, Pose& T_base_tool) const
 }
 
 void DhKernel::forward(const double* q, Pose& T_base_tool) const {
+  chain<false>(q, T_base_tool, nullptr, nullptr);
+}
+
+void DhKernel::geometricJacobian(const double* q, Pose& T_base_tool, Eigen::Ref<Mat6X> J) const {
+  double z[3 * kMaxDof], o[3 * kMaxDof];
+  chain<true>(q, T_base_tool, z, o);
+  const Vec3& p = T_base_tool.p;
+  for (int i = 0; i < dof_; ++i) {
+    const Row& row = rows_[i];
+    const double* zi = z + 3 * i;
+    const double r0 = p[0] - o[3 * i], r1 = p[1] - o[3 * i + 1], r2 = p[2] - o[3 * i + 2];
+    J(0, i) = row.rot * (zi[1] * r2 - zi[2] * r1) + row.slide * zi[0];
+    J(1, i) = row.rot * (zi[2] * r0 - zi[0] * r2) + row.slide * zi[1];
+    J(2, i) = row.rot * (zi[0] * r1 - zi[1] * r0) + row.slide * zi[2];
+    J(3, i) = row.rot * zi[0];
+    J(4, i) = row.rot * zi[1];
+    J(5, i) = row.rot * zi[2];
+  }
+}
+
+template <bool kJacobian>
+void DhKernel::chain(const double* q, Pose& T_base_tool, double* z_axes, double* o_axes) const {
   double th[kMaxDof], st[kMaxDof], ct[kMaxDof];
   for (int i = 0; i < dof_; ++i) th[i] = rows_[i].theta + rows_[i].rot * q[i];
   sinCos(th, dof_, st, ct);
@@ -90,6 +112,12 @@ void DhKernel::forward(const double* q, Pose& T_base_tool) const {
   }
   for (int i = 0; i < dof_; ++i) {
     const Row& row = rows_[i];
+    if (kJacobian) {  // joint i's axis: z and origin of the frame before its motion
+      for (int k = 0; k < 3; ++k) {
+        z_axes[3 * i + k] = Z[k];
+        o_axes[3 * i + k] = P[k];
+      }
+    }
     const double d = row.d + row.slide * q[i];
     for (int k = 0; k < 3; ++k) {
       const double x = ct[i] * X[k] + st[i] * Y[k];

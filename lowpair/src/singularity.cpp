@@ -90,6 +90,15 @@ class Lines {
   double size_;
 };
 
+// Adds k to a set of lines unless it is collinear with a member: C2-C5 count distinct lines (a
+// collinear pair is C1, and a duplicate line adds nothing to a plane, a point or a direction).
+void addDistinct(const Lines& lines, JointSet& members, int k) {
+  for (int m : members) {
+    if (lines.collinear(m, k)) return;
+  }
+  members.push_back(k);
+}
+
 void add(std::vector<SingularClass>& out, const std::string& id, const JointSet& joints, const std::string& text) {
   SingularClass c;
   c.id = id;
@@ -132,20 +141,17 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
   std::set<JointSet> c2;
   for (const JointSet& f : families) {
     if (f.size() < 3) continue;
-    bool any_plane = false;
     for (size_t a = 0; a < f.size(); ++a) {
       for (size_t b = a + 1; b < f.size(); ++b) {
         Vec3 normal;
         if (!lines.plane(f[a], f[b], normal)) continue;
-        any_plane = true;
         JointSet members;
         for (int k : f) {
-          if (lines.inPlane(k, normal, lines[f[a]].point)) members.push_back(k);
+          if (lines.inPlane(k, normal, lines[f[a]].point)) addDistinct(lines, members, k);
         }
         if (members.size() >= 3) c2.insert(members);
       }
     }
-    if (!any_plane) c2.insert(f);  // all collinear: coplanar too
   }
   for (const JointSet& s : c2) add(out, "C2", s, "joint axes " + jointList(s) + " are parallel and coplanar");
   // C3 (example 3): four revolute axes through one point.
@@ -156,7 +162,7 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
       if (!lines.revolute(i) || !lines.revolute(j) || !lines.meet(i, j, p)) continue;
       JointSet members;
       for (int k = 0; k < n; ++k) {
-        if (lines.revolute(k) && lines.onLine(p, k)) members.push_back(k);
+        if (lines.revolute(k) && lines.onLine(p, k)) addDistinct(lines, members, k);
       }
       if (members.size() >= 4 && c3.insert(members).second) {
         add(out, "C3", members, "joint axes " + jointList(members) + " pass through one point " + vec3Text(p));
@@ -165,7 +171,9 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
   }
   // C4 (example 4): four parallel revolute axes.
   for (const JointSet& f : families) {
-    if (f.size() >= 4) add(out, "C4", f, "joint axes " + jointList(f) + " are parallel");
+    JointSet distinct;
+    for (int k : f) addDistinct(lines, distinct, k);
+    if (distinct.size() >= 4) add(out, "C4", distinct, "joint axes " + jointList(distinct) + " are parallel");
   }
   // C5 (example 5): four coplanar revolute axes.
   std::set<JointSet> c5;
@@ -175,7 +183,7 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
       if (!lines.revolute(i) || !lines.revolute(j) || !lines.plane(i, j, normal)) continue;
       JointSet members;
       for (int k = 0; k < n; ++k) {
-        if (lines.revolute(k) && lines.inPlane(k, normal, lines[i].point)) members.push_back(k);
+        if (lines.revolute(k) && lines.inPlane(k, normal, lines[i].point)) addDistinct(lines, members, k);
       }
       if (members.size() >= 4) c5.insert(members);
     }
@@ -223,8 +231,8 @@ void lineClassC6(const MatX& left_null, const Vec3& p_tool, double size, int n, 
     JointSet all(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) all[static_cast<size_t>(i)] = i;
     if (uv.norm() <= kWrenchPitchTolerance) {
-      add(out, "C6", all, "all " + std::to_string(n) + " joint axes meet one line at infinity (all perpendicular to " +
-                              vec3Text(uw.normalized()) + ")");
+      add(out, "C6", all, "all " + std::to_string(n) + " joint axes meet one line at infinity: all are perpendicular to " +
+                              vec3Text(uw.normalized()));
       return;
     }
     if (std::abs(uv.dot(uw)) <= kWrenchPitchTolerance * uv.squaredNorm()) {
@@ -265,7 +273,7 @@ DecoupledAnalysis decouple(const Lines& lines, const std::vector<JointLine>& raw
                        ? Vec3(l.direction)
                        : Vec3((l.direction.cross(d.wrist_point - l.point) + l.pitch * l.direction) / size);
   }
-  const Eigen::JacobiSVD<Mat3> w_svd(W);
+  const Eigen::JacobiSVD<MatX> w_svd{MatX(W)};
   d.wrist_sigma_min = w_svd.singularValues()(2);
   d.wrist_singular = d.wrist_sigma_min <= tol;
   if (A.cols() > 0) {

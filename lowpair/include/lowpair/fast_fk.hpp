@@ -36,6 +36,11 @@ class DhKernel {
   void forward(const Eigen::Ref<const VecX>& q, Pose& T_base_tool) const;
   void forward(const double* q, Pose& T_base_tool) const;
 
+  /// FK and the geometric Jacobian (Paden-Sastry eq. 3.13, rows `[v; w]` at the tool origin):
+  /// column i = `[j_i z_i x (o_tool - o_i) + k_i z_i; j_i z_i]` times `scale_i` ((j, k) of design.md).
+  /// @param J_geometric 6 x dof (unchecked).
+  void geometricJacobian(const double* q, Pose& T_base_tool, Eigen::Ref<Mat6X> J_geometric) const;
+
   /// Batch FK, structure of arrays: joint j of configuration k is `q[j * stride + k]`; pose entry e of
   /// configuration k is written to `out[e * stride + k]`, e = 0..8 the rotation row-major, 9..11 the
   /// position. @param count configurations, `count <= stride`.
@@ -46,6 +51,8 @@ class DhKernel {
     double ca, sa, a, d, theta;  // link_i constants
     double rot, slide;           // theta += rot x, d += slide x, x = scale q
   };
+  template <bool kJacobian>
+  void chain(const double* q, Pose& T_base_tool, double* z_axes, double* o_axes) const;
   void block(const double* q, int stride, double* out, int out_stride, int lanes) const;
   int dof_ = 0;
   Row rows_[kMaxDof];

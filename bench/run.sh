@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Builds the benchmarks in $BUILD (Release), runs them and prints lowpair's speed-ups over MuJoCo and KDL
+# from this run's medians (bench/README.md). Env: BUILD (default build), BENCH_OUT (JSON, default
+# $BUILD/bench.json), BENCH_FILTER (regex, default .), BENCH_SMOKE=1 (each benchmark runs ~1 ms, no
+# repetitions: a seconds-long check that everything builds, agrees and runs), BENCH_NO_BUILD=1 (use the
+# existing binary), JOBS (build parallelism, default 2).
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(dirname "$here")
+BUILD=${BUILD:-build}
+BENCH_OUT=${BENCH_OUT:-$BUILD/bench.json}
+BENCH_FILTER=${BENCH_FILTER:-.}
+
+if [ -z "${BENCH_NO_BUILD:-}" ]; then
+  cmake -S "$root" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DLOWPAIR_BUILD_BENCH=ON >/dev/null
+  cmake --build "$BUILD" --target lowpair_bench -j"${JOBS:-2}"
+fi
+exe="$BUILD/bench/lowpair_bench"
+[ -x "$exe" ] || { echo "error: $exe not built (configure with -DLOWPAIR_BUILD_BENCH=ON)" >&2; exit 2; }
+
+if [ -n "${BENCH_SMOKE:-}" ]; then
+  args=(--benchmark_min_time=0.001)
+else
+  args=(--benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
+        --benchmark_report_aggregates_only=true)
+fi
+mkdir -p "$(dirname "$BENCH_OUT")"
+"$exe" "${args[@]}" --benchmark_out="$BENCH_OUT" --benchmark_out_format=json \
+  --benchmark_filter="$BENCH_FILTER"
+echo
+python3 "$here/report.py" "$BENCH_OUT"

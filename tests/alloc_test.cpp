@@ -1,0 +1,174 @@
+// The hot paths allocate nothing: FK (POE, D-H, fast D-H), the Jacobians, every exp variant.
+// Two proofs: Eigen's EIGEN_RUNTIME_NO_MALLOC check (covers Eigen code inlined into this file) and a
+// global operator new counter (covers the library .cpp files, compiled without that check, and std::).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <random>
+
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "lowpair/fast_fk.hpp"
+#include "lowpair/kinematics.hpp"
+#include "lowpair/se3.hpp"
+#include "lowpair/se3_variants.hpp"
+#if __has_include("lowpair/jacobian.hpp")
+#include "lowpair/jacobian.hpp"
+#define LOWPAIR_ALLOC_TEST_JACOBIAN 1
+#endif
+
+#ifndef EIGEN_RUNTIME_NO_MALLOC
+#error "compile alloc_test with EIGEN_RUNTIME_NO_MALLOC (tests/CMakeLists.txt)"
+#endif
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(size ? size : 1);
+}
+void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept { return operator new(size, tag); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace lowpair;
+
+namespace {
+
+// Runs `f` with both guards armed; returns the number of operator new calls it made.
+template <class F>
+long allocationsOf(F&& f) {
+  const long before = g_allocations.load();
+  Eigen::internal::set_is_malloc_allowed(false);
+  f();
+  Eigen::internal::set_is_malloc_allowed(true);
+  return g_allocations.load() - before;
+}
+
+// PUMA 560 (Corke) as a D-H model and its POE equivalent, with a helical and a prismatic joint added
+// so that every joint type's path runs.
+DhModel testDh() {
+  std::vector<DhJoint> joints(8);
+  const double alpha[] = {M_PI / 2, 0, -M_PI / 2, M_PI / 2, -M_PI / 2, 0, 0.3, 0};
+  const double a[] = {0, 0.4318, 0.0203, 0, 0, 0, 0.1, 0.05};
+  const double d[] = {0, 0, 0.15005, 0.4318, 0, 0, 0.02, 0};
+  for (int i = 0; i < 8; ++i) joints[i].link = DhParams{0.0, d[i], alpha[i], a[i]};
+  joints[6].type = JointType::Helical;
+  joints[6].pitch = 0.01;
+  joints[7].type = JointType::Prismatic;
+  return DhModel(DhParams{}, joints, 0.1, 0.2, "alloc-test");
+}
+
+PoeModel testPoe() {
+  // twists of the D-H model's axes at q = 0, the tool pose from its FK
+  const DhModel dh = testDh();
+  std::vector<JointSpec> specs;
+  Pose G = dhTransform(dh.base());
+  for (const DhJoint& j : dh.joints()) {
+    JointSpec s;
+    s.type = j.type;
+    const Vec3 z = G.R.col(2);
+    if (j.type == JointType::Prismatic) {
+      s.twist << Vec3::Zero(), z;
+    } else {
+      s.twist << z, G.p.cross(z) + j.pitch * z;
+    }
+    specs.push_back(s);
+    G = G * dhTransform(j.link);
+  }
+  return PoeModel(specs, G * dhToolTransform(dh.toolTheta(), dh.toolD()), "alloc-test");
+}
+
+VecX randomQ(int n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  VecX q(n);
+  for (int i = 0; i < n; ++i) q[i] = u(rng);
+  return q;
+}
+
+}  // namespace
+
+TEST(Alloc, CounterSeesAllocations) {
+  // the guard itself works: a std::vector allocation is counted
+  const long before = g_allocations.load();
+  std::vector<double>* v = new std::vector<double>(100);
+  EXPECT_GE(g_allocations.load() - before, 2);
+  delete v;
+}
+
+TEST(Alloc, PoeForwardKinematicsAllocatesNothing) {
+  const PoeModel model = testPoe();
+  PoeData data(model);
+  const VecX q = randomQ(model.dof(), 1);
+  EXPECT_EQ(allocationsOf([&] { forwardKinematics(model, data, q); }), 0);
+}
+
+TEST(Alloc, DhForwardKinematicsAllocatesNothing) {
+  const DhModel model = testDh();
+  DhData data(model);
+  const VecX q = randomQ(model.dof(), 2);
+  EXPECT_EQ(allocationsOf([&] { forwardKinematics(model, data, q); }), 0);
+}
+
+TEST(Alloc, FastDhKernelAllocatesNothing) {
+  const DhModel model = testDh();
+  const DhKernel kernel(model);
+  const VecX q = randomQ(model.dof(), 3);
+  Pose T;
+  Mat6X J(6, model.dof());
+  constexpr int kCount = 37;
+  std::vector<double> q_soa(static_cast<size_t>(model.dof() * kCount), 0.5), out(12 * kCount);
+  EXPECT_EQ(allocationsOf([&] {
+              kernel.forward(q, T);
+              kernel.geometricJacobian(q.data(), T, J);
+              kernel.forwardBatch(q_soa.data(), kCount, kCount, out.data());
+            }),
+            0);
+}
+
+#ifdef LOWPAIR_ALLOC_TEST_JACOBIAN
+TEST(Alloc, JacobiansAllocateNothing) {
+  const PoeModel model = testPoe();
+  PoeData data(model);
+  const DhModel dh = testDh();
+  DhData dh_data(dh);
+  const VecX q = randomQ(model.dof(), 4);
+  Mat6X J(6, model.dof());
+  EXPECT_EQ(allocationsOf([&] {
+              spatialJacobian(model, data, q, J);
+              bodyJacobian(model, data, q, J);
+              geometricJacobian(model, data, q, J);
+              spatialJacobian(dh, dh_data, q, J);
+              bodyJacobian(dh, dh_data, q, J);
+              geometricJacobian(dh, dh_data, q, J);
+            }),
+            0);
+}
+#endif
+
+TEST(Alloc, ExpVariantsAllocateNothing) {
+  Vec6 xi;
+  xi << 0.3, -0.2, 0.9, 0.1, 0.5, -0.4;
+  Pose T;
+  EXPECT_EQ(allocationsOf([&] {
+              T = expSE3(xi);
+              T = expSE3Paper(xi);
+              T = expSE3Quaternion(xi);
+              T = Pose::fromMatrix(hat6(xi).exp());  // BM_Exp_EigenMatrixExp
+            }),
+            0);
+  EXPECT_TRUE(T.R.allFinite());
+}
