@@ -40,6 +40,15 @@ json validationJson(const std::vector<ScenarioResult>& results, const RunOptions
       if (c.pose) j["max_rotation_euler_zyx"] = c.max_rotation_euler;
       s["comparisons"].push_back(j);
     }
+    if (!r.singular_poses.empty()) {
+      s["singular_poses"] = json::array();
+      for (const auto& sp : r.singular_poses) {
+        s["singular_poses"].push_back({{"name", sp.name}, {"q", sp.q}, {"expected", sp.expected},
+                                       {"reported", sp.details}, {"rank", sp.rank_library},
+                                       {"rank_mujoco", sp.rank_mujoco}, {"dof", sp.dof},
+                                       {"sigma_min", sp.sigma_min}, {"pass", sp.pass}});
+      }
+    }
     pass = pass && r.pass;
     doc["scenarios"].push_back(s);
   }
@@ -62,6 +71,24 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
       out << line;
     }
     pass = pass && r.pass;
+  }
+  bool header = false;
+  for (const auto& r : results) {
+    for (const auto& sp : r.singular_poses) {
+      if (!header) {
+        std::snprintf(line, sizeof line, "\n%-28s %-20s %-12s %-36s %6s %6s %10s\n", "scenario", "singular pose",
+                      "expected", "reported", "rank", "mujoco", "sigma_min");
+        out << line;
+        header = true;
+      }
+      std::string expected, reported;
+      for (const auto& e : sp.expected) expected += (expected.empty() ? "" : " ") + e;
+      for (const auto& d : sp.details) reported += (reported.empty() ? "" : " ") + d;
+      std::snprintf(line, sizeof line, "%-28s %-20s %-12s %-36s %3d/%-2d %6d %10.1e  %s\n", r.scenario.name.c_str(),
+                    sp.name.c_str(), expected.c_str(), reported.c_str(), sp.rank_library, sp.dof, sp.rank_mujoco,
+                    sp.sigma_min, sp.pass ? "pass" : "FAIL");
+      out << line;
+    }
   }
   out << (pass ? "all comparisons within tolerance" : "FAILED: a comparison is outside its tolerance (marked FAIL)")
       << "  (rotation in rad; translation relative to the robot size L; Jacobian rows: angular block as 'rot', "

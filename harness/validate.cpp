@@ -17,7 +17,10 @@
 #include "mujoco_robot.hpp"
 #include "robot_file.hpp"
 #ifdef LOWPAIR_HAVE_JACOBIAN
+#include <Eigen/SVD>
+
 #include "lowpair/jacobian.hpp"
+#include "lowpair/singularity.hpp"
 #endif
 
 namespace lowpair {
@@ -127,10 +130,46 @@ Scenario readScenario(const std::string& path) {
       s.poses.push_back(np);
     }
   }
+  if (const YAML::Node poses = root["singular_poses"]) {
+    for (const auto& p : poses) {
+      SingularPose sp;
+      sp.name = p["name"] ? p["name"].as<std::string>() : "singular" + std::to_string(s.singular_poses.size() + 1);
+      if (!p["q"] || !p["q"].IsSequence()) fail(path, p, "singular pose '" + sp.name + "' needs q: [...]");
+      for (const auto& x : p["q"]) sp.q.push_back(number(path, x, "singular pose " + sp.name));
+      if (!p["classes"] || !p["classes"].IsSequence() || p["classes"].size() == 0) {
+        fail(path, p, "singular pose '" + sp.name + "' needs classes: [C1..C7 or other]");
+      }
+      for (const auto& c : p["classes"]) {
+        const std::string id = c.as<std::string>();
+        static const std::set<std::string> ids = {"C1", "C2", "C3", "C4", "C5", "C6", "C7", "other"};
+        if (!ids.count(id)) fail(path, c, "unknown class '" + id + "' (C1..C7 or other)");
+        sp.classes.push_back(id);
+      }
+      s.singular_poses.push_back(sp);
+    }
+  }
   return s;
 }
 
 namespace {
+
+#ifdef LOWPAIR_HAVE_JACOBIAN
+// Rank of a geometric Jacobian (rows [v; w]) with the rule of singularity.hpp: linear rows over L,
+// prismatic columns times L, tol = kRankFactor max(6, n) eps sigma_max.
+int scaledRank(const PoeModel& model, Mat6X J) {
+  const double L = model.size();
+  J.topRows<3>() /= L;
+  for (int i = 0; i < model.dof(); ++i) {
+    J.col(i) *= (model.joint(i).type == JointType::Prismatic ? L : 1.0) / model.joint(i).scale;
+  }
+  Eigen::JacobiSVD<MatX> svd(J);
+  const auto& sv = svd.singularValues();
+  const double tol = kRankFactor * std::max(6, model.dof()) * std::numeric_limits<double>::epsilon() * sv[0];
+  int rank = 0;
+  for (Eigen::Index k = 0; k < sv.size(); ++k) rank += sv[k] > tol ? 1 : 0;
+  return rank;
+}
+#endif
 
 void summarize(ComparisonResult& c, const std::vector<double>& rot, const std::vector<double>& rot_ea,
                const std::vector<double>& trans, double L, const std::vector<VecX>& qs) {
@@ -338,6 +377,42 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
     result.pass = result.pass && cmp.pass;
     result.comparisons.push_back(std::move(cmp));
   }
+#ifdef LOWPAIR_HAVE_JACOBIAN
+  {
+    MujocoRobot::Evaluator mj(robot);
+    Mat6X J(6, n);
+    VecX x(n);
+    for (const SingularPose& sp : scenario.singular_poses) {
+      if (static_cast<int>(sp.q.size()) != n) {
+        throw RobotFileError(scenario.path + ": singular pose '" + sp.name + "' has " + std::to_string(sp.q.size()) +
+                             " values for " + std::to_string(n) + " joints");
+      }
+      for (int i = 0; i < n; ++i) x[i] = scale[static_cast<size_t>(i)] * (sp.q[static_cast<size_t>(i)] + offset[static_cast<size_t>(i)]);
+      const SingularityReport report = analyzeSingularity(poe, x);
+      mj.tipJacobian(x, J);
+      SingularPoseResult out;
+      out.name = sp.name;
+      out.q = sp.q;
+      out.expected = sp.classes;
+      out.dof = n;
+      out.rank_library = report.rank;
+      out.rank_mujoco = scaledRank(poe, J);
+      out.sigma_min = report.sigma_min;
+      for (const auto& c : report.classes) {
+        out.reported.push_back(c.id);
+        std::string d = c.id + "(";
+        for (size_t k = 0; k < c.joints.size(); ++k) d += (k ? "," : "") + std::to_string(c.joints[k]);
+        out.details.push_back(d + ")");
+      }
+      out.pass = report.singular && out.rank_library == out.rank_mujoco;
+      for (const auto& e : sp.classes) {
+        out.pass = out.pass && std::find(out.reported.begin(), out.reported.end(), e) != out.reported.end();
+      }
+      result.pass = result.pass && out.pass;
+      result.singular_poses.push_back(out);
+    }
+  }
+#endif
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

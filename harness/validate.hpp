@@ -19,6 +19,13 @@ struct NamedPose {
   std::vector<double> q;
 };
 
+/// A singular configuration with the Paden–Sastry classes it must show (design.md ids, or "other").
+struct SingularPose {
+  std::string name;
+  std::vector<double> q;
+  std::vector<std::string> classes;
+};
+
 struct Scenario {
   std::string path;  ///< the scenario file ("" for a model given on the command line)
   std::string name;
@@ -34,6 +41,7 @@ struct Scenario {
   double tol_jacobian_rotation = 1e-12;       ///< rad (per unit joint rate)
   double tol_jacobian_translation = 1e-12;    ///< times L
   std::vector<NamedPose> poses;
+  std::vector<SingularPose> singular_poses;
 };
 
 /// @throws RobotFileError ("FILE: line N: what")
@@ -58,6 +66,18 @@ struct ComparisonResult {
   std::vector<float> rotation_errors, translation_errors;  ///< per sample, for the report's pictures
 };
 
+/// At a singular pose: MuJoCo's and the library's Jacobians must agree on the rank, the pose must be
+/// rank deficient, and every expected class must be among those reported.
+struct SingularPoseResult {
+  std::string name;
+  std::vector<double> q;
+  std::vector<std::string> expected, reported;  ///< class ids; reported as "C1(4,6)"-style in `details`
+  std::vector<std::string> details;
+  int rank_library = 0, rank_mujoco = 0, dof = 0;
+  double sigma_min = 0.0;
+  bool pass = true;
+};
+
 struct ScenarioResult {
   Scenario scenario;
   double size = 1.0;  ///< L of the extracted model
@@ -65,6 +85,7 @@ struct ScenarioResult {
   double seconds = 0.0;
   bool pass = true;
   std::vector<ComparisonResult> comparisons;
+  std::vector<SingularPoseResult> singular_poses;
 };
 
 /// @throws RobotFileError for a model or robot file that cannot be used
