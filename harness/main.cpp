@@ -71,6 +71,8 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.subject() << ": " << e.what() << "\n";
   } catch (const std::invalid_argument& e) {
     std::cerr << "error: " << e.what() << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
   }
   return 2;
 }

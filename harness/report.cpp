@@ -1,5 +1,6 @@
 #include "report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -97,10 +98,6 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
 
 namespace {
 
-void run(const std::string& cmd) {
-  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("command failed: " + cmd);
-}
-
 std::string safe(const std::string& name) {
   std::string s = name;
   for (char& ch : s) {
@@ -160,9 +157,38 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
        << ")):(1.0) smooth frequency with boxes title '" << r.comparisons[c].name << "'";
   }
   gp << "\nunset multiplot\n";
+  if (r.map_size > 0) {
+    const fs::path map = dir / (base + "_singularity_map.dat");
+    {
+      std::ofstream out(map);
+      for (int a = 0; a < r.map_size; ++a) {
+        const double y = r.map_range_y[0] + (r.map_range_y[1] - r.map_range_y[0]) * a / (r.map_size - 1);
+        for (int b = 0; b < r.map_size; ++b) {
+          const double x = r.map_range_x[0] + (r.map_range_x[1] - r.map_range_x[0]) * b / (r.map_size - 1);
+          out << x << " " << y << " " << r.map_log_sigma[static_cast<size_t>(a * r.map_size + b)] << "\n";
+        }
+        out << "\n";
+      }
+    }
+    gp << "reset\nset terminal pngcairo noenhanced size 900,760 font ',10'\n"
+       << "set output '" << (dir / (base + "_singularity_map.png")).string() << "'\n"
+       << "set title '" << r.scenario.name << ": log10 sigma_min of the dimensionless Jacobian over joints "
+       << r.map_joints[0] << " and " << r.map_joints[1] << " (others fixed); dark = singular'\n"
+       << "set xlabel 'q" << r.map_joints[0] << "'\nset ylabel 'q" << r.map_joints[1] << "'\n"
+       << "set view map\nset palette defined (-8 'black', -5 'dark-red', -2 'orange', 0 'yellow')\n"
+       << "set cbrange [-8:0]\nset cblabel 'log10 sigma_min'\nset xrange [*:*] noextend\nset yrange [*:*] noextend\n"
+       << "splot '" << map.string() << "' using 1:2:3 with pm3d notitle\n";
+  }
   const fs::path script = dir / (base + ".gnuplot");
   std::ofstream(script) << gp.str();
-  run("gnuplot '" + script.string() + "' 2>/dev/null");
+  const fs::path log = dir / (base + ".gnuplot.log");
+  if (std::system(("gnuplot '" + script.string() + "' 2>'" + log.string() + "'").c_str()) != 0) {
+    std::ifstream in(log);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    throw std::runtime_error("report: gnuplot failed on " + script.filename().string() + ": " + text.substr(0, 300));
+  }
+  fs::remove(log);
 }
 
 }  // namespace
@@ -199,6 +225,7 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
       md << "## " << r.scenario.name << "\n\nModel `" << r.scenario.model << "`, tip `" << r.scenario.tip << "`, L = "
          << r.size << ", " << r.samples << " samples in " << r.seconds << " s.\n\n"
          << "![errors](" << base << "_errors.png)\n\n![histogram](" << base << "_histogram.png)\n\n";
+      if (r.map_size > 0) md << "![singularity map](" << base << "_singularity_map.png)\n\n";
     }
     std::ofstream(tmp / "summary.md") << md.str();
     fs::create_directories(target);

@@ -148,22 +148,35 @@ Scenario readScenario(const std::string& path) {
       s.singular_poses.push_back(sp);
     }
   }
+  if (const YAML::Node m = root["singularity_map"]) {
+    if (m["joints"]) {
+      for (const auto& j : m["joints"]) s.map_joints.push_back(j.as<int>());
+      if (s.map_joints.size() != 2) fail(path, m["joints"], "singularity_map.joints must name two joints (1-based)");
+    }
+    if (m["fixed"]) {
+      for (const auto& x : m["fixed"]) s.map_fixed.push_back(number(path, x, "singularity_map.fixed"));
+    }
+  }
   return s;
 }
 
 namespace {
 
 #ifdef LOWPAIR_HAVE_JACOBIAN
-// Rank of a geometric Jacobian (rows [v; w]) with the rule of singularity.hpp: linear rows over L,
-// prismatic columns times L, tol = kRankFactor max(6, n) eps sigma_max.
-int scaledRank(const PoeModel& model, Mat6X J) {
+// Singular values of the dimensionless geometric Jacobian (singularity.hpp): linear rows over L,
+// columns over the joint scale, prismatic columns times L.
+VecX scaledSingularValues(const PoeModel& model, Mat6X J) {
   const double L = model.size();
   J.topRows<3>() /= L;
   for (int i = 0; i < model.dof(); ++i) {
     J.col(i) *= (model.joint(i).type == JointType::Prismatic ? L : 1.0) / model.joint(i).scale;
   }
-  Eigen::JacobiSVD<MatX> svd(J);
-  const auto& sv = svd.singularValues();
+  return Eigen::JacobiSVD<MatX>(J).singularValues();
+}
+
+// Rank with the rule of singularity.hpp: tol = kRankFactor max(6, n) eps sigma_max.
+int scaledRank(const PoeModel& model, const Mat6X& J) {
+  const VecX sv = scaledSingularValues(model, J);
   const double tol = kRankFactor * std::max(6, model.dof()) * std::numeric_limits<double>::epsilon() * sv[0];
   int rank = 0;
   for (Eigen::Index k = 0; k < sv.size(); ++k) rank += sv[k] > tol ? 1 : 0;
@@ -410,6 +423,41 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
       }
       result.pass = result.pass && out.pass;
       result.singular_poses.push_back(out);
+    }
+  }
+  // singularity map over two joints
+  if (n >= 3) {
+    std::vector<int> mj = scenario.map_joints.empty() ? std::vector<int>{2, 3} : scenario.map_joints;
+    for (int j : mj) {
+      if (j < 1 || j > n) throw RobotFileError(scenario.path + ": singularity_map joint " + std::to_string(j) + " out of 1.." + std::to_string(n));
+    }
+    if (!scenario.map_fixed.empty() && static_cast<int>(scenario.map_fixed.size()) != n) {
+      throw RobotFileError(scenario.path + ": singularity_map.fixed needs " + std::to_string(n) + " values");
+    }
+    VecX q0(n);
+    for (int i = 0; i < n; ++i) {
+      const auto& r = ranges[static_cast<size_t>(i)];
+      q0[i] = !scenario.map_fixed.empty() ? scenario.map_fixed[static_cast<size_t>(i)]
+              : robot.joints()[static_cast<size_t>(i)].type == JointType::Prismatic ? 0.5 * (r[0] + r[1])
+                                                                                     : 0.4;
+    }
+    const int size = 151;
+    result.map_joints = mj;
+    result.map_size = size;
+    result.map_range_x = ranges[static_cast<size_t>(mj[0] - 1)];
+    result.map_range_y = ranges[static_cast<size_t>(mj[1] - 1)];
+    result.map_log_sigma.assign(static_cast<size_t>(size * size), 0.0);
+    PoeData data(poe);
+    Mat6X J(6, n);
+    VecX q = q0, x(n);
+    for (int a = 0; a < size; ++a) {
+      for (int b = 0; b < size; ++b) {
+        q[mj[0] - 1] = result.map_range_x[0] + (result.map_range_x[1] - result.map_range_x[0]) * b / (size - 1);
+        q[mj[1] - 1] = result.map_range_y[0] + (result.map_range_y[1] - result.map_range_y[0]) * a / (size - 1);
+        for (int i = 0; i < n; ++i) x[i] = scale[static_cast<size_t>(i)] * (q[i] + offset[static_cast<size_t>(i)]);
+        geometricJacobian(poe, data, x, J);
+        result.map_log_sigma[static_cast<size_t>(a * size + b)] = std::log10(std::max(1e-17, scaledSingularValues(poe, J).minCoeff()));
+      }
     }
   }
 #endif

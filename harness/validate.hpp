@@ -42,6 +42,10 @@ struct Scenario {
   double tol_jacobian_translation = 1e-12;    ///< times L
   std::vector<NamedPose> poses;
   std::vector<SingularPose> singular_poses;
+  /// Singularity map: log10(sigma_min) over joints (1-based) map_joints on [-pi, pi]^2 (or their ranges),
+  /// the other joints at map_fixed (default: 0.4 rad / mid-range). Empty map_joints: joints 2 and 3.
+  std::vector<int> map_joints;
+  std::vector<double> map_fixed;
 };
 
 /// @throws RobotFileError ("FILE: line N: what")
@@ -86,6 +90,11 @@ struct ScenarioResult {
   bool pass = true;
   std::vector<ComparisonResult> comparisons;
   std::vector<SingularPoseResult> singular_poses;
+  /// log10 sigma_min of the dimensionless Jacobian over the map grid (row-major, map_size^2).
+  std::vector<int> map_joints;
+  std::array<double, 2> map_range_x{}, map_range_y{};
+  int map_size = 0;
+  std::vector<double> map_log_sigma;
 };
 
 /// @throws RobotFileError for a model or robot file that cannot be used
