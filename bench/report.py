@@ -27,6 +27,7 @@ def main(path):
         unit = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}[b["time_unit"]]
         runs[name] = (b["real_time"] * unit * scale, b["cpu_time"] * unit * scale)
 
+    runs = dict(sorted(runs.items(), key=lambda kv: (kv[0].split("_")[1], kv[0].split("_")[-1], kv[0])))
     print(f"{'benchmark (median)':<36} {'real ns':>10} {'cpu ns':>10} {'x MuJoCo':>9} {'x KDL':>9}")
     for name, (real, cpu) in runs.items():
         parts = name.split("_")  # BM, Area, Impl, Robot
