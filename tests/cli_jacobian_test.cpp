@@ -1,55 +1,22 @@
 // `lowpair jacobian` and `lowpair singular`: JSON shape on the project's robot files, and rejection of
 // bad input (exit status 2, one line "error: FILE: ..." on stderr, nothing on stdout).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
 #include <string>
 
 namespace {
 
-struct CliRun {
-  int status = -1;
-  std::string out, err;
-};
+using namespace lowpair_test;
 
-std::string tempDir() {
-  static std::string dir = [] {
-    char tmpl[] = "/tmp/lowpair_cli_jacobian_test_XXXXXX";
-    return std::string(mkdtemp(tmpl));
-  }();
-  return dir;
-}
-
-CliRun run(const std::string& args) {
-  const std::string err_path = tempDir() + "/stderr.txt";
-  const std::string cmd = std::string(LOWPAIR_CLI) + " " + args + " 2>" + err_path;
-  CliRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(err_path);
-  r.err.assign(std::istreambuf_iterator<char>(err), {});
-  return r;
-}
-
-std::string model(const std::string& name) { return std::string(LOWPAIR_MODELS) + "/" + name; }
-
-void expectRejected(const std::string& args, const std::string& what) {
-  const CliRun r = run(args);
-  EXPECT_EQ(r.status, 2) << args << "\nstderr: " << r.err;
-  EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_TRUE(r.out.empty()) << "partial output on error: " << r.out;
-}
+CliRun run(const std::string& args) { return runCli(args); }
+std::string model(const std::string& name) { return modelPath(name); }
 
 }  // namespace
 

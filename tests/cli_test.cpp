@@ -1,62 +1,23 @@
 // The lowpair command line: outputs on the project's robot files and rejection of bad input
 // (exit status 2, one line "error: FILE: ..." on stderr).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
 #include <string>
 
 namespace {
 
-struct CliRun {
-  int status = -1;
-  std::string out, err;
-};
+using namespace lowpair_test;
 
-std::string tempDir() {
-  static std::string dir = [] {
-    char tmpl[] = "/tmp/lowpair_cli_test_XXXXXX";
-    return std::string(mkdtemp(tmpl));
-  }();
-  return dir;
-}
-
-CliRun run(const std::string& args) {
-  const std::string err_path = tempDir() + "/stderr.txt";
-  const std::string cmd = std::string(LOWPAIR_CLI) + " " + args + " 2>" + err_path;
-  CliRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(err_path);
-  r.err.assign(std::istreambuf_iterator<char>(err), {});
-  return r;
-}
-
-std::string model(const std::string& name) { return std::string(LOWPAIR_MODELS) + "/" + name; }
-
-std::string writeFile(const std::string& name, const std::string& text) {
-  const std::string path = tempDir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-// Bad input: status 2, a single stderr line starting "error: FILE" and containing `what`.
-void expectRejected(const std::string& args, const std::string& file, const std::string& what) {
-  const CliRun r = run(args);
-  EXPECT_EQ(r.status, 2) << args << "\nstderr: " << r.err;
-  EXPECT_EQ(r.err.rfind("error: " + file, 0), 0u) << r.err;
-  EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_TRUE(r.out.empty()) << "partial output on error: " << r.out;
-}
+std::string model(const std::string& name) { return modelPath(name); }
+std::string writeFile(const std::string& name, const std::string& text) { return writeScratchFile(name, text); }
+CliRun run(const std::string& args) { return runCli(args); }
 
 const char* kGoodPoe = R"(name: tiny
 length_unit: m
@@ -137,58 +98,58 @@ TEST(CliFk, PoeAndDhAgree) {
     for (int c = 0; c < 4; ++c) EXPECT_NEAR(ja[r][c].get<double>(), jb[r][c].get<double>(), 1e-14);
 }
 
-TEST(CliErrors, MissingFile) { expectRejected("poe2dh /nonexistent/robot.yaml", "/nonexistent/robot.yaml", "cannot open"); }
+TEST(CliErrors, MissingFile) { expectRejected("poe2dh /nonexistent/robot.yaml", "cannot open", "/nonexistent/robot.yaml"); }
 
 TEST(CliErrors, YamlSyntaxWithLine) {
   const std::string f = writeFile("syntax.yaml", "name: x\npoe:\n  joints: [\n    {twist: [0, 0, 1\n");
-  expectRejected("poe2dh " + f, f, "line ");
+  expectRejected("poe2dh " + f, "line ", f);
 }
 
 TEST(CliErrors, UnknownKey) {
   const std::string f = writeFile("unknown.yaml", std::string(kGoodPoe) + "colour: red\n");
-  expectRejected("poe2dh " + f, f, "unknown key 'colour'");
+  expectRejected("poe2dh " + f, "unknown key 'colour'", f);
   const std::string g = writeFile("unknown_joint.yaml",
                                   "poe:\n  joints:\n    - {twist: [0, 0, 1, 0, 0, 0], ofset: 1}\n");
-  expectRejected("poe2dh " + g, g, "unknown key 'ofset'");
+  expectRejected("poe2dh " + g, "unknown key 'ofset'", g);
 }
 
 TEST(CliErrors, WrongVectorLength) {
   const std::string f = writeFile("length.yaml", "poe:\n  joints:\n    - {twist: [0, 0, 1, 0, 0]}\n");
-  expectRejected("poe2dh " + f, f, "must have 6 entries, got 5");
+  expectRejected("poe2dh " + f, "must have 6 entries, got 5", f);
 }
 
 TEST(CliErrors, NonFiniteNumber) {
   const std::string f = writeFile("nan.yaml", "poe:\n  joints:\n    - {twist: [0, 0, 1, .nan, 0, 0]}\n");
-  expectRejected("poe2dh " + f, f, "not finite");
+  expectRejected("poe2dh " + f, "not finite", f);
   const std::string g = writeFile("word.yaml", "poe:\n  joints:\n    - {twist: [0, 0, one, 0, 0, 0]}\n");
-  expectRejected("poe2dh " + g, g, "must be a number");
+  expectRejected("poe2dh " + g, "must be a number", g);
 }
 
 TEST(CliErrors, InconsistentJointType) {
   const std::string f =
       writeFile("helical.yaml", "poe:\n  joints:\n    - {type: revolute, twist: [0, 0, 1, 0, 0, 0.5]}\n");
-  expectRejected("poe2dh " + f, f, "declared revolute");
+  expectRejected("poe2dh " + f, "declared revolute", f);
   const std::string g = writeFile("prismatic.yaml", "poe:\n  joints:\n    - {type: prismatic, twist: [0, 0, 1, 0, 0, 0]}\n");
-  expectRejected("poe2dh " + g, g, "declared prismatic");
+  expectRejected("poe2dh " + g, "declared prismatic", g);
   const std::string h = writeFile("zero.yaml", "poe:\n  joints:\n    - {twist: [0, 0, 0, 0, 0, 0]}\n");
-  expectRejected("poe2dh " + h, h, "twist is zero");
+  expectRejected("poe2dh " + h, "twist is zero", h);
   const std::string k = writeFile(
       "dhpitch.yaml", "dh:\n  joints:\n    - {type: revolute, theta: 0, d: 0, alpha: 0, a: 1, pitch: 0.5}\n");
-  expectRejected("dh2poe " + k, k, "only for helical");
+  expectRejected("dh2poe " + k, "only for helical", k);
 }
 
 TEST(CliErrors, BadToolPose) {
   const std::string f = writeFile(
       "tool.yaml",
       "poe:\n  joints:\n    - {twist: [0, 0, 1, 0, 0, 0]}\n  tool_pose: [[1, 0, 0, 0], [0, 2, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n");
-  expectRejected("poe2dh " + f, f, "not orthonormal");
+  expectRejected("poe2dh " + f, "not orthonormal", f);
 }
 
 TEST(CliErrors, JointVector) {
   const std::string f = writeFile("good.yaml", kGoodPoe);
-  expectRejected("fk " + f + " --q 0.1", f, "expected 2 joint values, got 1");
-  expectRejected("fk " + f + " --q 0.1,abc", f, "'abc' is not a number");
-  expectRejected("fk " + f + " --q 0.1,nan", f, "not finite");
+  expectRejected("fk " + f + " --q 0.1", "expected 2 joint values, got 1", f);
+  expectRejected("fk " + f + " --q 0.1,abc", "'abc' is not a number", f);
+  expectRejected("fk " + f + " --q 0.1,nan", "not finite", f);
   EXPECT_EQ(run("fk " + f + " --q 0.1,0.2").status, 0);
 }
 

@@ -2,52 +2,24 @@
 // a coupled hinge+slide), an independently written robot file checked against it, a negative control,
 // rejected inputs, thread/shard independence, and no report on failure.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+
+#include "cli_runner.hpp"
 #include <string>
 
 namespace {
 
-struct CliRun {
-  int status = -1;
-  std::string out, err;
-};
+using namespace lowpair_test;
 
-std::string tempDir() {
-  static std::string dir = [] {
-    char tmpl[] = "/tmp/lowpair_harness_test_XXXXXX";
-    return std::string(mkdtemp(tmpl));
-  }();
-  return dir;
-}
-
-CliRun run(const std::string& args) {
-  const std::string err_path = tempDir() + "/stderr.txt";
-  const std::string cmd = std::string(LOWPAIR_CLI) + " " + args + " 2>" + err_path;
-  CliRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(err_path);
-  r.err.assign(std::istreambuf_iterator<char>(err), {});
-  return r;
-}
-
-std::string writeFile(const std::string& name, const std::string& text) {
-  const std::string path = tempDir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
-
-std::string model(const std::string& name) { return std::string(LOWPAIR_MODELS) + "/" + name; }
+CliRun run(const std::string& args) { return runCli(args); }
+std::string writeFile(const std::string& name, const std::string& text) { return writeScratchFile(name, text); }
+std::string model(const std::string& name) { return modelPath(name); }
+std::string tempDir() { return scratch(); }
 
 // Body frames rotated with euler (degrees, MuJoCo's default) and quat, joint anchors off the body
 // origin, nonzero refs, and a helical joint as a hinge plus a coupled slide (pitch 0.1 m/rad).
@@ -136,12 +108,9 @@ TEST(Validate, ResultsIndependentOfThreadsAndShards) {
 }
 
 namespace {
-void expectRejected(const std::string& args, const std::string& what) {
+void expectRejectedWithoutReport(const std::string& args, const std::string& what) {
   const std::string report = tempDir() + "/should_not_exist";
-  const CliRun r = run(args + " --report " + report);
-  EXPECT_EQ(r.status, 2) << args << "\n" << r.out << r.err;
-  EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
+  lowpair_test::expectRejected(args + " --report " + report, what);
   EXPECT_FALSE(std::filesystem::exists(report)) << "report written on a failed run";
 }
 }  // namespace
@@ -149,29 +118,29 @@ void expectRejected(const std::string& args, const std::string& what) {
 TEST(ValidateRejects, BallJointInChain) {
   std::string text = kUnseenMjcf;
   text.replace(text.find("type=\"slide\" axis=\"0 0 1\" ref=\"0.2\""), 35, "type=\"ball\"");
-  expectRejected("validate " + writeFile("ball.xml", text) + " --tip tool", "ball joint");
+  expectRejectedWithoutReport("validate " + writeFile("ball.xml", text) + " --tip tool", "ball joint");
 }
 
 TEST(ValidateRejects, TipNotFound) {
-  expectRejected("validate " + model("elbow_mls.xml") + " --tip nowhere", "tip 'nowhere'");
+  expectRejectedWithoutReport("validate " + model("elbow_mls.xml") + " --tip nowhere", "tip 'nowhere'");
 }
 
 TEST(ValidateRejects, NonlinearEquality) {
   std::string text = kUnseenMjcf;
   text.replace(text.find("0 0.1 0 0 0"), 11, "0 0.1 0.5 0 0");
-  expectRejected("validate " + writeFile("nonlinear.xml", text) + " --tip tool", "polycoef");
+  expectRejectedWithoutReport("validate " + writeFile("nonlinear.xml", text) + " --tip tool", "polycoef");
 }
 
 TEST(ValidateRejects, RobotFileMismatch) {
-  expectRejected("validate " + model("elbow_mls.xml") + " --tip tool --robot " + model("panda.yaml"), "joints");
-  expectRejected("validate " + model("stanford_corke.xml") + " --tip tool --robot " + model("puma560_corke.yaml"),
+  expectRejectedWithoutReport("validate " + model("elbow_mls.xml") + " --tip tool --robot " + model("panda.yaml"), "joints");
+  expectRejectedWithoutReport("validate " + model("stanford_corke.xml") + " --tip tool --robot " + model("puma560_corke.yaml"),
                  "prismatic");
 }
 
 TEST(ValidateRejects, MissingModelAndBadOptions) {
-  expectRejected("validate /nonexistent.xml --tip tool", "cannot open");
-  expectRejected("validate " + model("elbow_mls.xml"), "--tip");
-  expectRejected("validate " + model("elbow_mls.xml") + " --tip tool --shard 3/2", "--shard");
+  expectRejectedWithoutReport("validate /nonexistent.xml --tip tool", "cannot open");
+  expectRejectedWithoutReport("validate " + model("elbow_mls.xml"), "--tip");
+  expectRejectedWithoutReport("validate " + model("elbow_mls.xml") + " --tip tool --shard 3/2", "--shard");
 }
 
 TEST(ValidateReport, WritesJsonSummaryAndPictures) {
