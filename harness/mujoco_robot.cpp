@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -43,12 +44,13 @@ std::string urdfCopy(const std::string& path) {
   s.insert(close + 1,
            "\n<mujoco><compiler fusestatic=\"false\" discardvisual=\"true\" boundmass=\"1e-6\" "
            "boundinertia=\"1e-9\" strippath=\"true\"/></mujoco>\n");
-  char tmpl[] = "/tmp/lowpair_urdf_XXXXXX.urdf";
-  const int fd = mkstemps(tmpl, 5);
+  // mkstemps replaces the six Xs with a unique suffix and keeps the 5-character ".urdf" extension
+  std::string copy = (std::filesystem::temp_directory_path() / "lowpair_urdf_XXXXXX.urdf").string();
+  const int fd = mkstemps(copy.data(), 5);
   if (fd < 0) fail(path, "cannot create a temporary copy");
   ::close(fd);
-  std::ofstream(tmpl) << s;
-  return tmpl;
+  std::ofstream(copy) << s;
+  return copy;
 }
 
 }  // namespace

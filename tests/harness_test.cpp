@@ -57,6 +57,37 @@ poe:
   tool_pose: [[0, 0, 1, 0], [1, 0, 0, 1.2], [0, 1, 0, 1.5], [0, 0, 0, 1]]
 )";
 
+
+// The same kind of chain as a URDF: massless links (MuJoCo needs the mass bounds the harness adds) and a
+// tool link attached by a fixed joint (kept only because the harness loads a copy with fusestatic="false").
+const char* kUnseenUrdf = R"(<?xml version="1.0"?>
+<robot name="unseen_urdf">
+  <link name="base_link"/>
+  <link name="l1"/>
+  <link name="l2"><inertial><mass value="0.5"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="l3"/>
+  <link name="tool"/>
+  <joint name="j1" type="revolute"><parent link="base_link"/><child link="l1"/>
+    <origin xyz="0 0 1" rpy="0 0 1.5707963267948966"/><axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/>
+    <origin xyz="1 0 0"/><axis xyz="0 0 1"/><limit lower="-0.5" upper="0.5" effort="1" velocity="1"/></joint>
+  <joint name="j3" type="continuous"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0 0 0.5" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/></joint>
+  <joint name="tool_joint" type="fixed"><parent link="l3"/><child link="tool"/><origin xyz="0.2 0 0"/></joint>
+</robot>
+)";
+
+// By hand: axis 1 is world y through (0, 0, 1); joint 2 slides along z; axis 3 is world x through
+// (0, 1, 1.5); the tool link sits at (0, 1.2, 1.5) with rotation Rz(90 deg) Rx(90 deg).
+const char* kUnseenUrdfRobot = R"(name: unseen-urdf
+poe:
+  joints:
+    - {twist: [0, 1, 0, -1, 0, 0]}
+    - {type: prismatic, twist: [0, 0, 0, 0, 0, 1], range: [-0.5, 0.5]}
+    - {twist: [1, 0, 0, 0, 1.5, -1]}
+  tool_pose: [[0, 0, 1, 0], [1, 0, 0, 1.2], [0, 1, 0, 1.5], [0, 0, 0, 1]]
+)";
+
 }  // namespace
 
 TEST(Validate, UnseenMjcfAndIndependentRobotFile) {
@@ -73,6 +104,16 @@ TEST(Validate, UnseenMjcfAndIndependentRobotFile) {
   for (const auto& c : cmps) {
     EXPECT_LE(c["max_translation"].get<double>(), c["tolerance_translation"].get<double>()) << c["name"];
   }
+}
+
+TEST(Validate, UrdfWithFixedToolLinkAndMasslessLinks) {
+  const std::string urdf = writeFile("unseen.urdf", kUnseenUrdf);
+  const std::string yaml = writeFile("unseen_urdf.yaml", kUnseenUrdfRobot);
+  const CliRun r = run("validate " + urdf + " --tip tool --robot " + yaml + " --samples 1000 --json");
+  ASSERT_EQ(r.status, 0) << r.out << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["pass"].get<bool>());
+  EXPECT_EQ(j["scenarios"][0]["comparisons"].size(), 4u);  // poe, dh, the robot file, the Jacobian
 }
 
 TEST(Validate, NegativeControlPerturbedAxisFails) {
