@@ -70,7 +70,11 @@ TEST(CliSingular, PumaWristJson) {
   EXPECT_EQ(j["singular"], true);
   EXPECT_LT(j["sigma_min"].get<double>(), 1e-14);
   EXPECT_TRUE(j["manipulability"].is_number());
-  EXPECT_TRUE(j["condition"].is_number() || j["condition"].is_null());
+  // condition is sigma_max / sigma_min: null (infinite) exactly when sigma_min is 0
+  EXPECT_EQ(j["condition"].is_null(), j["sigma_min"].get<double>() == 0.0);
+  if (!j["condition"].is_null()) {
+    EXPECT_GT(j["condition"].get<double>(), 1e14);
+  }
   ASSERT_GE(j["classes"].size(), 1u);
   EXPECT_EQ(j["classes"][0]["class"], "C1");
   EXPECT_EQ(j["classes"][0]["joints"], nlohmann::json::array({4, 6}));

@@ -43,22 +43,25 @@ int countAbove(const VecX& sigma, double tol) {
 // Line geometry with the tolerances of the header: angles in rad, lengths relative to L.
 class Lines {
  public:
-  Lines(const std::vector<JointLine>& lines, double size) : lines_(lines), size_(size) {}
+  /// @param tolerance angle (rad) and distance (times size) within which lines count as parallel, meeting...
+  Lines(const std::vector<JointLine>& lines, double size, double tolerance)
+      : lines_(lines), size_(size), tol_(tolerance) {}
+  double tolerance() const { return tol_; }
 
   int count() const { return static_cast<int>(lines_.size()); }
   const JointLine& operator[](int i) const { return lines_[static_cast<size_t>(i)]; }
   bool revolute(int i) const { return (*this)[i].type == JointType::Revolute; }
-  bool parallel(int i, int j) const { return dir(i).cross(dir(j)).norm() <= kLineTolerance; }
-  bool onLine(const Vec3& p, int i) const { return (p - pt(i)).cross(dir(i)).norm() <= kLineTolerance * size_; }
+  bool parallel(int i, int j) const { return dir(i).cross(dir(j)).norm() <= tol_; }
+  bool onLine(const Vec3& p, int i) const { return (p - pt(i)).cross(dir(i)).norm() <= tol_ * size_; }
   bool collinear(int i, int j) const { return parallel(i, j) && onLine(pt(j), i); }
 
   // The point where two non-parallel lines meet (midpoint of the common perpendicular), if they meet.
   bool meet(int i, int j, Vec3& point) const {
     const Vec3 n = dir(i).cross(dir(j));
     const double s = n.norm();
-    if (s <= kLineTolerance) return false;
+    if (s <= tol_) return false;
     const Vec3 d = pt(j) - pt(i);
-    if (std::abs(d.dot(n)) / s > kLineTolerance * size_) return false;  // skew
+    if (std::abs(d.dot(n)) / s > tol_ * size_) return false;  // skew
     // o_i + t z_i = o_j + u z_j (least squares)
     const double t = d.cross(dir(j)).dot(n) / (s * s);
     const double u = d.cross(dir(i)).dot(n) / (s * s);
@@ -79,8 +82,7 @@ class Lines {
     return true;
   }
   bool inPlane(int k, const Vec3& normal, const Vec3& origin) const {
-    return std::abs(normal.dot(dir(k))) <= kLineTolerance &&
-           std::abs(normal.dot(pt(k) - origin)) <= kLineTolerance * size_;
+    return std::abs(normal.dot(dir(k))) <= tol_ && std::abs(normal.dot(pt(k) - origin)) <= tol_ * size_;
   }
 
  private:
@@ -88,6 +90,7 @@ class Lines {
   const Vec3& pt(int i) const { return (*this)[i].point; }
   const std::vector<JointLine>& lines_;
   double size_;
+  double tol_;
 };
 
 // Adds k to a set of lines unless it is collinear with a member: C2-C5 count distinct lines (a
@@ -196,8 +199,8 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
       for (size_t a = 0; a < f.size(); ++a) {
         for (size_t b = a + 1; b < f.size(); ++b) {
           Vec3 normal;
-          if (!lines.parallel(f[a], f[b]) || !lines.plane(f[a], f[b], normal)) continue;
-          if (lines[k].direction.cross(normal).norm() > kLineTolerance) continue;
+          if (!lines.plane(f[a], f[b], normal)) continue;  // members of a family are parallel
+          if (lines[k].direction.cross(normal).norm() > lines.tolerance()) continue;
           JointSet s = {f[a], f[b], k};
           std::sort(s.begin(), s.end());
           add(out, "C7", s,
@@ -247,7 +250,7 @@ void lineClassC6(const MatX& left_null, const Vec3& p_tool, double size, int n, 
 }
 
 // Paden–Sastry §5: the last three consecutive revolute axes that meet in one point.
-DecoupledAnalysis decouple(const Lines& lines, const std::vector<JointLine>& raw, double size, double tol) {
+DecoupledAnalysis decouple(const Lines& lines, double size, double tol) {
   DecoupledAnalysis d;
   const int n = lines.count();
   for (int i = n - 3; i >= 0 && !d.applies; --i) {
@@ -261,13 +264,13 @@ DecoupledAnalysis decouple(const Lines& lines, const std::vector<JointLine>& raw
   }
   if (!d.applies) return d;
   Mat3 W;
-  for (int c = 0; c < 3; ++c) W.col(c) = raw[static_cast<size_t>(d.wrist_joints[static_cast<size_t>(c)] - 1)].direction;
+  for (int c = 0; c < 3; ++c) W.col(c) = lines[d.wrist_joints[static_cast<size_t>(c)] - 1].direction;
   MatX A(3, n - 3);
   int col = 0;
   for (int k = 0; k < n; ++k) {
     if (k + 1 >= d.wrist_joints[0] && k + 1 <= d.wrist_joints[2]) continue;
     d.arm_joints.push_back(k + 1);
-    const JointLine& l = raw[static_cast<size_t>(k)];
+    const JointLine& l = lines[k];
     // eq. 5.2: arm vector z x (P - o) (+ h z), in units of L; prismatic: z (J_n's linear entry)
     A.col(col++) = l.type == JointType::Prismatic
                        ? Vec3(l.direction)
@@ -280,22 +283,20 @@ DecoupledAnalysis decouple(const Lines& lines, const std::vector<JointLine>& raw
     const Eigen::JacobiSVD<MatX> a_svd(A);
     const VecX& s = a_svd.singularValues();
     d.arm_sigma_min = s(s.size() - 1);
-    d.arm_singular = countAbove(s, tol) < std::min<int>(3, static_cast<int>(A.cols()));
+    d.arm_singular = numericalRank(s, tol) < std::min<int>(3, static_cast<int>(A.cols()));
   }
   return d;
 }
 
 }  // namespace
 
-std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
-  checkJointVector(q, model.dof());
-  PoeData data(model);
-  Mat6X J(6, model.dof());
-  spatialJacobian(model, data, q, J);
+namespace {
+// The joint lines from the spatial Jacobian: column i / scale_i is joint i's current unit twist [w; v].
+std::vector<JointLine> linesFromSpatial(const PoeModel& model, const Mat6X& J_spatial) {
   std::vector<JointLine> lines(static_cast<size_t>(model.dof()));
   for (int i = 0; i < model.dof(); ++i) {
     const Joint& joint = model.joint(i);
-    const Vec6 xi = J.col(i) / joint.scale;  // current unit twist [w; v]
+    const Vec6 xi = J_spatial.col(i) / joint.scale;
     JointLine& l = lines[static_cast<size_t>(i)];
     l.type = joint.type;
     l.pitch = joint.pitch;
@@ -308,6 +309,28 @@ std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const 
   }
   return lines;
 }
+}  // namespace
+
+void dimensionlessJacobian(const PoeModel& model, Eigen::Ref<Mat6X> J) {
+  const double L = model.size();
+  for (int i = 0; i < model.dof(); ++i) {
+    const Joint& joint = model.joint(i);
+    J.col(i) *= (joint.type == JointType::Prismatic ? L : 1.0) / joint.scale;
+  }
+  J.topRows(3) /= L;
+}
+
+double rankTolerance(double sigma_max, int dof) { return kRankFactor * std::max(6, dof) * kEps * sigma_max; }
+
+int numericalRank(const Eigen::Ref<const VecX>& sigma, double tolerance) { return countAbove(sigma, tolerance); }
+
+std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
+  checkJointVector(q, model.dof());
+  PoeData data(model);
+  Mat6X J(6, model.dof());
+  spatialJacobian(model, data, q, J);
+  return linesFromSpatial(model, J);
+}
 
 SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
   checkJointVector(q, model.dof());
@@ -316,24 +339,21 @@ SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<con
   SingularityReport r;
   r.dof = n;
   r.size = L;
-  r.lines = jointLines(model, q);
 
-  // dimensionless geometric Jacobian J_n = D_r J D_c (see the header)
+  // one FK: the spatial Jacobian gives the joint lines, its geometric form the dimensionless J_n
   PoeData data(model);
   Mat6X Jn(6, n);
-  geometricJacobian(model, data, q, Jn);
-  for (int i = 0; i < n; ++i) {
-    const Joint& joint = model.joint(i);
-    Jn.col(i) *= (joint.type == JointType::Prismatic ? L : 1.0) / joint.scale;
-  }
-  Jn.topRows(3) /= L;
+  spatialJacobian(model, data, q, Jn);
+  r.lines = linesFromSpatial(model, Jn);
+  spatialToGeometric(data.T_base_tool, Jn, Jn);
+  dimensionlessJacobian(model, Jn);
   const Vec3 p_tool = data.T_base_tool.p;
 
   const int m = std::min(6, n);
-  Eigen::JacobiSVD<MatX> svd(Jn, Eigen::ComputeFullU | Eigen::ComputeThinV);
+  Eigen::JacobiSVD<MatX> svd(Jn, Eigen::ComputeFullU | Eigen::ComputeFullV);
   r.singular_values = svd.singularValues().head(m);
   const double sigma_max = m > 0 ? r.singular_values(0) : 0.0;
-  r.tolerance = kRankFactor * std::max(6, n) * kEps * sigma_max;
+  r.tolerance = rankTolerance(sigma_max, n);
   r.rank = countAbove(r.singular_values, r.tolerance);
   r.singular = r.rank < m;
   r.sigma_min = m > 0 ? r.singular_values(m - 1) : 0.0;
@@ -343,9 +363,12 @@ SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<con
     r.rank_linear = countAbove(Eigen::JacobiSVD<MatX>(Jn.topRows(3)).singularValues(), r.tolerance);
     r.rank_angular = countAbove(Eigen::JacobiSVD<MatX>(Jn.bottomRows(3)).singularValues(), r.tolerance);
   }
-  for (int k = r.rank; k < m; ++k) r.null_space.push_back(svd.matrixV().col(k));
+  // every direction of joint motion that moves nothing: n - rank of them (self-motion included for n > 6)
+  for (int k = r.rank; k < n; ++k) r.null_space.push_back(svd.matrixV().col(k));
 
-  const Lines lines(r.lines, L);
+  // Classes explain a rank deficiency at the tolerance that detected it (tolerances.hpp): tight on a
+  // regular pose (a class there would contradict the rank), loose on a singular one.
+  const Lines lines(r.lines, L, r.singular ? kLineToleranceSingular : kLineTolerance);
   lineClasses(lines, r.classes);
   const bool all_revolute = std::all_of(r.lines.begin(), r.lines.end(),
                                         [](const JointLine& l) { return l.type == JointType::Revolute; });
@@ -362,7 +385,7 @@ SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<con
     add(r.classes, "other", dependent,
         "the screws of joints " + jointList(dependent) + " are linearly dependent (no listed class)");
   }
-  r.decoupled = decouple(lines, r.lines, L, r.tolerance);
+  r.decoupled = decouple(lines, L, r.tolerance);
   return r;
 }
 

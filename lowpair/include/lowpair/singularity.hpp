@@ -20,11 +20,13 @@
 /// (robots.md §7), which is therefore regular.
 ///
 /// **Line classes.** Each joint is a line (unit direction z_i, point o_i nearest the base origin) at the
-/// configuration. Two directions are parallel when `|z_i x z_j| <= kLineTolerance` (rad); a point is on
-/// a line or plane when its distance is `<= kLineTolerance * L`. kLineTolerance (1e-13, ~450 eps) is an
-/// order below the rank tolerance: a class that holds within it moves a few columns of J_n by at most
-/// ~kLineTolerance * (1 + |o_tool - o_i|/L), which keeps sigma_min below tol, so for a 6-joint robot a
-/// reported class implies a rank deficiency. Classes use revolute joints only (h = 0; helical joints of
+/// configuration. Two directions are parallel when `|z_i x z_j| <= tol` (rad); a point is on a line or
+/// plane when its distance is `<= tol * L`. On a regular pose tol = kLineTolerance (1e-13, an order below
+/// the rank tolerance: a class that held within it would keep sigma_min below the rank threshold, so for
+/// a 6-joint robot a class on a regular pose cannot occur). Once the rank test has found a deficiency,
+/// tol = kLineToleranceSingular (1e-8): a pose at the rank threshold can be ~1e-10 away from the exact
+/// singular geometry, and the classes must explain the deficiency that was found. Classes use revolute
+/// joints only (h = 0; helical joints of
 /// different pitch on one line are independent screws), C7 adds a prismatic one.
 
 #include <array>
@@ -32,20 +34,10 @@
 #include <vector>
 
 #include "lowpair/model.hpp"
+#include "lowpair/tolerances.hpp"
 #include "lowpair/types.hpp"
 
 namespace lowpair {
-
-/// Rank tolerance factor (see the file comment).
-constexpr double kRankFactor = 1e3;
-/// Angle (rad) and relative distance (times L) tolerance of the line classes.
-constexpr double kLineTolerance = 1e-13;
-/// C6: the reciprocal wrench has zero pitch when `|pitch| <= kWrenchPitchTolerance * L`. Applied only to
-/// wrenches of a rank-deficient Jacobian, so it cannot make a regular pose singular; it is looser than
-/// kLineTolerance because a null vector carries the rounding error divided by the gap sigma_{r} - sigma_{r+1}.
-constexpr double kWrenchPitchTolerance = 1e-8;
-/// `other`: a joint takes part in a dependency when its coefficient in a unit null vector exceeds this.
-constexpr double kNullCoefficient = 1e-8;
 
 /// The joint line at a configuration (base frame).
 struct JointLine {
@@ -95,10 +87,21 @@ struct SingularityReport {
   std::vector<JointLine> lines; ///< the joint lines used by the classification
   std::vector<SingularClass> classes;
   DecoupledAnalysis decoupled;
-  /// Unit vectors x with J_n x ~ 0 for each singular value below tol (coefficients of the unit joint
-  /// screws; the joint velocity is `qdot_i = x_i / scale_i`, times L for prismatic joints).
+  /// An orthonormal basis (n - rank vectors) of the x with J_n x ~ 0: the dependent unit joint screws
+  /// (the joint velocity is `qdot_i = x_i / scale_i`, times L for prismatic joints). For n > 6 it includes
+  /// the self-motion of a regular pose.
   std::vector<VecX> null_space;
 };
+
+/// In place: the geometric Jacobian (rows [v; w]) of `model` made dimensionless, `J_n = D_r J D_c`
+/// (file comment): linear rows over L, columns over the joint scale, prismatic columns times L.
+void dimensionlessJacobian(const PoeModel& model, Eigen::Ref<Mat6X> J_geometric);
+
+/// The rank threshold `kRankFactor * max(6, dof) * eps * sigma_max` on the singular values of J_n.
+double rankTolerance(double sigma_max, int dof);
+
+/// Number of singular values above `tolerance`.
+int numericalRank(const Eigen::Ref<const VecX>& singular_values, double tolerance);
 
 /// Joint lines of a POE model at q (from the forward-kinematics prefix frames).
 std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const VecX>& q);

@@ -28,4 +28,21 @@ constexpr double kSnapLength = 64.0 * kEps;
 /// Conditioning warning: a D-H length beyond `kIllConditioned * L` (Wu et al. §V: nearly parallel axes).
 constexpr double kIllConditioned = 1e3;
 
+// --- singularity analysis (singularity.hpp explains each) ---------------------------------------------
+/// Rank tolerance factor (see the file comment).
+constexpr double kRankFactor = 1e3;
+/// Angle (rad) and relative distance (times L) tolerance of the line classes.
+constexpr double kLineTolerance = 1e-13;
+/// The same tolerance once the rank test has found a deficiency. A pose whose sigma_min is at the rank
+/// threshold (~1.3e-12 sigma_max) can sit up to ~1e-10 (measured: perturbations of 1e-10 of the listed
+/// singular poses stay rank deficient) from the exact singular geometry, so the lines that explain the
+/// deficiency are matched within 1e-8; on a regular pose the tight tolerance applies.
+constexpr double kLineToleranceSingular = 1e-8;
+/// C6: the reciprocal wrench has zero pitch when `|pitch| <= kWrenchPitchTolerance * L`. Applied only to
+/// wrenches of a rank-deficient Jacobian, so it cannot make a regular pose singular; it is looser than
+/// kLineTolerance because a null vector carries the rounding error divided by the gap sigma_{r} - sigma_{r+1}.
+constexpr double kWrenchPitchTolerance = 1e-8;
+/// `other`: a joint takes part in a dependency when its coefficient in a unit null vector exceeds this.
+constexpr double kNullCoefficient = 1e-8;
+
 }  // namespace lowpair
