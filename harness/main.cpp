@@ -69,9 +69,7 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
   } catch (const UsageError& e) {
     std::cerr << "error: " << e.subject() << ": " << e.what() << "\n";
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "error: " << e.what() << "\n";
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // std::invalid_argument from the library, a report that failed
     std::cerr << "error: " << e.what() << "\n";
   }
   return 2;

@@ -45,7 +45,7 @@ json validationJson(const std::vector<ScenarioResult>& results, const RunOptions
       s["singular_poses"] = json::array();
       for (const auto& sp : r.singular_poses) {
         s["singular_poses"].push_back({{"name", sp.name}, {"q", sp.q}, {"expected", sp.expected},
-                                       {"reported", sp.details}, {"rank", sp.rank_library},
+                                       {"reported", sp.reported}, {"rank", sp.rank_library},
                                        {"rank_mujoco", sp.rank_mujoco}, {"dof", sp.dof},
                                        {"sigma_min", sp.sigma_min}, {"pass", sp.pass}});
       }
@@ -84,7 +84,7 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
       }
       std::string expected, reported;
       for (const auto& e : sp.expected) expected += (expected.empty() ? "" : " ") + e;
-      for (const auto& d : sp.details) reported += (reported.empty() ? "" : " ") + d;
+      for (const auto& d : sp.reported) reported += (reported.empty() ? "" : " ") + d;
       std::snprintf(line, sizeof line, "%-28s %-20s %-12s %-36s %3d/%-2d %6d %10.1e  %s\n", r.scenario.name.c_str(),
                     sp.name.c_str(), expected.c_str(), reported.c_str(), sp.rank_library, sp.dof, sp.rank_mujoco,
                     sp.sigma_min, sp.pass ? "pass" : "FAIL");

@@ -9,112 +9,31 @@
 
 #include "lowpair/convert.hpp"
 #include "lowpair/se3.hpp"
+#include "yaml_reader.hpp"
 
 namespace lowpair {
 
-namespace {
-
-// An error at a node: "FILE: line N: what".
-[[noreturn]] void fail(const std::string& path, const YAML::Node& node, const std::string& what) {
-  std::ostringstream msg;
-  msg << path << ": ";
-  if (node.IsDefined() && node.Mark().line >= 0) msg << "line " << node.Mark().line + 1 << ": ";
-  msg << what;
-  throw RobotFileError(msg.str());
-}
-
-class Reader {
- public:
-  explicit Reader(std::string path) : path_(std::move(path)) {}
-
-  void allowOnly(const YAML::Node& map, const std::string& where, const std::set<std::string>& keys) const {
-    if (!map.IsMap()) fail(path_, map, where + " must be a mapping");
-    for (const auto& kv : map) {
-      const std::string key = kv.first.as<std::string>();
-      if (!keys.count(key)) {
-        std::string allowed;
-        for (const auto& k : keys) allowed += (allowed.empty() ? "" : ", ") + k;
-        fail(path_, kv.first, "unknown key '" + key + "' in " + where + " (allowed: " + allowed + ")");
-      }
-    }
-  }
-
-  double number(const YAML::Node& node, const std::string& what) const {
-    if (!node.IsScalar()) fail(path_, node, what + " must be a number");
-    double x = 0.0;
-    try {
-      x = node.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(path_, node, what + " must be a number, got '" + node.Scalar() + "'");
-    }
-    if (!std::isfinite(x)) fail(path_, node, what + " is not finite ('" + node.Scalar() + "')");
-    return x;
-  }
-
-  double numberOr(const YAML::Node& map, const char* key, double fallback, const std::string& where) const {
-    const YAML::Node node = map[key];
-    return node.IsDefined() && !node.IsNull() ? number(node, where + "." + key) : fallback;
-  }
-
-  std::vector<double> vector(const YAML::Node& node, size_t size, const std::string& what) const {
-    if (!node.IsSequence()) fail(path_, node, what + " must be a list of " + std::to_string(size) + " numbers");
-    if (node.size() != size) {
-      fail(path_, node, what + " must have " + std::to_string(size) + " entries, got " + std::to_string(node.size()));
-    }
-    std::vector<double> out;
-    for (size_t i = 0; i < size; ++i) out.push_back(number(node[i], what + "[" + std::to_string(i) + "]"));
-    return out;
-  }
-
-  std::string string(const YAML::Node& node, const std::string& what) const {
-    if (!node.IsScalar()) fail(path_, node, what + " must be a string");
-    return node.Scalar();
-  }
-
-  std::optional<JointType> type(const YAML::Node& node, const std::string& what) const {
-    if (!node.IsDefined() || node.IsNull()) return std::nullopt;
-    const std::string t = string(node, what);
-    if (t == "revolute") return JointType::Revolute;
-    if (t == "prismatic") return JointType::Prismatic;
-    if (t == "helical") return JointType::Helical;
-    fail(path_, node, what + " must be revolute, prismatic or helical, got '" + t + "'");
-  }
-
-  std::optional<std::array<double, 2>> range(const YAML::Node& node, const std::string& what, double factor) const {
-    if (!node.IsDefined() || node.IsNull()) return std::nullopt;
-    const auto r = vector(node, 2, what);
-    if (r[0] > r[1]) fail(path_, node, what + " must be [lo, hi] with lo <= hi");
-    return std::array<double, 2>{r[0] * factor, r[1] * factor};
-  }
-
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
-
-}  // namespace
 
 double RobotFile::angleFactor() const { return angle_unit == "deg" ? M_PI / 180.0 : 1.0; }
 
 PoeModel RobotFile::poeModel() const { return poe ? *poe : dhToPoe(*dh); }
 
-RobotFile readRobotFile(const std::string& path) {
-  {
-    std::ifstream probe(path);
-    if (!probe) throw RobotFileError(path + ": cannot open file");
-  }
-  YAML::Node root;
+YAML::Node loadYamlFile(const std::string& path) {
+  if (!std::ifstream(path)) throw RobotFileError(path + ": cannot open file");
   try {
-    root = YAML::LoadFile(path);
+    return YAML::LoadFile(path);
   } catch (const YAML::ParserException& e) {
     throw RobotFileError(path + ": line " + std::to_string(e.mark.line + 1) + ", column " +
                          std::to_string(e.mark.column + 1) + ": YAML syntax error: " + e.msg);
   } catch (const YAML::Exception& e) {
     throw RobotFileError(path + ": " + e.what());
   }
-  Reader in(path);
-  if (!root.IsMap()) fail(path, root, "a robot file must be a mapping with 'poe:' or 'dh:'");
+}
+
+RobotFile readRobotFile(const std::string& path) {
+  const YAML::Node root = loadYamlFile(path);
+  YamlReader in(path);
+  if (!root.IsMap()) yamlError(path, root, "a robot file must be a mapping with 'poe:' or 'dh:'");
   in.allowOnly(root, "the robot file", {"name", "length_unit", "angle_unit", "description", "poe", "dh"});
 
   RobotFile file;
@@ -125,12 +44,12 @@ RobotFile readRobotFile(const std::string& path) {
   if (root["angle_unit"]) {
     file.angle_unit = in.string(root["angle_unit"], "angle_unit");
     if (file.angle_unit != "rad" && file.angle_unit != "deg") {
-      fail(path, root["angle_unit"], "angle_unit must be rad or deg, got '" + file.angle_unit + "'");
+      yamlError(path, root["angle_unit"], "angle_unit must be rad or deg, got '" + file.angle_unit + "'");
     }
   }
   const double k = file.angleFactor();
   const bool has_poe = root["poe"].IsDefined(), has_dh = root["dh"].IsDefined();
-  if (has_poe == has_dh) fail(path, root, "a robot file needs exactly one of 'poe:' and 'dh:'");
+  if (has_poe == has_dh) yamlError(path, root, "a robot file needs exactly one of 'poe:' and 'dh:'");
 
   try {
     if (has_poe) {
@@ -138,14 +57,14 @@ RobotFile readRobotFile(const std::string& path) {
       in.allowOnly(poe, "poe", {"joints", "tool", "tool_pose"});
       const YAML::Node joints = poe["joints"];
       if (!joints.IsDefined() || !joints.IsSequence() || joints.size() == 0) {
-        fail(path, joints.IsDefined() ? joints : poe, "poe.joints must be a non-empty list");
+        yamlError(path, joints.IsDefined() ? joints : poe, "poe.joints must be a non-empty list");
       }
       std::vector<JointSpec> specs;
       for (size_t i = 0; i < joints.size(); ++i) {
         const YAML::Node j = joints[i];
         const std::string where = "poe.joints[" + std::to_string(i) + "]";
         in.allowOnly(j, where, {"name", "type", "twist", "offset", "range"});
-        if (!j["twist"]) fail(path, j, where + ": missing 'twist'");
+        if (!j["twist"]) yamlError(path, j, where + ": missing 'twist'");
         JointSpec spec;
         if (j["name"]) spec.name = in.string(j["name"], where + ".name");
         spec.type = in.type(j["type"], where + ".type");
@@ -157,21 +76,21 @@ RobotFile readRobotFile(const std::string& path) {
         spec.range = in.range(j["range"], where + ".range", unit);
         specs.push_back(spec);
       }
-      if (poe["tool"] && poe["tool_pose"]) fail(path, poe, "give either poe.tool (a twist) or poe.tool_pose, not both");
+      if (poe["tool"] && poe["tool_pose"]) yamlError(path, poe, "give either poe.tool (a twist) or poe.tool_pose, not both");
       Pose tool;
       if (poe["tool"]) {
         const auto t = in.vector(poe["tool"], 6, "poe.tool");
         tool = expSE3(Eigen::Map<const Vec6>(t.data()));
       } else if (poe["tool_pose"]) {
         const YAML::Node tp = poe["tool_pose"];
-        if (!tp.IsSequence() || tp.size() != 4) fail(path, tp, "poe.tool_pose must be 4 rows of 4 numbers");
+        if (!tp.IsSequence() || tp.size() != 4) yamlError(path, tp, "poe.tool_pose must be 4 rows of 4 numbers");
         Mat4 T;
         for (int r = 0; r < 4; ++r) {
           const auto row = in.vector(tp[r], 4, "poe.tool_pose[" + std::to_string(r) + "]");
           for (int c = 0; c < 4; ++c) T(r, c) = row[static_cast<size_t>(c)];
         }
         if (T(3, 0) != 0.0 || T(3, 1) != 0.0 || T(3, 2) != 0.0 || T(3, 3) != 1.0) {
-          fail(path, tp, "poe.tool_pose: the last row must be [0, 0, 0, 1]");
+          yamlError(path, tp, "poe.tool_pose: the last row must be [0, 0, 0, 1]");
         }
         tool = Pose::fromMatrix(T);
       }
@@ -194,7 +113,7 @@ RobotFile readRobotFile(const std::string& path) {
       }
       const YAML::Node joints = dh["joints"];
       if (!joints.IsDefined() || !joints.IsSequence() || joints.size() == 0) {
-        fail(path, joints.IsDefined() ? joints : dh, "dh.joints must be a non-empty list");
+        yamlError(path, joints.IsDefined() ? joints : dh, "dh.joints must be a non-empty list");
       }
       std::vector<DhJoint> list;
       for (size_t i = 0; i < joints.size(); ++i) {
@@ -204,18 +123,18 @@ RobotFile readRobotFile(const std::string& path) {
         DhJoint dj;
         if (j["name"]) dj.name = in.string(j["name"], where + ".name");
         const auto type = in.type(j["type"], where + ".type");
-        if (!type) fail(path, j, where + ": missing 'type' (revolute, prismatic or helical)");
+        if (!type) yamlError(path, j, where + ": missing 'type' (revolute, prismatic or helical)");
         dj.type = *type;
         dj.link = params(j, where);
         if (j["pitch"]) {
           if (dj.type != JointType::Helical) {
-            fail(path, j["pitch"], where + ": 'pitch' is only for helical joints (this one is " +
+            yamlError(path, j["pitch"], where + ": 'pitch' is only for helical joints (this one is " +
                                        jointTypeName(dj.type) + ")");
           }
           dj.pitch = in.number(j["pitch"], where + ".pitch") / k;  // length per angle_unit -> per rad
         }
         dj.scale = in.numberOr(j, "scale", 1.0, where);
-        if (!(dj.scale > 0.0)) fail(path, j["scale"], where + ".scale must be positive");
+        if (!(dj.scale > 0.0)) yamlError(path, j["scale"], where + ".scale must be positive");
         dj.range = in.range(j["range"], where + ".range", dj.type == JointType::Prismatic ? 1.0 : k);
         list.push_back(dj);
       }

@@ -10,40 +10,22 @@
 #include <random>
 #include <set>
 #include <thread>
-#include <variant>
+
+#include <Eigen/SVD>
 
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
 #include "mujoco_robot.hpp"
 #include "robot_file.hpp"
-#ifdef LOWPAIR_HAVE_JACOBIAN
-#include <Eigen/SVD>
-
+#include "yaml_reader.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/singularity.hpp"
-#endif
 
 namespace lowpair {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-[[noreturn]] void fail(const std::string& path, const YAML::Node& node, const std::string& what) {
-  std::string where = path + ": ";
-  if (node.IsDefined() && node.Mark().line >= 0) where += "line " + std::to_string(node.Mark().line + 1) + ": ";
-  throw RobotFileError(where + what);
-}
-
-double number(const std::string& path, const YAML::Node& node, const std::string& what) {
-  try {
-    const double x = node.as<double>();
-    if (!std::isfinite(x)) fail(path, node, what + " is not finite");
-    return x;
-  } catch (const YAML::Exception&) {
-    fail(path, node, what + " must be a number");
-  }
-}
 
 std::string relative(const std::string& scenario_path, const std::string& file) {
   if (file.empty() || fs::path(file).is_absolute()) return file;
@@ -67,122 +49,107 @@ struct CheckedFile {
 
 }  // namespace
 
+namespace {
+std::vector<double> numbers(const YamlReader& in, const YAML::Node& node, const std::string& what) {
+  if (!node.IsSequence()) yamlError(in.path(), node, what + " must be a list of numbers");
+  std::vector<double> out;
+  for (size_t i = 0; i < node.size(); ++i) out.push_back(in.number(node[i], what + "[" + std::to_string(i) + "]"));
+  return out;
+}
+}  // namespace
+
 Scenario readScenario(const std::string& path) {
-  if (!std::ifstream(path)) throw RobotFileError(path + ": cannot open file");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::ParserException& e) {
-    throw RobotFileError(path + ": line " + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  }
-  if (!root.IsMap()) fail(path, root, "a scenario must be a mapping");
-  const std::set<std::string> keys = {"name", "model", "tip", "base", "joint_variables", "robot_files", "samples",
-                                      "seed", "ranges", "tolerance", "poses", "singular_poses", "description",
-                                      "singularity_map"};
-  for (const auto& kv : root) {
-    if (!keys.count(kv.first.as<std::string>())) fail(path, kv.first, "unknown key '" + kv.first.as<std::string>() + "'");
-  }
+  const YAML::Node root = loadYamlFile(path);
+  const YamlReader in(path);
   Scenario s;
   s.path = path;
-  s.name = root["name"] ? root["name"].as<std::string>() : fs::path(path).stem().string();
-  if (!root["model"]) fail(path, root, "missing 'model' (an MJCF or URDF file)");
-  if (!root["tip"]) fail(path, root, "missing 'tip' (a site or body name)");
-  s.model = relative(path, root["model"].as<std::string>());
-  s.tip = root["tip"].as<std::string>();
-  if (root["base"]) s.base = root["base"].as<std::string>();
-  if (root["joint_variables"]) s.joint_variables = relative(path, root["joint_variables"].as<std::string>());
-  if (root["robot_files"]) {
-    if (!root["robot_files"].IsSequence()) fail(path, root["robot_files"], "robot_files must be a list");
-    for (const auto& f : root["robot_files"]) s.robot_files.push_back(relative(path, f.as<std::string>()));
-  }
-  if (root["samples"]) {
-    const double n = number(path, root["samples"], "samples");
-    if (n < 0 || n != std::floor(n)) fail(path, root["samples"], "samples must be a non-negative integer");
-    s.samples = static_cast<int>(n);
-  }
-  if (root["seed"]) s.seed = root["seed"].as<unsigned long long>();
-  if (root["ranges"]) {
-    for (const auto& r : root["ranges"]) {
-      if (!r.IsSequence() || r.size() != 2) fail(path, r, "each range must be [lo, hi]");
-      const double lo = number(path, r[0], "range"), hi = number(path, r[1], "range");
-      if (lo > hi) fail(path, r, "range [lo, hi] needs lo <= hi");
-      s.ranges.push_back({lo, hi});
+  try {
+    in.allowOnly(root, "the scenario", {"name", "description", "model", "tip", "base", "joint_variables",
+                                        "robot_files", "samples", "seed", "ranges", "tolerance", "poses",
+                                        "singular_poses", "singularity_map"});
+    s.name = root["name"] ? in.string(root["name"], "name") : fs::path(path).stem().string();
+    if (!root["model"]) yamlError(path, root, "missing 'model' (an MJCF or URDF file)");
+    if (!root["tip"]) yamlError(path, root, "missing 'tip' (a site or body name)");
+    s.model = relative(path, in.string(root["model"], "model"));
+    s.tip = in.string(root["tip"], "tip");
+    if (root["base"]) s.base = in.string(root["base"], "base");
+    if (root["joint_variables"]) s.joint_variables = relative(path, in.string(root["joint_variables"], "joint_variables"));
+    if (const YAML::Node files = root["robot_files"]) {
+      if (!files.IsSequence()) yamlError(path, files, "robot_files must be a list");
+      for (const auto& f : files) s.robot_files.push_back(relative(path, in.string(f, "robot_files[]")));
     }
-  }
-  if (const YAML::Node t = root["tolerance"]) {
-    for (const auto& kv : t) {
-      const std::string k = kv.first.as<std::string>();
-      const double v = number(path, kv.second, "tolerance." + k);
-      if (!(v > 0)) fail(path, kv.second, "tolerance." + k + " must be positive");
-      if (k == "rotation") s.tol_rotation = v;
-      else if (k == "translation") s.tol_translation = v;
-      else if (k == "jacobian_rotation") s.tol_jacobian_rotation = v;
-      else if (k == "jacobian_translation") s.tol_jacobian_translation = v;
-      else fail(path, kv.first, "unknown tolerance '" + k + "'");
-    }
-  }
-  if (const YAML::Node poses = root["poses"]) {
-    for (const auto& p : poses) {
-      NamedPose np;
-      np.name = p["name"] ? p["name"].as<std::string>() : "pose" + std::to_string(s.poses.size() + 1);
-      if (!p["q"] || !p["q"].IsSequence()) fail(path, p, "pose '" + np.name + "' needs q: [...]");
-      for (const auto& x : p["q"]) np.q.push_back(number(path, x, "pose " + np.name));
-      s.poses.push_back(np);
-    }
-  }
-  if (const YAML::Node poses = root["singular_poses"]) {
-    for (const auto& p : poses) {
-      SingularPose sp;
-      sp.name = p["name"] ? p["name"].as<std::string>() : "singular" + std::to_string(s.singular_poses.size() + 1);
-      if (!p["q"] || !p["q"].IsSequence()) fail(path, p, "singular pose '" + sp.name + "' needs q: [...]");
-      for (const auto& x : p["q"]) sp.q.push_back(number(path, x, "singular pose " + sp.name));
-      if (!p["classes"] || !p["classes"].IsSequence() || p["classes"].size() == 0) {
-        fail(path, p, "singular pose '" + sp.name + "' needs classes: [C1..C7 or other]");
+    if (root["samples"]) s.samples = static_cast<int>(in.integer(root["samples"], "samples", 0, kMaxSamples));
+    if (root["seed"]) s.seed = static_cast<unsigned long long>(in.integer(root["seed"], "seed", 0, 1LL << 53));
+    if (const YAML::Node ranges = root["ranges"]) {
+      if (!ranges.IsSequence()) yamlError(path, ranges, "ranges must be a list of [lo, hi]");
+      for (const auto& r : ranges) {
+        const auto v = in.vector(r, 2, "ranges[]");
+        if (v[0] > v[1]) yamlError(path, r, "range [lo, hi] needs lo <= hi");
+        s.ranges.push_back({v[0], v[1]});
       }
-      for (const auto& c : p["classes"]) {
-        const std::string id = c.as<std::string>();
+    }
+    if (const YAML::Node t = root["tolerance"]) {
+      in.allowOnly(t, "tolerance", {"rotation", "translation", "jacobian_rotation", "jacobian_translation"});
+      const std::pair<const char*, double*> fields[] = {{"rotation", &s.tol_rotation},
+                                                        {"translation", &s.tol_translation},
+                                                        {"jacobian_rotation", &s.tol_jacobian_rotation},
+                                                        {"jacobian_translation", &s.tol_jacobian_translation}};
+      for (const auto& [key, value] : fields) {
+        if (!t[key]) continue;
+        *value = in.number(t[key], std::string("tolerance.") + key);
+        if (!(*value > 0)) yamlError(path, t[key], std::string("tolerance.") + key + " must be positive");
+      }
+    }
+    if (const YAML::Node poses = root["poses"]) {
+      for (const auto& p : poses) {
+        in.allowOnly(p, "a pose", {"name", "q"});
+        NamedPose np;
+        np.name = p["name"] ? in.string(p["name"], "pose name") : "pose" + std::to_string(s.poses.size() + 1);
+        np.q = numbers(in, p["q"], "pose '" + np.name + "' q");
+        s.poses.push_back(np);
+      }
+    }
+    if (const YAML::Node poses = root["singular_poses"]) {
+      for (const auto& p : poses) {
+        in.allowOnly(p, "a singular pose", {"name", "q", "classes"});
+        SingularPose sp;
+        sp.name = p["name"] ? in.string(p["name"], "singular pose name")
+                            : "singular" + std::to_string(s.singular_poses.size() + 1);
+        sp.q = numbers(in, p["q"], "singular pose '" + sp.name + "' q");
+        const YAML::Node classes = p["classes"];
+        if (!classes || !classes.IsSequence() || classes.size() == 0) {
+          yamlError(path, p, "singular pose '" + sp.name + "' needs classes: [C1..C7 or other]");
+        }
         static const std::set<std::string> ids = {"C1", "C2", "C3", "C4", "C5", "C6", "C7", "other"};
-        if (!ids.count(id)) fail(path, c, "unknown class '" + id + "' (C1..C7 or other)");
-        sp.classes.push_back(id);
+        for (const auto& c : classes) {
+          const std::string id = in.string(c, "class");
+          if (!ids.count(id)) yamlError(path, c, "unknown class '" + id + "' (C1..C7 or other)");
+          sp.classes.push_back(id);
+        }
+        s.singular_poses.push_back(sp);
       }
-      s.singular_poses.push_back(sp);
     }
-  }
-  if (const YAML::Node m = root["singularity_map"]) {
-    if (m["joints"]) {
-      for (const auto& j : m["joints"]) s.map_joints.push_back(j.as<int>());
-      if (s.map_joints.size() != 2) fail(path, m["joints"], "singularity_map.joints must name two joints (1-based)");
+    if (const YAML::Node m = root["singularity_map"]) {
+      in.allowOnly(m, "singularity_map", {"joints", "fixed"});
+      if (m["joints"]) {
+        for (double j : numbers(in, m["joints"], "singularity_map.joints")) s.map_joints.push_back(static_cast<int>(j));
+        if (s.map_joints.size() != 2) yamlError(path, m["joints"], "singularity_map.joints must name two joints (1-based)");
+      }
+      if (m["fixed"]) s.map_fixed = numbers(in, m["fixed"], "singularity_map.fixed");
     }
-    if (m["fixed"]) {
-      for (const auto& x : m["fixed"]) s.map_fixed.push_back(number(path, x, "singularity_map.fixed"));
-    }
+  } catch (const YAML::Exception& e) {
+    throw RobotFileError(path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
   return s;
 }
 
 namespace {
 
-#ifdef LOWPAIR_HAVE_JACOBIAN
-// Singular values of the dimensionless geometric Jacobian (singularity.hpp): linear rows over L,
-// columns over the joint scale, prismatic columns times L.
-VecX scaledSingularValues(const PoeModel& model, Mat6X J) {
-  const double L = model.size();
-  J.topRows<3>() /= L;
-  for (int i = 0; i < model.dof(); ++i) {
-    J.col(i) *= (model.joint(i).type == JointType::Prismatic ? L : 1.0) / model.joint(i).scale;
-  }
-  return Eigen::JacobiSVD<MatX>(J).singularValues();
+// Singular values of the dimensionless geometric Jacobian (singularity.hpp).
+VecX dimensionlessSingularValues(const PoeModel& model, Mat6X J_geometric) {
+  dimensionlessJacobian(model, J_geometric);
+  return Eigen::JacobiSVD<MatX>(J_geometric).singularValues();
 }
-
-// Rank with the rule of singularity.hpp: tol = kRankFactor max(6, n) eps sigma_max.
-int scaledRank(const PoeModel& model, const Mat6X& J) {
-  const VecX sv = scaledSingularValues(model, J);
-  const double tol = kRankFactor * std::max(6, model.dof()) * std::numeric_limits<double>::epsilon() * sv[0];
-  int rank = 0;
-  for (Eigen::Index k = 0; k < sv.size(); ++k) rank += sv[k] > tol ? 1 : 0;
-  return rank;
-}
-#endif
 
 void summarize(ComparisonResult& c, const std::vector<double>& rot, const std::vector<double>& rot_ea,
                const std::vector<double>& trans, double L, const std::vector<VecX>& qs) {
@@ -222,7 +189,6 @@ void summarize(ComparisonResult& c, const std::vector<double>& rot, const std::v
 }  // namespace
 
 ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
   const MujocoRobot robot(scenario.model, scenario.tip, scenario.base);
   const PoeModel& poe = robot.poeModel();
   const int n = robot.dof();
@@ -307,18 +273,20 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
     qs.push_back(q);
   }
   const size_t count = qs.size();
+  if (count == 0) {
+    throw RobotFileError((scenario.path.empty() ? scenario.model : scenario.path) +
+                         ": nothing to validate (no samples in this shard and no named poses)");
+  }
 
+  // comparisons: poe, dh, each robot file (poses), then the Jacobian
   const size_t n_pose = 2 + files.size();
-#ifdef LOWPAIR_HAVE_JACOBIAN
   const size_t n_cmp = n_pose + 1;
-#else
-  const size_t n_cmp = n_pose;
-#endif
   std::vector<std::vector<double>> rot(n_cmp, std::vector<double>(count)), rot_ea(n_pose, std::vector<double>(count)),
       trans(n_cmp, std::vector<double>(count));
 
   int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, count)));
+  threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), count));
+  // thread t takes the contiguous block [t count / T, (t + 1) count / T): no shared cache lines
   auto work = [&](int t) {
     MujocoRobot::Evaluator mj(robot);
     PoeData poe_data(poe);
@@ -330,18 +298,18 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
       else dh_files.emplace_back(*f.file.dh);
     }
     VecX x(n), qf(n);
-#ifdef LOWPAIR_HAVE_JACOBIAN
     Mat6X J_mj(6, n), J_lib(6, n);
-#endif
-    for (size_t s = static_cast<size_t>(t); s < count; s += static_cast<size_t>(threads)) {
+    const size_t begin = count * static_cast<size_t>(t) / static_cast<size_t>(threads);
+    const size_t end = count * static_cast<size_t>(t + 1) / static_cast<size_t>(threads);
+    for (size_t s = begin; s < end; ++s) {
       for (int i = 0; i < n; ++i) x[i] = scale[static_cast<size_t>(i)] * (qs[s][i] + offset[static_cast<size_t>(i)]);
-      const Pose T_mj = mj.tipPose(x);
+      const Pose T_mj = mj.tipJacobian(x, J_mj);  // one mj_kinematics: pose and Jacobian
       auto record = [&](size_t c, const Pose& T) {
         rot[c][s] = rotationError(T_mj.R, T.R);
         rot_ea[c][s] = eulerZyxError(T.R, T_mj.R);
         trans[c][s] = (T.p - T_mj.p).norm();
       };
-      forwardKinematics(poe, poe_data, x);
+      geometricJacobian(poe, poe_data, x, J_lib);  // includes the POE FK
       record(0, poe_data.T_base_tool);
       forwardKinematics(dh.model, dh_data, x);
       record(1, dh_data.T_base_tool);
@@ -359,21 +327,37 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
           record(2 + f, dh_files[id++].T_base_tool);
         }
       }
-#ifdef LOWPAIR_HAVE_JACOBIAN
-      mj.tipJacobian(x, J_mj);
-      geometricJacobian(poe, poe_data, x, J_lib);
-      // rows [v; w]: linear block in length per unit joint motion, angular in rad per unit
+      // Jacobians compared dimensionless (singularity.hpp: linear rows / L, prismatic columns x L), so a
+      // prismatic column's unitless linear part and a revolute column's length per rad share one scale;
+      // the linear difference is stored in length units (times L) like the pose comparisons.
+      dimensionlessJacobian(poe, J_mj);
+      dimensionlessJacobian(poe, J_lib);
       rot[n_pose][s] = (J_mj.bottomRows<3>() - J_lib.bottomRows<3>()).cwiseAbs().maxCoeff();
-      trans[n_pose][s] = (J_mj.topRows<3>() - J_lib.topRows<3>()).cwiseAbs().maxCoeff();
-#endif
+      trans[n_pose][s] = L * (J_mj.topRows<3>() - J_lib.topRows<3>()).cwiseAbs().maxCoeff();
     }
   };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (auto& th : pool) th.join();
+  const auto start = std::chrono::steady_clock::now();
+  {
+    // an exception in a worker (e.g. out of memory) is rethrown here, after every thread has joined
+    std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
+    auto guarded = [&](int t) {
+      try {
+        work(t);
+      } catch (...) {
+        errors[static_cast<size_t>(t)] = std::current_exception();
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(guarded, t);
+    guarded(0);
+    for (auto& th : pool) th.join();
+    for (const auto& e : errors) {
+      if (e) std::rethrow_exception(e);
+    }
+  }
 
   ScenarioResult result;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.scenario = scenario;
   result.size = L;
   result.samples = static_cast<int>(count);
@@ -390,7 +374,8 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
     result.pass = result.pass && cmp.pass;
     result.comparisons.push_back(std::move(cmp));
   }
-#ifdef LOWPAIR_HAVE_JACOBIAN
+
+  // singular poses: rank deficient, MuJoCo's Jacobian of the same rank, the expected classes reported
   {
     MujocoRobot::Evaluator mj(robot);
     Mat6X J(6, n);
@@ -400,46 +385,53 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
         throw RobotFileError(scenario.path + ": singular pose '" + sp.name + "' has " + std::to_string(sp.q.size()) +
                              " values for " + std::to_string(n) + " joints");
       }
-      for (int i = 0; i < n; ++i) x[i] = scale[static_cast<size_t>(i)] * (sp.q[static_cast<size_t>(i)] + offset[static_cast<size_t>(i)]);
+      for (int i = 0; i < n; ++i) {
+        x[i] = scale[static_cast<size_t>(i)] * (sp.q[static_cast<size_t>(i)] + offset[static_cast<size_t>(i)]);
+      }
       const SingularityReport report = analyzeSingularity(poe, x);
       mj.tipJacobian(x, J);
+      const VecX sigma_mj = dimensionlessSingularValues(poe, J);
       SingularPoseResult out;
       out.name = sp.name;
       out.q = sp.q;
       out.expected = sp.classes;
       out.dof = n;
       out.rank_library = report.rank;
-      out.rank_mujoco = scaledRank(poe, J);
+      out.rank_mujoco = numericalRank(sigma_mj, rankTolerance(sigma_mj[0], n));
       out.sigma_min = report.sigma_min;
       for (const auto& c : report.classes) {
-        out.reported.push_back(c.id);
         std::string d = c.id + "(";
         for (size_t k = 0; k < c.joints.size(); ++k) d += (k ? "," : "") + std::to_string(c.joints[k]);
-        out.details.push_back(d + ")");
+        out.reported.push_back(d + ")");
       }
       out.pass = report.singular && out.rank_library == out.rank_mujoco;
       for (const auto& e : sp.classes) {
-        out.pass = out.pass && std::find(out.reported.begin(), out.reported.end(), e) != out.reported.end();
+        out.pass = out.pass && std::any_of(report.classes.begin(), report.classes.end(),
+                                           [&](const SingularClass& c) { return c.id == e; });
       }
       result.pass = result.pass && out.pass;
       result.singular_poses.push_back(out);
     }
   }
-  // singularity map over two joints
-  if (n >= 3) {
+
+  // singularity map over two joints (for the report only)
+  if (options.singularity_map && n >= 3) {
     std::vector<int> mj = scenario.map_joints.empty() ? std::vector<int>{2, 3} : scenario.map_joints;
     for (int j : mj) {
-      if (j < 1 || j > n) throw RobotFileError(scenario.path + ": singularity_map joint " + std::to_string(j) + " out of 1.." + std::to_string(n));
+      if (j < 1 || j > n) {
+        throw RobotFileError(scenario.path + ": singularity_map joint " + std::to_string(j) + " is not in 1.." +
+                             std::to_string(n));
+      }
     }
     if (!scenario.map_fixed.empty() && static_cast<int>(scenario.map_fixed.size()) != n) {
       throw RobotFileError(scenario.path + ": singularity_map.fixed needs " + std::to_string(n) + " values");
     }
-    VecX q0(n);
+    VecX q(n), x(n);
     for (int i = 0; i < n; ++i) {
       const auto& r = ranges[static_cast<size_t>(i)];
-      q0[i] = !scenario.map_fixed.empty() ? scenario.map_fixed[static_cast<size_t>(i)]
-              : robot.joints()[static_cast<size_t>(i)].type == JointType::Prismatic ? 0.5 * (r[0] + r[1])
-                                                                                     : 0.4;
+      q[i] = !scenario.map_fixed.empty() ? scenario.map_fixed[static_cast<size_t>(i)]
+             : robot.joints()[static_cast<size_t>(i)].type == JointType::Prismatic ? 0.5 * (r[0] + r[1])
+                                                                                    : 0.4;
     }
     const int size = 151;
     result.map_joints = mj;
@@ -449,19 +441,17 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
     result.map_log_sigma.assign(static_cast<size_t>(size * size), 0.0);
     PoeData data(poe);
     Mat6X J(6, n);
-    VecX q = q0, x(n);
     for (int a = 0; a < size; ++a) {
       for (int b = 0; b < size; ++b) {
         q[mj[0] - 1] = result.map_range_x[0] + (result.map_range_x[1] - result.map_range_x[0]) * b / (size - 1);
         q[mj[1] - 1] = result.map_range_y[0] + (result.map_range_y[1] - result.map_range_y[0]) * a / (size - 1);
         for (int i = 0; i < n; ++i) x[i] = scale[static_cast<size_t>(i)] * (q[i] + offset[static_cast<size_t>(i)]);
         geometricJacobian(poe, data, x, J);
-        result.map_log_sigma[static_cast<size_t>(a * size + b)] = std::log10(std::max(1e-17, scaledSingularValues(poe, J).minCoeff()));
+        result.map_log_sigma[static_cast<size_t>(a * size + b)] =
+            std::log10(std::max(1e-17, dimensionlessSingularValues(poe, J).minCoeff()));
       }
     }
   }
-#endif
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -26,6 +26,9 @@ struct SingularPose {
   std::vector<std::string> classes;
 };
 
+/// Upper bound on `samples` (a scenario or --samples).
+constexpr int kMaxSamples = 100000000;
+
 struct Scenario {
   std::string path;  ///< the scenario file ("" for a model given on the command line)
   std::string name;
@@ -56,6 +59,7 @@ struct RunOptions {
   std::optional<unsigned long long> seed;
   int threads = 0;             ///< 0 = all cores
   int shard = 1, shards = 1;   ///< run the shard-th of `shards` disjoint slices of the random samples
+  bool singularity_map = false;  ///< compute the report's singularity map (151 x 151 SVDs)
 };
 
 struct ComparisonResult {
@@ -75,8 +79,8 @@ struct ComparisonResult {
 struct SingularPoseResult {
   std::string name;
   std::vector<double> q;
-  std::vector<std::string> expected, reported;  ///< class ids; reported as "C1(4,6)"-style in `details`
-  std::vector<std::string> details;
+  std::vector<std::string> expected;  ///< class ids
+  std::vector<std::string> reported;  ///< "C1(4,6)": class id and joints
   int rank_library = 0, rank_mujoco = 0, dof = 0;
   double sigma_min = 0.0;
   bool pass = true;
@@ -86,7 +90,7 @@ struct ScenarioResult {
   Scenario scenario;
   double size = 1.0;  ///< L of the extracted model
   int samples = 0;    ///< evaluated (named poses + random samples of this shard)
-  double seconds = 0.0;
+  double seconds = 0.0;  ///< wall time of the sampled comparisons (all threads)
   bool pass = true;
   std::vector<ComparisonResult> comparisons;
   std::vector<SingularPoseResult> singular_poses;

@@ -52,7 +52,7 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
   v->add_option("--base", o->base, "model mode: base body (default: the world)");
   v->add_option("--robot", o->robots, "model mode: robot file(s) to cross-check against the model");
   v->add_option("--samples", o->samples, "random samples per scenario (default: the scenario's, else 10000)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, kMaxSamples));
   v->add_option("--seed", o->seed, "seed (default: the scenario's)")->check(CLI::NonNegativeNumber);
   v->add_option("--threads", o->threads, "threads (default: all cores; results do not depend on it)")
       ->check(CLI::NonNegativeNumber);
@@ -64,6 +64,7 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
     if (o->samples >= 0) options.samples = o->samples;
     if (o->seed >= 0) options.seed = static_cast<unsigned long long>(o->seed);
     options.threads = o->threads;
+    options.singularity_map = !o->report.empty();
     {
       int k = 0, n = 0;
       char slash = 0;
@@ -101,6 +102,8 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
     for (const auto& s : scenarios) results.push_back(runScenario(s, options));
     bool pass = true;
     for (const auto& r : results) pass = pass && r.pass;
+    // the report first: if it cannot be written, the run fails with nothing printed
+    if (!o->report.empty()) writeReport(o->report, results, options);
     if (o->as_json) {
       std::cout << validationJson(results, options).dump(1) << "\n";
     } else {
@@ -109,10 +112,7 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
         std::cout << "  " << r.scenario.name << ": " << r.samples << " samples in " << r.seconds << " s ("
                   << static_cast<long>(r.samples / std::max(r.seconds, 1e-9)) << " samples/s)\n";
       }
-    }
-    if (!o->report.empty()) {
-      writeReport(o->report, results, options);
-      if (!o->as_json) std::cout << "report: " << o->report << "/summary.md\n";
+      if (!o->report.empty()) std::cout << "report: " << o->report << "/summary.md\n";
     }
     return pass ? 0 : 1;
   });

@@ -184,11 +184,29 @@ TEST(ValidateRejects, MissingModelAndBadOptions) {
   expectRejectedWithoutReport("validate " + model("elbow_mls.xml") + " --tip tool --shard 3/2", "--shard");
 }
 
+TEST(ValidateRejects, ScenarioValuesAndEmptyRuns) {
+  const std::string bad = writeFile("bad_seed.yaml", "model: " + model("elbow_mls.xml") + "\ntip: tool\nseed: abc\n");
+  lowpair_test::expectRejected("validate " + bad, "line 3: seed must be a number", bad);
+  lowpair_test::expectRejected("validate " + model("elbow_mls.xml") + " --tip tool --samples 0", "nothing to validate");
+  lowpair_test::expectRejected("validate " + model("elbow_mls.xml") + " --tip tool --samples 1e12", "--samples");
+}
+
+TEST(ValidateReport, ReportThatCannotBeWrittenFailsWithoutOutput) {
+  // a file where the report folder should be: the run completes, the report cannot be written
+  const std::string blocked = writeFile("blocked", "not a folder");
+  lowpair_test::expectRejected("validate " + model("elbow_mls.xml") + " --tip tool --samples 100 --report " + blocked,
+                               "blocked");
+  for (const auto& entry : std::filesystem::directory_iterator(tempDir())) {
+    EXPECT_EQ(entry.path().filename().string().find("blocked.partial"), std::string::npos) << "partial report left";
+  }
+}
+
 TEST(ValidateReport, WritesJsonSummaryAndPictures) {
   const std::string dir = tempDir() + "/report";
   const CliRun r = run("validate " + model("elbow_mls.xml") + " --tip tool --samples 300 --report " + dir);
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* f : {"report.json", "summary.md", "elbow_mls_errors.png", "elbow_mls_histogram.png"}) {
+  for (const char* f : {"report.json", "summary.md", "elbow_mls_errors.png", "elbow_mls_histogram.png",
+                        "elbow_mls_singularity_map.png"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
 }
