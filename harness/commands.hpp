@@ -33,8 +33,18 @@ struct UsageError : std::runtime_error {
 /// Parses "Q1,Q2,..." into `dof` finite numbers. @throws UsageError (subject: `subject`)
 VecX parseJointVector(const std::string& text, int dof, const std::string& subject);
 
-/// Reads a robot file (.yaml). @throws RobotFileError
-RobotFile loadRobot(const std::string& path);
+/// Where a subcommand's robot comes from: a robot file (.yaml), or an MJCF (.xml) / URDF (.urdf) model
+/// whose chain from `base` (default: the world) to `tip` (a site or body) is extracted through MuJoCo.
+struct RobotSource {
+  std::string path, tip, base;
+};
+
+/// Registers ROBOT, --tip and --base on a subcommand.
+void addRobotArgument(CLI::App& sub, RobotSource& source);
+
+/// Reads the robot: a robot file, or the POE model extracted from a model file (scale 1, no unit).
+/// @throws RobotFileError, UsageError (a model file without --tip)
+RobotFile loadRobot(const RobotSource& source);
 
 void addConvertCommands(CLI::App& app, Commands& out);   // poe2dh, dh2poe, fk (convert_commands.cpp)
 void addJacobianCommands(CLI::App& app, Commands& out);  // jacobian, singular (jacobian_commands.cpp)

@@ -13,21 +13,22 @@ using nlohmann::json;
 
 void addConvertCommands(CLI::App& app, Commands& commands) {
   struct Options {
-    std::string robot_path, q_text, model_kind = "file";
+    RobotSource robot;
+    std::string q_text, model_kind = "file";
     bool as_json = false, modified = false;
     double parallel_threshold = 0.0;
   };
   auto o = std::make_shared<Options>();
 
   auto* poe2dh = app.add_subcommand("poe2dh", "POE -> standard D-H table (base, joints, tool, pitch, scale)");
-  poe2dh->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  addRobotArgument(*poe2dh, o->robot);
   poe2dh->add_flag("--json", o->as_json, "print JSON (angles in rad, pitch in length/rad)");
   poe2dh->add_flag("--modified", o->modified, "print the same chain as a modified (Craig) D-H table");
   poe2dh->add_option("--parallel-threshold", o->parallel_threshold,
                      "treat axes with sin(angle) below this as parallel (default: rounding level 16 eps n); "
                      "larger values change the model and the FK check reports by how much");
   commands.emplace_back(poe2dh, [o] {
-    const RobotFile file = loadRobot(o->robot_path);
+    const RobotFile file = loadRobot(o->robot);
     ConvertOptions options;
     options.parallel_threshold = o->parallel_threshold;
     const DhConversion c = poeToDh(file.poeModel(), options);
@@ -42,10 +43,10 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
   });
 
   auto* dh2poe = app.add_subcommand("dh2poe", "D-H -> POE twists");
-  dh2poe->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  addRobotArgument(*dh2poe, o->robot);
   dh2poe->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(dh2poe, [o] {
-    const RobotFile file = loadRobot(o->robot_path);
+    const RobotFile file = loadRobot(o->robot);
     const PoeModel m = file.poeModel();
     if (o->as_json) {
       std::cout << poeJson(file, m).dump(1) << "\n";
@@ -56,14 +57,14 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
   });
 
   auto* fk = app.add_subcommand("fk", "forward kinematics T_base_tool(q)");
-  fk->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  addRobotArgument(*fk, o->robot);
   fk->add_option("--q", o->q_text, "joint values Q1,Q2,... (rad for revolute/helical, length for prismatic)")->required();
   fk->add_option("--model", o->model_kind, "poe or dh (default: the file's own description)")
       ->check(CLI::IsMember({"poe", "dh", "file"}));
   fk->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(fk, [o] {
-    const RobotFile file = loadRobot(o->robot_path);
-    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot_path);
+    const RobotFile file = loadRobot(o->robot);
+    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     const std::string kind = o->model_kind == "file" ? (file.poe ? "poe" : "dh") : o->model_kind;
     const Pose T = kind == "poe" ? poeForwardKinematics(file.poeModel(), q)
                                  : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q);

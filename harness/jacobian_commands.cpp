@@ -96,13 +96,14 @@ void printSingular(std::ostream& out, const RobotFile& file, const SingularityRe
 
 void addJacobianCommands(CLI::App& app, Commands& commands) {
   struct Options {
-    std::string robot_path, q_text, frame = "spatial";
+    RobotSource robot;
+    std::string q_text, frame = "spatial";
     bool as_json = false;
   };
   auto o = std::make_shared<Options>();
 
   auto* jac = app.add_subcommand("jacobian", "manipulator Jacobian at q (spatial/body [w; v], geometric [v; w])");
-  jac->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  addRobotArgument(*jac, o->robot);
   jac->add_option("--q", o->q_text, "joint values Q1,Q2,... (rad for revolute/helical, length for prismatic)")
       ->required();
   jac->add_option("--frame", o->frame,
@@ -111,8 +112,8 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
       ->check(CLI::IsMember({"spatial", "body", "geometric"}));
   jac->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(jac, [o] {
-    const RobotFile file = loadRobot(o->robot_path);
-    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot_path);
+    const RobotFile file = loadRobot(o->robot);
+    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     const PoeModel model = file.poeModel();
     PoeData data(model);
     Mat6X J(6, model.dof());
@@ -149,13 +150,13 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
   });
 
   auto* sing = app.add_subcommand("singular", "singularity analysis at q: rank, sigma_min, classes C1..C7, wrist/arm split");
-  sing->add_option("ROBOT", o->robot_path, "robot file (.yaml)")->required();
+  addRobotArgument(*sing, o->robot);
   sing->add_option("--q", o->q_text, "joint values Q1,Q2,... (rad for revolute/helical, length for prismatic)")
       ->required();
   sing->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(sing, [o] {
-    const RobotFile file = loadRobot(o->robot_path);
-    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot_path);
+    const RobotFile file = loadRobot(o->robot);
+    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     const SingularityReport r = analyzeSingularity(file.poeModel(), q);
     if (o->as_json) {
       std::cout << singularJson(file, q, r).dump(1) << "\n";

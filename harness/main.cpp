@@ -3,11 +3,13 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <string>
 
 #include "commands.hpp"
+#include "mujoco_robot.hpp"
 
 namespace lowpair {
 
@@ -32,13 +34,28 @@ VecX parseJointVector(const std::string& text, int dof, const std::string& subje
   return Eigen::Map<VecX>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
-RobotFile loadRobot(const std::string& path) {
-  const auto dot = path.rfind('.');
-  const std::string ext = dot == std::string::npos ? "" : path.substr(dot);
-  if (ext == ".xml" || ext == ".urdf") {
-    throw RobotFileError(path + ": MJCF/URDF input is read by 'lowpair validate'; this subcommand takes a robot file (.yaml)");
+void addRobotArgument(CLI::App& sub, RobotSource& source) {
+  sub.add_option("ROBOT", source.path, "robot file (.yaml), or a model (.xml MJCF, .urdf) with --tip")->required();
+  sub.add_option("--tip", source.tip, "model file: the tip site or body");
+  sub.add_option("--base", source.base, "model file: the base body (default: the world)");
+}
+
+RobotFile loadRobot(const RobotSource& source) {
+  const std::string ext = std::filesystem::path(source.path).extension().string();
+  if (ext != ".xml" && ext != ".urdf") {
+    if (!source.tip.empty() || !source.base.empty()) {
+      throw UsageError(source.path, "--tip/--base go with a model file (.xml or .urdf), not a robot file");
+    }
+    return readRobotFile(source.path);
   }
-  return readRobotFile(path);
+  if (source.tip.empty()) throw UsageError(source.path, "--tip NAME is required with a model file");
+  const MujocoRobot robot(source.path, source.tip, source.base);
+  RobotFile file;
+  file.path = source.path;
+  file.name = std::filesystem::path(source.path).stem().string();
+  file.description = "extracted by MuJoCo: chain to '" + source.tip + "'";
+  file.poe = robot.poeModel();
+  return file;
 }
 
 }  // namespace lowpair

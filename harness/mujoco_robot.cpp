@@ -41,9 +41,10 @@ std::string urdfCopy(const std::string& path) {
   const auto robot = s.find("<robot");
   if (robot == std::string::npos) fail(path, "no <robot> element: not a URDF");
   const auto close = s.find('>', robot);
-  s.insert(close + 1,
-           "\n<mujoco><compiler fusestatic=\"false\" discardvisual=\"true\" boundmass=\"1e-6\" "
-           "boundinertia=\"1e-9\" strippath=\"true\"/></mujoco>\n");
+  // the copy lives in the temp folder: relative mesh paths resolve against the original's folder
+  const std::string folder = std::filesystem::absolute(path).parent_path().string();
+  s.insert(close + 1, "\n<mujoco><compiler fusestatic=\"false\" discardvisual=\"true\" boundmass=\"1e-6\" "
+                      "boundinertia=\"1e-9\" strippath=\"false\" meshdir=\"" + folder + "\"/></mujoco>\n");
   // mkstemps replaces the six Xs with a unique suffix and keeps the 5-character ".urdf" extension
   std::string copy = (std::filesystem::temp_directory_path() / "lowpair_urdf_XXXXXX.urdf").string();
   const int fd = mkstemps(copy.data(), 5);
@@ -58,7 +59,7 @@ std::string urdfCopy(const std::string& path) {
 void MujocoRobot::ModelDeleter::operator()(mjModel_* m) const { mj_deleteModel(m); }
 
 MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base)
-    : path_(path), tip_(tip) {
+{
   {
     std::ifstream probe(path);
     if (!probe) fail(path, "cannot open file");
@@ -108,8 +109,10 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
 
   std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
   mj_kinematics(m, d.get());
-  T_world_base_ = base_body_ == 0 ? Pose() : poseFrom(d->xpos + 3 * base_body_, d->xmat + 9 * base_body_);
-  const Pose T_base_world = T_world_base_.inverse();
+  const Pose T_world_base =
+      base_body_ == 0 ? Pose() : poseFrom(d->xpos + 3 * base_body_, d->xmat + 9 * base_body_);
+  T_base_world_ = T_world_base.inverse();
+  const Pose& T_base_world = T_base_world_;
 
   std::vector<JointSpec> specs;
   std::map<int, size_t> hinge_to_joint;
@@ -214,7 +217,7 @@ Pose MujocoRobot::Evaluator::worldTip() const {
 
 Pose MujocoRobot::Evaluator::tipPose(const Eigen::Ref<const VecX>& x) {
   setConfiguration(x);
-  return robot_->T_world_base_.inverse() * worldTip();
+  return robot_->T_base_world_ * worldTip();
 }
 
 Pose MujocoRobot::Evaluator::tipJacobian(const Eigen::Ref<const VecX>& x, Eigen::Ref<Mat6X> J) {
@@ -227,7 +230,7 @@ Pose MujocoRobot::Evaluator::tipJacobian(const Eigen::Ref<const VecX>& x, Eigen:
   } else {
     mj_jacBody(m, d, jacp_.data(), jacr_.data(), robot_->tip_body_);
   }
-  const Mat3 R_base_world = robot_->T_world_base_.R.transpose();
+  const Mat3& R_base_world = robot_->T_base_world_.R;
   const int nv = m->nv;
   for (size_t i = 0; i < robot_->joints_.size(); ++i) {
     const MujocoJoint& j = robot_->joints_[i];
@@ -243,7 +246,7 @@ Pose MujocoRobot::Evaluator::tipJacobian(const Eigen::Ref<const VecX>& x, Eigen:
     // a base body moved by joints outside the chain would need its own velocity; the base is fixed here
     J.col(static_cast<Eigen::Index>(i)) << R_base_world * v, R_base_world * w;
   }
-  return robot_->T_world_base_.inverse() * worldTip();
+  return robot_->T_base_world_ * worldTip();
 }
 
 }  // namespace lowpair

@@ -46,9 +46,6 @@ class MujocoRobot {
   const std::vector<MujocoJoint>& joints() const { return joints_; }
   /// The POE model extracted at qpos0 (scale 1), in the base frame.
   const PoeModel& poeModel() const { return *poe_; }
-  const std::string& path() const { return path_; }
-  const std::string& tip() const { return tip_; }
-  const mjModel_* model() const { return model_.get(); }
 
   /// A per-thread evaluator (owns its mjData).
   class Evaluator {
@@ -75,10 +72,9 @@ class MujocoRobot {
   struct ModelDeleter {
     void operator()(mjModel_* m) const;
   };
-  std::string path_, tip_;
   std::unique_ptr<mjModel_, ModelDeleter> model_;
   int tip_site_ = -1, tip_body_ = -1, base_body_ = 0;
-  Pose T_world_base_;
+  Pose T_base_world_;
   std::vector<MujocoJoint> joints_;
   std::unique_ptr<PoeModel> poe_;
 };

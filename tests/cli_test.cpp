@@ -159,3 +159,35 @@ TEST(CliErrors, Usage) {
   EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
   EXPECT_EQ(run("fk " + model("elbow_mls.yaml")).status, 2);  // --q is required
 }
+
+TEST(CliModelFiles, PoeToDhFromMjcfMatchesTheRobotFile) {
+  // the chain MuJoCo extracts from the actual PUMA's MJCF gives Table II's geometry (scale 1 there)
+  const CliRun a = run("poe2dh " + model("puma560_okamura_actual.xml") + " --tip tool --json");
+  const CliRun b = run("poe2dh " + model("puma560_okamura_actual.yaml") + " --json");
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(b.status, 0) << b.err;
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  const double L = jb["size"].get<double>();
+  for (size_t i = 0; i < 6; ++i) {
+    for (const char* k : {"theta", "alpha"}) {
+      EXPECT_NEAR(ja["joints"][i][k].get<double>(), jb["joints"][i][k].get<double>(), 1e-12) << i << k;
+    }
+    for (const char* k : {"d", "a"}) {
+      EXPECT_NEAR(ja["joints"][i][k].get<double>(), jb["joints"][i][k].get<double>(), 1e-12 * L) << i << k;
+    }
+    EXPECT_EQ(ja["joints"][i]["scale"].get<double>(), 1.0);
+  }
+}
+
+TEST(CliModelFiles, TipRules) {
+  expectRejected("fk " + model("elbow_mls.xml") + " --q 0,0,0,0,0,0", "--tip NAME is required", model("elbow_mls.xml"));
+  expectRejected("fk " + model("elbow_mls.yaml") + " --tip tool --q 0,0,0,0,0,0", "--tip/--base go with a model file",
+                 model("elbow_mls.yaml"));
+  expectRejected("jacobian " + model("elbow_mls.xml") + " --tip nowhere --q 0,0,0,0,0,0", "tip 'nowhere'",
+                 model("elbow_mls.xml"));
+  const CliRun fk = run("fk " + model("elbow_mls.xml") + " --tip tool --q 0,0,0,0,0,0 --json");
+  ASSERT_EQ(fk.status, 0) << fk.err;
+  const auto T = nlohmann::json::parse(fk.out)["T_base_tool"];
+  EXPECT_NEAR(T[1][3].get<double>(), 2.0, 1e-15);  // l1 + l2
+  EXPECT_NEAR(T[2][3].get<double>(), 1.0, 1e-15);  // l0
+}

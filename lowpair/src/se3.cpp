@@ -58,26 +58,30 @@ constexpr std::array<double, 12> invOddFactorials() {
 constexpr std::array<double, 12> kInvOddFactorial = invOddFactorials();  // 1/(2k+3)!
 }  // namespace
 
+double expCoefficientC(double x) {
+  const double y = x * x;
+  if (x >= kSeriesAngle) return (x - std::sin(x)) / (x * y);
+  // Horner over 1/(2k+3)!, k = 0..11, alternating signs.
+  double c = 0.0;
+  for (int i = 11; i >= 0; --i) c = kInvOddFactorial[i] - y * c;
+  return c;
+}
+
 ExpCoefficients expCoefficients(double x) {
+  // two libm calls: sin(x) and sin(x/2); cos(x) = 1 - 2 sin^2(x/2)
   ExpCoefficients k;
   const double y = x * x;
-  k.cos_x = std::cos(x);
+  const double s = std::sin(x), s_half = std::sin(0.5 * x);
+  k.cos_x = 1.0 - 2.0 * s_half * s_half;
   if (x < 1e-4) {
     k.a = 1.0 - y / 6.0 * (1.0 - y / 20.0);
     k.b = 0.5 - y / 24.0 * (1.0 - y / 30.0);
   } else {
-    const double s_half = std::sin(0.5 * x) / (0.5 * x);
-    k.a = std::sin(x) / x;
-    k.b = 0.5 * s_half * s_half;
+    const double sinc_half = s_half / (0.5 * x);
+    k.a = s / x;
+    k.b = 0.5 * sinc_half * sinc_half;
   }
-  if (x < kSeriesAngle) {
-    // Horner over 1/(2k+3)!, k = 0..11, alternating signs.
-    double c = 0.0;
-    for (int i = 11; i >= 0; --i) c = kInvOddFactorial[i] - y * c;
-    k.c = c;
-  } else {
-    k.c = (x - std::sin(x)) / (x * y);
-  }
+  k.c = x < kSeriesAngle ? expCoefficientC(x) : (x - s) / (x * y);
   return k;
 }
 

@@ -29,26 +29,6 @@ Pose expSE3Paper(const Vec6& xi) {
   return T;
 }
 
-namespace {
-// (x - sin x)/x^3 = sum_k (-1)^k x^2k / (2k+3)!, Horner from k = 11 (as in se3.cpp).
-double seriesC(double y) {
-  constexpr double kInv[12] = {1.0 / 6,
-                               1.0 / 120,
-                               1.0 / 5040,
-                               1.0 / 362880,
-                               1.0 / 39916800,
-                               1.0 / 6227020800,
-                               1.0 / 1307674368000,
-                               1.0 / 355687428096000,
-                               1.0 / 121645100408832000,
-                               1.0 / 51090942171709440000.0,
-                               1.0 / 25852016738884976640000.0,
-                               1.0 / 15511210043330985984000000.0};
-  double c = 0.0;
-  for (int i = 11; i >= 0; --i) c = kInv[i] - y * c;
-  return c;
-}
-}  // namespace
 
 Pose expSE3Quaternion(const Vec6& xi) {
   const Vec3 w = xi.head<3>();
@@ -68,7 +48,7 @@ Pose expSE3Quaternion(const Vec6& xi) {
       2.0 * (xy + wz), 1.0 - 2.0 * (x2 + z2), 2.0 * (yz - wx),     //
       2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (x2 + y2);
   const double b = 2.0 * k * k;
-  const double c = q < kSeriesAngle ? seriesC(y) : (q - 2.0 * sh * ch) / (q * y);
+  const double c = expCoefficientC(q);
   const Vec3 wxv = w.cross(v);
   T.p = v + b * wxv + c * w.cross(wxv);
   return T;

@@ -23,6 +23,8 @@ struct ExpCoefficients {
   double cos_x, a, b, c;
 };
 ExpCoefficients expCoefficients(double x);
+/// `(x - sin x)/x^3` alone (the c of ExpCoefficients), for exponential variants that need only it.
+double expCoefficientC(double x);
 
 /// Rotation `exp(hat(w))` for an angle vector `w` (angle |w|).
 Mat3 expSO3(const Vec3& w);
