@@ -70,10 +70,10 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
                                  : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q);
     if (o->as_json) {
       json j = {{"name", file.name}, {"source", file.path}, {"model", kind}, {"length_unit", file.length_unit},
-                {"q", std::vector<double>(q.data(), q.data() + q.size())}, {"T_base_tool", poseJson(T)}};
+                {"q", toVector(q)}, {"T_base_tool", poseJson(T)}};
       std::cout << j.dump(1) << "\n";
     } else {
-      std::cout << "T_base_tool (" << kind << " model of " << (file.name.empty() ? file.path : file.name) << "):\n";
+      std::cout << "T_base_tool (" << kind << " model of " << robotLabel(file) << "):\n";
       printPose(std::cout, T, file.length_unit.empty() ? "length" : file.length_unit);
     }
     return 0;

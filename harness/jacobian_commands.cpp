@@ -15,12 +15,8 @@ using nlohmann::json;
 
 namespace {
 
-std::vector<double> toVector(const VecX& x) { return std::vector<double>(x.data(), x.data() + x.size()); }
-
 // A number for JSON: non-finite values (an infinite condition number) become null.
 json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
-std::string robotLabel(const RobotFile& file) { return file.name.empty() ? file.path : file.name; }
 
 json singularJson(const RobotFile& file, const VecX& q, const SingularityReport& r) {
   json classes = json::array();

@@ -41,6 +41,10 @@ json fkCheckJson(const FkCheck& f) {
 }
 }  // namespace
 
+std::string robotLabel(const RobotFile& file) { return file.name.empty() ? file.path : file.name; }
+
+std::vector<double> toVector(const Eigen::Ref<const VecX>& x) { return std::vector<double>(x.data(), x.data() + x.size()); }
+
 std::string fixed(double x, int decimals) {
   char buf[64];
   if (x != 0.0 && (std::abs(x) >= 1e7 || std::abs(x) < 0.5 * std::pow(10.0, -decimals))) {
@@ -132,7 +136,7 @@ std::string pitchUnit(const RobotFile& file) { return unitOr(file) + "/" + file.
 
 void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c) {
   const std::string u = unitOr(file);
-  out << (file.name.empty() ? file.path : file.name) << ": standard D-H (Wu et al. eq. 10), L = " << fixed(c.size)
+  out << robotLabel(file) << ": standard D-H (Wu et al. eq. 10), L = " << fixed(c.size)
       << " " << u << "\n";
   out << "H = A(base) * prod_i [Q_i(scale_i q_i) * A(row i)] * Rz(theta_T) Tz(d_T),  A = Rz(theta) Tz(d) Rx(alpha) Tx(a)\n\n";
   char line[256];
@@ -168,7 +172,7 @@ void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c) {
 void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversion& c) {
   const ModifiedDh m = toModifiedDh(c.model);
   const std::string u = unitOr(file);
-  out << (file.name.empty() ? file.path : file.name) << ": modified (Craig) D-H, L = " << fixed(c.size) << " " << u
+  out << robotLabel(file) << ": modified (Craig) D-H, L = " << fixed(c.size) << " " << u
       << "\n";
   out << "H = Rz(theta_B) Tz(d_B) * prod_i [Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + q) Tz(d_i)] * Rx(alpha_n) Tx(a_n) "
          "Rz(theta_T) Tz(d_T)\n\n";
@@ -198,7 +202,7 @@ void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversio
 
 void printPoe(std::ostream& out, const RobotFile& file, const PoeModel& model) {
   const std::string u = unitOr(file);
-  out << (file.name.empty() ? file.path : file.name) << ": base POE (Wu et al. eq. 5), unit twists [w; v] in the base "
+  out << robotLabel(file) << ": base POE (Wu et al. eq. 5), unit twists [w; v] in the base "
       << "frame, L = " << fixed(model.size()) << " " << u << "\n\n";
   char line[256];
   std::snprintf(line, sizeof line, "%-5s %-9s %10s %10s %10s %12s %12s %12s %14s %12s\n", "joint", "type", "w_x", "w_y",
