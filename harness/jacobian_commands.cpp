@@ -82,7 +82,7 @@ void printSingular(std::ostream& out, const RobotFile& file, const SingularityRe
     out << "  decoupled (Paden-Sastry 5): no three consecutive revolute axes meet in a point\n";
   }
   for (const VecX& x : r.null_space) {
-    out << "  null vector (unit-screw coefficients):";
+    out << (r.singular ? "  null vector" : "  self-motion (null vector)") << " (unit-screw coefficients):";
     for (Eigen::Index i = 0; i < x.size(); ++i) out << " " << fixed(x(i), 6);
     out << "\n";
   }
