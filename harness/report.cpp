@@ -1,6 +1,7 @@
 #include "report.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -9,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <fcntl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace lowpair {
@@ -37,6 +40,7 @@ json validationJson(const std::vector<ScenarioResult>& results, const RunOptions
                 {"tolerance_rotation", c.tolerance_rotation},
                 {"tolerance_translation", c.tolerance_translation},
                 {"worst_q", c.worst_q},
+                {"non_finite", c.non_finite},
                 {"pass", c.pass}};
       if (c.pose) j["max_rotation_euler_zyx"] = c.max_rotation_euler;
       s["comparisons"].push_back(j);
@@ -70,6 +74,7 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
                     c.max_translation / r.size, c.p99_translation / r.size, c.tolerance_rotation,
                     c.tolerance_translation / r.size, c.pass ? "pass" : "FAIL");
       out << line;
+      if (c.non_finite > 0) out << "  " << c.non_finite << " sample(s) gave a non-finite error (NaN or inf): not measured\n";
     }
     pass = pass && r.pass;
   }
@@ -98,12 +103,66 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
 
 namespace {
 
+// A file-name stem from a user string: [A-Za-z0-9_-] only, at most kMaxStem characters (file systems
+// allow 255 bytes per name); a longer name keeps its start and gets a hash of the whole, so names stay distinct.
 std::string safe(const std::string& name) {
+  constexpr size_t kMaxStem = 80;
   std::string s = name;
   for (char& ch : s) {
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
   }
+  if (s.size() > kMaxStem) {
+    char hash[20];
+    std::snprintf(hash, sizeof hash, "_%016zx", std::hash<std::string>{}(name));
+    s = s.substr(0, kMaxStem - 17) + hash;
+  }
   return s;
+}
+
+// A gnuplot single-quoted string holding `text` verbatim: no substitution happens inside single quotes
+// (no backquote commands, no macros), a quote is written twice, and control characters (a newline
+// would end the command) become '?'. Every user string (scenario and file names) goes through this.
+std::string gpString(const std::string& text) {
+  std::string out = "'";
+  for (const char ch : text) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (ch == '\'') {
+      out += "''";
+    } else if (u < 0x20 || u == 0x7f) {
+      out += '?';
+    } else {
+      out += ch;
+    }
+  }
+  return out + "'";
+}
+
+// Runs `gnuplot SCRIPT` in `dir` with an argument vector (no shell), stderr into `log`.
+// Returns the exit status, or -1 when gnuplot could not be started.
+int runGnuplot(const fs::path& dir, const std::string& script, const std::string& log) {
+  const pid_t pid = ::fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    if (::chdir(dir.c_str()) != 0) ::_exit(127);
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, STDERR_FILENO);
+      ::close(fd);
+    }
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) {
+      ::dup2(null, STDOUT_FILENO);
+      ::close(null);
+    }
+    char* const argv[] = {const_cast<char*>("gnuplot"), const_cast<char*>(script.c_str()), nullptr};
+    ::execvp("gnuplot", argv);
+    ::_exit(127);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 void plots(const fs::path& dir, const ScenarioResult& r) {
@@ -112,7 +171,7 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
   {
     std::ofstream out(data);
     out << "# sample";
-    for (const auto& c : r.comparisons) out << " " << c.name << ":rotation " << c.name << ":translation/L";
+    for (const auto& c : r.comparisons) out << " " << safe(c.name) << ":rotation " << safe(c.name) << ":translation/L";
     out << "\n";
     for (size_t s = 0; s < static_cast<size_t>(r.samples); ++s) {
       out << s;
@@ -123,44 +182,46 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
       out << "\n";
     }
   }
+  // gnuplot runs in `dir`: the script names files by their (sanitized) names; titles go through gpString
+  const std::string data_name = gpString(data.filename().string());
   std::ostringstream gp;
   gp << "set terminal pngcairo noenhanced size 1200,800 font ',10'\n"
-     << "set output '" << (dir / (base + "_errors.png")).string() << "'\n"
-     << "set multiplot layout 2,1 title '" << r.scenario.name << ": error of every sample against MuJoCo (L = "
-     << r.size << ")'\n"
+     << "set output " << gpString(base + "_errors.png") << "\n"
+     << "set multiplot layout 2,1 title " << gpString(r.scenario.name + ": error of every sample against MuJoCo (L = " +
+                                                     std::to_string(r.size) + ")") << "\n"
      << "set logscale y\nset format y '10^{%L}'\nset yrange [1e-18:1e-9]\nset key top left\nset grid\n"
      << "set ylabel 'rotation error (rad)'\n"
      << "plot ";
   for (size_t c = 0; c < r.comparisons.size(); ++c) {
-    gp << (c ? ", " : "") << "'" << data.string() << "' using 1:" << 2 + 2 * c << " with points pt 7 ps 0.3 title '"
-       << r.comparisons[c].name << "'";
+    gp << (c ? ", " : "") << data_name << " using 1:" << 2 + 2 * c << " with points pt 7 ps 0.3 title "
+       << gpString(r.comparisons[c].name);
   }
   gp << "\nset ylabel 'translation error / L'\nset xlabel 'sample'\nplot ";
   for (size_t c = 0; c < r.comparisons.size(); ++c) {
-    gp << (c ? ", " : "") << "'" << data.string() << "' using 1:" << 3 + 2 * c << " with points pt 7 ps 0.3 title '"
-       << r.comparisons[c].name << "'";
+    gp << (c ? ", " : "") << data_name << " using 1:" << 3 + 2 * c << " with points pt 7 ps 0.3 title "
+       << gpString(r.comparisons[c].name);
   }
   gp << "\nunset multiplot\n";
   // histogram of log10(error)
-  gp << "set output '" << (dir / (base + "_histogram.png")).string() << "'\n"
-     << "set multiplot layout 1,2 title '" << r.scenario.name << ": distribution of log10(error)'\n"
+  gp << "set output " << gpString(base + "_histogram.png") << "\n"
+     << "set multiplot layout 1,2 title " << gpString(r.scenario.name + ": distribution of log10(error)") << "\n"
      << "unset logscale y\nset format y '%g'\nset yrange [*:*]\nset xrange [-18:-9]\nset style fill transparent solid 0.4\n"
      << "set boxwidth 0.1\nbin(x) = 0.1 * floor(log10(x) / 0.1)\nset ylabel 'samples'\n"
      << "set xlabel 'log10 rotation error (rad)'\nplot ";
   for (size_t c = 0; c < r.comparisons.size(); ++c) {
-    gp << (c ? ", " : "") << "'" << data.string() << "' using (bin($" << 2 + 2 * c
-       << ")):(1.0) smooth frequency with boxes title '" << r.comparisons[c].name << "'";
+    gp << (c ? ", " : "") << data_name << " using (bin($" << 2 + 2 * c << ")):(1.0) smooth frequency with boxes title "
+       << gpString(r.comparisons[c].name);
   }
   gp << "\nset xlabel 'log10 translation error / L'\nplot ";
   for (size_t c = 0; c < r.comparisons.size(); ++c) {
-    gp << (c ? ", " : "") << "'" << data.string() << "' using (bin($" << 3 + 2 * c
-       << ")):(1.0) smooth frequency with boxes title '" << r.comparisons[c].name << "'";
+    gp << (c ? ", " : "") << data_name << " using (bin($" << 3 + 2 * c << ")):(1.0) smooth frequency with boxes title "
+       << gpString(r.comparisons[c].name);
   }
   gp << "\nunset multiplot\n";
   if (r.map_size > 0) {
-    const fs::path map = dir / (base + "_singularity_map.dat");
+    const std::string map_name = base + "_singularity_map.dat";
     {
-      std::ofstream out(map);
+      std::ofstream out(dir / map_name);
       for (int a = 0; a < r.map_size; ++a) {
         const double y = r.map_range_y[0] + (r.map_range_y[1] - r.map_range_y[0]) * a / (r.map_size - 1);
         for (int b = 0; b < r.map_size; ++b) {
@@ -170,23 +231,26 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
         out << "\n";
       }
     }
+    const std::string jx = std::to_string(r.map_joints[0]), jy = std::to_string(r.map_joints[1]);
     gp << "reset\nset terminal pngcairo noenhanced size 900,760 font ',10'\n"
-       << "set output '" << (dir / (base + "_singularity_map.png")).string() << "'\n"
-       << "set title '" << r.scenario.name << ": log10 sigma_min of the dimensionless Jacobian over joints "
-       << r.map_joints[0] << " and " << r.map_joints[1] << " (others fixed); dark = singular'\n"
-       << "set xlabel 'q" << r.map_joints[0] << "'\nset ylabel 'q" << r.map_joints[1] << "'\n"
+       << "set output " << gpString(base + "_singularity_map.png") << "\n"
+       << "set title " << gpString(r.scenario.name + ": log10 sigma_min of the dimensionless Jacobian over joints " + jx +
+                                   " and " + jy + " (others fixed); dark = singular") << "\n"
+       << "set xlabel 'q" << jx << "'\nset ylabel 'q" << jy << "'\n"
        << "set view map\nset palette defined (-8 'black', -5 'dark-red', -2 'orange', 0 'yellow')\n"
        << "set cbrange [-8:0]\nset cblabel 'log10 sigma_min'\nset xrange [*:*] noextend\nset yrange [*:*] noextend\n"
-       << "splot '" << map.string() << "' using 1:2:3 with pm3d notitle\n";
+       << "splot " << gpString(map_name) << " using 1:2:3 with pm3d notitle\n";
   }
-  const fs::path script = dir / (base + ".gnuplot");
-  std::ofstream(script) << gp.str();
+  const std::string script = base + ".gnuplot";
+  std::ofstream(dir / script) << gp.str();
   const fs::path log = dir / (base + ".gnuplot.log");
-  if (std::system(("gnuplot '" + script.string() + "' 2>'" + log.string() + "'").c_str()) != 0) {
+  const int status = runGnuplot(dir, script, log.string());
+  if (status != 0) {
     std::ifstream in(log);
     std::string text((std::istreambuf_iterator<char>(in)), {});
     std::replace(text.begin(), text.end(), '\n', ' ');
-    throw std::runtime_error("report: gnuplot failed on " + script.filename().string() + ": " + text.substr(0, 300));
+    if (status == 127 && text.empty()) text = "gnuplot could not be started (is gnuplot-nox installed?)";
+    throw std::runtime_error("report: gnuplot failed on " + script + ": " + text.substr(0, 300));
   }
   fs::remove(log);
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <set>
 #include <thread>
@@ -85,6 +86,8 @@ Scenario readScenario(const std::string& path) {
       for (const auto& r : ranges) {
         const auto v = in.vector(r, 2, "ranges[]");
         if (v[0] > v[1]) yamlError(path, r, "range [lo, hi] needs lo <= hi");
+        // samples are lo + u (hi - lo): the width must be finite too
+        if (!std::isfinite(v[1] - v[0])) yamlError(path, r, "range [lo, hi] is too wide (hi - lo overflows)");
         s.ranges.push_back({v[0], v[1]});
       }
     }
@@ -164,6 +167,13 @@ void summarize(ComparisonResult& c, const std::vector<double>& rot, const std::v
   double worst_score = -1;
   double sum_r = 0, sum_t = 0;
   for (size_t i = 0; i < n; ++i) {
+    // a sample that was not measured (NaN or inf) is never within tolerance: counted, and the comparison fails
+    if (!std::isfinite(rot[i]) || !std::isfinite(trans[i]) || (!rot_ea.empty() && !std::isfinite(rot_ea[i]))) {
+      ++c.non_finite;
+      if (c.non_finite == 1) worst = i;
+      worst_score = std::numeric_limits<double>::infinity();
+      continue;
+    }
     sum_r += rot[i];
     sum_t += trans[i];
     c.max_rotation = std::max(c.max_rotation, rot[i]);
@@ -175,12 +185,20 @@ void summarize(ComparisonResult& c, const std::vector<double>& rot, const std::v
       worst = i;
     }
   }
-  c.mean_rotation = sum_r / static_cast<double>(n);
-  c.mean_translation = sum_t / static_cast<double>(n);
-  c.p99_rotation = p99(rot);
-  c.p99_translation = p99(trans);
+  if (c.non_finite > 0) {
+    // statistics of what was not measured are not numbers: reported as NaN (JSON null)
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    c.max_rotation = c.mean_rotation = c.p99_rotation = c.max_rotation_euler = nan;
+    c.max_translation = c.mean_translation = c.p99_translation = nan;
+  } else {
+    c.mean_rotation = sum_r / static_cast<double>(n);
+    c.mean_translation = sum_t / static_cast<double>(n);
+    c.p99_rotation = p99(rot);
+    c.p99_translation = p99(trans);
+  }
   c.worst_q.assign(qs[worst].data(), qs[worst].data() + qs[worst].size());
-  c.pass = c.max_rotation <= c.tolerance_rotation && c.max_translation <= c.tolerance_translation;
+  c.pass = c.non_finite == 0 && c.max_rotation <= c.tolerance_rotation &&
+           c.max_translation <= c.tolerance_translation;
   c.rotation_errors.assign(rot.begin(), rot.end());
   c.translation_errors.reserve(n);
   for (double t : trans) c.translation_errors.push_back(static_cast<float>(t / L));
@@ -332,8 +350,11 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
       // the linear difference is stored in length units (times L) like the pose comparisons.
       dimensionlessJacobian(poe, J_mj);
       dimensionlessJacobian(poe, J_lib);
-      rot[n_pose][s] = (J_mj.bottomRows<3>() - J_lib.bottomRows<3>()).cwiseAbs().maxCoeff();
-      trans[n_pose][s] = L * (J_mj.topRows<3>() - J_lib.topRows<3>()).cwiseAbs().maxCoeff();
+      // maxCoeff may skip NaN: a non-finite Jacobian is recorded as NaN so that the comparison fails
+      const bool finite = J_mj.allFinite() && J_lib.allFinite();
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      rot[n_pose][s] = finite ? (J_mj.bottomRows<3>() - J_lib.bottomRows<3>()).cwiseAbs().maxCoeff() : nan;
+      trans[n_pose][s] = finite ? L * (J_mj.topRows<3>() - J_lib.topRows<3>()).cwiseAbs().maxCoeff() : nan;
     }
   };
   const auto start = std::chrono::steady_clock::now();

@@ -69,7 +69,8 @@ struct ComparisonResult {
   double max_rotation_euler = 0;  ///< the paper's ||EA_ZYX(R_a^-1 R_b)|| (eq. 19), pose comparisons only
   double max_translation = 0, mean_translation = 0, p99_translation = 0;
   double tolerance_rotation = 0, tolerance_translation = 0;
-  std::vector<double> worst_q;
+  std::vector<double> worst_q;          ///< the worst sample (the first non-finite one, if any)
+  long long non_finite = 0;             ///< samples whose error is NaN or inf: the comparison fails
   bool pass = true;
   std::vector<float> rotation_errors, translation_errors;  ///< per sample, for the report's pictures
 };
