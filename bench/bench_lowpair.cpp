@@ -1,4 +1,4 @@
-// lowpair's own hot paths: FK (POE, D-H, fast D-H kernel), Jacobians, batched FK, se(3) exponentials.
+// lowpair's own hot paths, the public functions: FK (POE, D-H), Jacobians (compute, then get), batched FK, se(3) exponentials.
 // Every benchmark first checks its results against the library reference over the whole pool of
 // configurations (robots.cpp) and skips with an error on a mismatch; then it cycles through the pool.
 #include <benchmark/benchmark.h>
@@ -12,15 +12,11 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "helper_thread.hpp"
-#include "lowpair/fast_fk.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/se3_variants.hpp"
 #include "robots_lowpair.hpp"
-#if __has_include("lowpair/jacobian.hpp")
 #include "lowpair/jacobian.hpp"
-#define LOWPAIR_BENCH_HAS_JACOBIAN 1
-#endif
 
 namespace lowpair_bench {
 
@@ -48,7 +44,7 @@ Eigen::Map<const VecX> qOf(const RobotCase& r, int k) { return {&r.q[static_cast
 void fkPoe(benchmark::State& state, RobotId id) {
   const RobotCase& r = robotCase(id);
   const PoeModel& model = robotModels(id).poe;
-  PoeData data(model);
+  Data data(model);
   double err = 0.0, pose[12];
   for (int k = 0; k < kPool; ++k) {
     forwardKinematics(model, data, qOf(r, k));
@@ -67,7 +63,7 @@ void fkPoe(benchmark::State& state, RobotId id) {
 void fkDh(benchmark::State& state, RobotId id) {
   const RobotCase& r = robotCase(id);
   const DhModel& model = robotModels(id).dh;
-  DhData data(model);
+  Data data(model);
   double err = 0.0, pose[12];
   for (int k = 0; k < kPool; ++k) {
     forwardKinematics(model, data, qOf(r, k));
@@ -83,68 +79,24 @@ void fkDh(benchmark::State& state, RobotId id) {
   }
 }
 
-void fkFastDh(benchmark::State& state, RobotId id) {
-  const RobotCase& r = robotCase(id);
-  const DhKernel kernel(robotModels(id).dh);
-  Pose T;
-  double err = 0.0, pose[12];
-  for (int k = 0; k < kPool; ++k) {
-    kernel.forward(qOf(r, k), T);
-    poseTo12(T, pose);
-    err = std::max(err, poseMismatch(r, k, pose));
-  }
-  if (rejected(state, err, "fast D-H FK")) return;
-  int k = 0;
-  for (auto _ : state) {
-    kernel.forward(&r.q[static_cast<size_t>(k * r.dof)], T);
-    benchmark::DoNotOptimize(T);
-    k = (k + 1) & (kPool - 1);
-  }
-}
-
-void jacobianFastDh(benchmark::State& state, RobotId id) {
-  const RobotCase& r = robotCase(id);
-  const DhKernel kernel(robotModels(id).dh);
-  Pose T;
-  Mat6X J(6, r.dof);
-  Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jr(6, r.dof);
-  double err = 0.0, pose[12];
-  for (int k = 0; k < kPool; ++k) {
-    kernel.geometricJacobian(&r.q[static_cast<size_t>(k * r.dof)], T, J);
-    poseTo12(T, pose);
-    Jr = J;
-    err = std::max({err, poseMismatch(r, k, pose), jacobianMismatch(r, k, Jr.data())});
-  }
-  if (rejected(state, err, "fast D-H geometric Jacobian")) return;
-  int k = 0;
-  for (auto _ : state) {
-    kernel.geometricJacobian(&r.q[static_cast<size_t>(k * r.dof)], T, J);
-    benchmark::DoNotOptimize(J.data());
-    benchmark::DoNotOptimize(T);
-    benchmark::ClobberMemory();
-    k = (k + 1) & (kPool - 1);
-  }
-}
-
 // ---- Jacobians --------------------------------------------------------------------------------------
 
-#ifdef LOWPAIR_BENCH_HAS_JACOBIAN
 void jacobianGeometric(benchmark::State& state, RobotId id) {
   const RobotCase& r = robotCase(id);
   const PoeModel& model = robotModels(id).poe;
-  PoeData data(model);
+  Data data(model);
   Mat6X J(6, r.dof);
   Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jr(6, r.dof);
   double err = 0.0;
   for (int k = 0; k < kPool; ++k) {
-    geometricJacobian(model, data, qOf(r, k), J);
+    computeJacobians(model, data, qOf(r, k)); getGeometricJacobian(data, J);
     Jr = J;
     err = std::max(err, jacobianMismatch(r, k, Jr.data()));
   }
   if (rejected(state, err, "geometric Jacobian")) return;
   int k = 0;
   for (auto _ : state) {
-    geometricJacobian(model, data, qOf(r, k), J);
+    computeJacobians(model, data, qOf(r, k)); getGeometricJacobian(data, J);
     benchmark::DoNotOptimize(J.data());
     benchmark::ClobberMemory();
     k = (k + 1) & (kPool - 1);
@@ -154,12 +106,12 @@ void jacobianGeometric(benchmark::State& state, RobotId id) {
 void jacobianSpatial(benchmark::State& state, RobotId id) {
   const RobotCase& r = robotCase(id);
   const PoeModel& model = robotModels(id).poe;
-  PoeData data(model);
+  Data data(model);
   Mat6X J(6, r.dof);
   Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jg(6, r.dof);
   double err = 0.0;
   for (int k = 0; k < kPool; ++k) {
-    spatialJacobian(model, data, qOf(r, k), J);
+    computeJacobians(model, data, qOf(r, k)); getSpatialJacobian(data, J);
     // spatial [w; v_s] -> geometric [v_s + w x p_tool; w] for the comparison
     const Vec3 p = Eigen::Map<const Vec3>(&r.pose[static_cast<size_t>(k) * 12 + 9]);
     for (int i = 0; i < r.dof; ++i) {
@@ -171,86 +123,74 @@ void jacobianSpatial(benchmark::State& state, RobotId id) {
   if (rejected(state, err, "spatial Jacobian")) return;
   int k = 0;
   for (auto _ : state) {
-    spatialJacobian(model, data, qOf(r, k), J);
+    computeJacobians(model, data, qOf(r, k)); getSpatialJacobian(data, J);
     benchmark::DoNotOptimize(J.data());
     benchmark::ClobberMemory();
     k = (k + 1) & (kPool - 1);
   }
 }
-#endif
 
 // ---- batched FK (PUMA 560): 1024 configurations per call, reported per pose --------------------------
 
 struct Batch {
-  explicit Batch(const RobotCase& robot) : r(robot), q(static_cast<size_t>(r.dof) * kPool), out(12 * kPool) {
+  explicit Batch(const RobotCase& robot) : r(robot), q(kPool, r.dof), out(kPool, 12) {
     for (int k = 0; k < kPool; ++k) {
-      for (int i = 0; i < r.dof; ++i) q[static_cast<size_t>(i * kPool + k)] = r.q[static_cast<size_t>(k * r.dof + i)];
+      for (int i = 0; i < r.dof; ++i) q(k, i) = r.q[static_cast<size_t>(k * r.dof + i)];
     }
   }
   double mismatch() const {
     double err = 0.0, pose[12];
     for (int k = 0; k < kPool; ++k) {
-      for (int e = 0; e < 12; ++e) pose[e] = out[static_cast<size_t>(e * kPool + k)];
+      for (int e = 0; e < 12; ++e) pose[e] = out(k, e);
       err = std::max(err, poseMismatch(r, k, pose));
     }
     return err;
   }
   const RobotCase& r;
-  std::vector<double> q;    // SoA: q[i * kPool + k]
-  std::vector<double> out;  // SoA: out[e * kPool + k]
+  MatX q;    // kPool x dof: column i = joint i of every configuration
+  MatX out;  // kPool x 12
 };
 
-void batchScalar(const DhModel& model, DhData& data, Batch& b) {
-  double qk[DhKernel::kMaxDof];
+// the single-call public function in a loop, for comparison with the batch form
+void batchScalar(const PoeModel& model, Data& data, Batch& b) {
+  VecX qk(b.r.dof);
   for (int k = 0; k < kPool; ++k) {
-    for (int i = 0; i < b.r.dof; ++i) qk[i] = b.q[static_cast<size_t>(i * kPool + k)];
-    forwardKinematics(model, data, Eigen::Map<const VecX>(qk, b.r.dof));
+    qk = b.q.row(k).transpose();
+    forwardKinematics(model, data, qk);
     for (int a = 0; a < 3; ++a) {
-      for (int c = 0; c < 3; ++c) b.out[static_cast<size_t>((3 * a + c) * kPool + k)] = data.T_base_tool.R(a, c);
-      b.out[static_cast<size_t>((9 + a) * kPool + k)] = data.T_base_tool.p[a];
-    }
-  }
-}
-
-void batchScalarFast(const DhKernel& kernel, Batch& b) {
-  double qk[DhKernel::kMaxDof];
-  Pose T;
-  for (int k = 0; k < kPool; ++k) {
-    for (int i = 0; i < b.r.dof; ++i) qk[i] = b.q[static_cast<size_t>(i * kPool + k)];
-    kernel.forward(qk, T);
-    for (int a = 0; a < 3; ++a) {
-      for (int c = 0; c < 3; ++c) b.out[static_cast<size_t>((3 * a + c) * kPool + k)] = T.R(a, c);
-      b.out[static_cast<size_t>((9 + a) * kPool + k)] = T.p[a];
+      for (int c = 0; c < 3; ++c) b.out(k, 3 * a + c) = data.T_base_tool.R(a, c);
+      b.out(k, 9 + a) = data.T_base_tool.p[a];
     }
   }
 }
 
 struct TwoThreadJob {
-  const DhKernel* kernel;
+  const PoeModel* model;
   Batch* b;
   static void run(void* self, int part) {
     auto* job = static_cast<TwoThreadJob*>(self);
     const int half = kPool / 2;
-    job->kernel->forwardBatch(job->b->q.data() + part * half, half, kPool, job->b->out.data() + part * half);
+    forwardKinematicsBatch(*job->model, job->b->q.middleRows(part * half, half),
+                           job->b->out.middleRows(part * half, half));
   }
 };
 
-enum class BatchImpl { Scalar, ScalarFast, Soa, SoaThreads2 };
+enum class BatchImpl { Scalar, Soa, SoaDh, SoaThreads2 };
 
 void fkBatch(benchmark::State& state, BatchImpl impl) {
   const RobotId id = RobotId::Puma560;
-  const DhModel& model = robotModels(id).dh;
-  DhData data(model);
-  const DhKernel kernel(model);
+  const PoeModel& model = robotModels(id).poe;
+  const DhModel& dh = robotModels(id).dh;
+  Data data(model);
   Batch b(robotCase(id));
   std::unique_ptr<HelperThread> helper;
   if (impl == BatchImpl::SoaThreads2) helper.reset(new HelperThread);
-  TwoThreadJob job{&kernel, &b};
+  TwoThreadJob job{&model, &b};
   auto once = [&] {
     switch (impl) {
       case BatchImpl::Scalar: batchScalar(model, data, b); break;
-      case BatchImpl::ScalarFast: batchScalarFast(kernel, b); break;
-      case BatchImpl::Soa: kernel.forwardBatch(b.q.data(), kPool, kPool, b.out.data()); break;
+      case BatchImpl::Soa: forwardKinematicsBatch(model, b.q, b.out); break;
+      case BatchImpl::SoaDh: forwardKinematicsBatch(dh, b.q, b.out); break;
       case BatchImpl::SoaThreads2: helper->run(&TwoThreadJob::run, &job); break;
     }
   };
@@ -320,16 +260,12 @@ const bool registered = [] {
     const std::string n = nameOf(id);
     RegisterBenchmark(("BM_Fk_Poe_" + n).c_str(), fkPoe, id);
     RegisterBenchmark(("BM_Fk_Dh_" + n).c_str(), fkDh, id);
-    RegisterBenchmark(("BM_Fk_FastDh_" + n).c_str(), fkFastDh, id);
-    RegisterBenchmark(("BM_Jacobian_FastDh_" + n).c_str(), jacobianFastDh, id);
-#ifdef LOWPAIR_BENCH_HAS_JACOBIAN
     RegisterBenchmark(("BM_Jacobian_Spatial_" + n).c_str(), jacobianSpatial, id);
     RegisterBenchmark(("BM_Jacobian_Geometric_" + n).c_str(), jacobianGeometric, id);
-#endif
   }
   RegisterBenchmark("BM_FkBatch_Scalar_Puma560", fkBatch, BatchImpl::Scalar);
-  RegisterBenchmark("BM_FkBatch_ScalarFast_Puma560", fkBatch, BatchImpl::ScalarFast);
   RegisterBenchmark("BM_FkBatch_Soa_Puma560", fkBatch, BatchImpl::Soa);
+  RegisterBenchmark("BM_FkBatch_SoaDh_Puma560", fkBatch, BatchImpl::SoaDh);
   RegisterBenchmark("BM_FkBatch_SoaThreads2_Puma560", fkBatch, BatchImpl::SoaThreads2)->UseRealTime();
   return true;
 }();

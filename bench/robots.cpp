@@ -66,7 +66,7 @@ std::unique_ptr<Entry> build(RobotId id) {
   r.q.resize(kPool * n);
   r.pose.resize(kPool * 12);
   r.jac.resize(kPool * 6 * n);
-  PoeData data(poe);
+  Data data(poe);
   for (int k = 0; k < kPool; ++k) {
     for (int i = 0; i < r.dof; ++i) {
       const auto& range = poe.joint(i).range;
@@ -120,12 +120,12 @@ void referenceGeometricJacobian(const PoeModel& model, const double* q_ptr, doub
   const Eigen::Map<const VecX> q(q_ptr, n);
   Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>> J(jac, 6, n);
 #ifdef LOWPAIR_BENCH_HAS_JACOBIAN
-  PoeData data(model);
+  Data data(model);
   Mat6X Jg(6, n);
-  geometricJacobian(model, data, q, Jg);
+  computeJacobians(model, data, q); getGeometricJacobian(data, Jg);
   J = Jg;
 #else
-  PoeData data(model);
+  Data data(model);
   forwardKinematics(model, data, q);
   const Vec3 o_tool = data.T_base_tool.p;
   for (int i = 0; i < n; ++i) {

@@ -111,11 +111,12 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
     const RobotFile file = loadRobot(o->robot);
     const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     const PoeModel model = file.poeModel();
-    PoeData data(model);
+    Data data(model);
     Mat6X J(6, model.dof());
-    if (o->frame == "spatial") spatialJacobian(model, data, q, J);
-    if (o->frame == "body") bodyJacobian(model, data, q, J);
-    if (o->frame == "geometric") geometricJacobian(model, data, q, J);
+    computeJacobians(model, data, q);
+    if (o->frame == "spatial") getSpatialJacobian(data, J);
+    if (o->frame == "body") getBodyJacobian(data, J);
+    if (o->frame == "geometric") getGeometricJacobian(data, J);
     const bool geometric = o->frame == "geometric";
     if (o->as_json) {
       json rows = json::array();

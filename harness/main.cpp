@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
   using namespace lowpair;
   CLI::App app{"lowpair: POE and D-H kinematics of serial robots (Wu et al. 2019; Paden & Sastry 1984)"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "lowpair " LOWPAIR_VERSION);  // LOWPAIR_VERSION: the CMake project version
   Commands commands;
   addConvertCommands(app, commands);
   addJacobianCommands(app, commands);
@@ -73,6 +74,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {  // prints "lowpair X.Y.Z" on stdout, exit 0
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "error: " << e.what() << " (see lowpair --help)\n";

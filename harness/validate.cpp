@@ -307,10 +307,10 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
   // thread t takes the contiguous block [t count / T, (t + 1) count / T): no shared cache lines
   auto work = [&](int t) {
     MujocoRobot::Evaluator mj(robot);
-    PoeData poe_data(poe);
-    DhData dh_data(dh.model);
-    std::vector<PoeData> poe_files;
-    std::vector<DhData> dh_files;
+    Data poe_data(poe);
+    Data dh_data(dh.model);
+    std::vector<Data> poe_files;
+    std::vector<Data> dh_files;
     for (const auto& f : files) {
       if (f.poe) poe_files.emplace_back(*f.poe);
       else dh_files.emplace_back(*f.file.dh);
@@ -327,7 +327,8 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
         rot_ea[c][s] = eulerZyxError(T.R, T_mj.R);
         trans[c][s] = (T.p - T_mj.p).norm();
       };
-      geometricJacobian(poe, poe_data, x, J_lib);  // includes the POE FK
+      computeJacobians(poe, poe_data, x);  // includes the POE FK
+      getGeometricJacobian(poe_data, J_lib);
       record(0, poe_data.T_base_tool);
       forwardKinematics(dh.model, dh_data, x);
       record(1, dh_data.T_base_tool);
@@ -460,14 +461,15 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
     result.map_range_x = ranges[static_cast<size_t>(mj[0] - 1)];
     result.map_range_y = ranges[static_cast<size_t>(mj[1] - 1)];
     result.map_log_sigma.assign(static_cast<size_t>(size * size), 0.0);
-    PoeData data(poe);
+    Data data(poe);
     Mat6X J(6, n);
     for (int a = 0; a < size; ++a) {
       for (int b = 0; b < size; ++b) {
         q[mj[0] - 1] = result.map_range_x[0] + (result.map_range_x[1] - result.map_range_x[0]) * b / (size - 1);
         q[mj[1] - 1] = result.map_range_y[0] + (result.map_range_y[1] - result.map_range_y[0]) * a / (size - 1);
         for (int i = 0; i < n; ++i) x[i] = scale[static_cast<size_t>(i)] * (q[i] + offset[static_cast<size_t>(i)]);
-        geometricJacobian(poe, data, x, J);
+        computeJacobians(poe, data, x);
+        getGeometricJacobian(data, J);
         result.map_log_sigma[static_cast<size_t>(a * size + b)] =
             std::log10(std::max(1e-17, dimensionlessSingularValues(poe, J).minCoeff()));
       }

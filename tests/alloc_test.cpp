@@ -10,14 +10,11 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
-#include "lowpair/fast_fk.hpp"
+#include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/se3_variants.hpp"
-#if __has_include("lowpair/jacobian.hpp")
 #include "lowpair/jacobian.hpp"
-#define LOWPAIR_ALLOC_TEST_JACOBIAN 1
-#endif
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC
 #error "compile alloc_test with EIGEN_RUNTIME_NO_MALLOC (tests/CMakeLists.txt)"
@@ -71,25 +68,7 @@ DhModel testDh() {
   return DhModel(DhParams{}, joints, 0.1, 0.2, "alloc-test");
 }
 
-PoeModel testPoe() {
-  // twists of the D-H model's axes at q = 0, the tool pose from its FK
-  const DhModel dh = testDh();
-  std::vector<JointSpec> specs;
-  Pose G = dhTransform(dh.base());
-  for (const DhJoint& j : dh.joints()) {
-    JointSpec s;
-    s.type = j.type;
-    const Vec3 z = G.R.col(2);
-    if (j.type == JointType::Prismatic) {
-      s.twist << Vec3::Zero(), z;
-    } else {
-      s.twist << z, G.p.cross(z) + j.pitch * z;
-    }
-    specs.push_back(s);
-    G = G * dhTransform(j.link);
-  }
-  return PoeModel(specs, G * dhToolTransform(dh.toolTheta(), dh.toolD()), "alloc-test");
-}
+PoeModel testPoe() { return dhToPoe(testDh()); }
 
 VecX randomQ(int n, unsigned seed) {
   std::mt19937_64 rng(seed);
@@ -111,53 +90,48 @@ TEST(Alloc, CounterSeesAllocations) {
 
 TEST(Alloc, PoeForwardKinematicsAllocatesNothing) {
   const PoeModel model = testPoe();
-  PoeData data(model);
+  Data data(model);
   const VecX q = randomQ(model.dof(), 1);
   EXPECT_EQ(allocationsOf([&] { forwardKinematics(model, data, q); }), 0);
 }
 
 TEST(Alloc, DhForwardKinematicsAllocatesNothing) {
   const DhModel model = testDh();
-  DhData data(model);
+  Data data(model);
   const VecX q = randomQ(model.dof(), 2);
   EXPECT_EQ(allocationsOf([&] { forwardKinematics(model, data, q); }), 0);
 }
 
-TEST(Alloc, FastDhKernelAllocatesNothing) {
-  const DhModel model = testDh();
-  const DhKernel kernel(model);
-  const VecX q = randomQ(model.dof(), 3);
-  Pose T;
-  Mat6X J(6, model.dof());
-  constexpr int kCount = 37;
-  std::vector<double> q_soa(static_cast<size_t>(model.dof() * kCount), 0.5), out(12 * kCount);
+TEST(Alloc, BatchForwardKinematicsAllocatesNothing) {
+  const PoeModel model = testPoe();
+  const DhModel dh = testDh();
+  constexpr int kCount = 37;  // four full blocks and a partial one
+  const MatX q = MatX::Constant(kCount, model.dof(), 0.5);
+  MatX poses(kCount, 12);
   EXPECT_EQ(allocationsOf([&] {
-              kernel.forward(q, T);
-              kernel.geometricJacobian(q.data(), T, J);
-              kernel.forwardBatch(q_soa.data(), kCount, kCount, out.data());
+              forwardKinematicsBatch(model, q, poses);
+              forwardKinematicsBatch(dh, q, poses);
             }),
             0);
 }
 
-#ifdef LOWPAIR_ALLOC_TEST_JACOBIAN
 TEST(Alloc, JacobiansAllocateNothing) {
   const PoeModel model = testPoe();
-  PoeData data(model);
+  Data data(model);
   const DhModel dh = testDh();
-  DhData dh_data(dh);
+  Data dh_data(dh);
   const VecX q = randomQ(model.dof(), 4);
   Mat6X J(6, model.dof());
   EXPECT_EQ(allocationsOf([&] {
-              spatialJacobian(model, data, q, J);
-              bodyJacobian(model, data, q, J);
-              geometricJacobian(model, data, q, J);
-              spatialJacobian(dh, dh_data, q, J);
-              bodyJacobian(dh, dh_data, q, J);
-              geometricJacobian(dh, dh_data, q, J);
+              computeJacobians(model, data, q); getSpatialJacobian(data, J);
+              computeJacobians(model, data, q); getBodyJacobian(data, J);
+              computeJacobians(model, data, q); getGeometricJacobian(data, J);
+              computeJacobians(dh, dh_data, q); getSpatialJacobian(dh_data, J);
+              computeJacobians(dh, dh_data, q); getBodyJacobian(dh_data, J);
+              computeJacobians(dh, dh_data, q); getGeometricJacobian(dh_data, J);
             }),
             0);
 }
-#endif
 
 TEST(Alloc, ExpVariantsAllocateNothing) {
   Vec6 xi;

@@ -68,7 +68,7 @@ struct Worst {
 
 // The length scale of a configuration: the largest distance from the base origin to a joint axis,
 // the tool, or (for D-H) a frame of the table.
-double lengthScale(const PoeModel& model, const PoeData& data) {
+double lengthScale(const PoeModel& model, const Data& data) {
   double R = std::max(model.size(), data.T_base_tool.p.norm());
   for (const Pose& T : data.T_base_joint) R = std::max(R, T.p.norm());
   return R;
@@ -84,14 +84,14 @@ TEST(Jacobian, FiniteDifferencesOnThousandRandomRobots) {
     const PoeModel model = randomRobot(rng);
     const DhConversion c = poeToDh(model);
     const int n = model.dof();
-    PoeData pd(model);
-    DhData dd(c.model);
+    Data pd(model);
+    Data dd(c.model);
     Mat6X Js(6, n), Jb(6, n), Jg(6, n), Ds(6, n), Db(6, n), Dg(6, n);
     for (int k = 0; k < 3; ++k) {
       const VecX q = randomConfiguration(model, rng);
-      spatialJacobian(model, pd, q, Js);
-      bodyJacobian(model, pd, q, Jb);
-      geometricJacobian(model, pd, q, Jg);
+      computeJacobians(model, pd, q); getSpatialJacobian(pd, Js);
+      computeJacobians(model, pd, q); getBodyJacobian(pd, Jb);
+      computeJacobians(model, pd, q); getGeometricJacobian(pd, Jg);
       const double R = lengthScale(model, pd);
       VecX step(n);
       for (int i = 0; i < n; ++i) {
@@ -104,9 +104,9 @@ TEST(Jacobian, FiniteDifferencesOnThousandRandomRobots) {
       poe_g.add(Jg, fd.geometric, model, R, false);
 
       // D-H chain of the same robot; its rounding scale includes the table's |d|, |a| (design.md)
-      spatialJacobian(c.model, dd, q, Ds);
-      bodyJacobian(c.model, dd, q, Db);
-      geometricJacobian(c.model, dd, q, Dg);
+      computeJacobians(c.model, dd, q); getSpatialJacobian(dd, Ds);
+      computeJacobians(c.model, dd, q); getBodyJacobian(dd, Db);
+      computeJacobians(c.model, dd, q); getGeometricJacobian(dd, Dg);
       const double R_dh = std::max(R, c.fk_check.scale);
       dh_vs_poe.add(Ds, Js, model, R_dh, true);
       // Finite differences of the D-H FK carry its rounding eps R_dh / h: with nearly parallel axes
@@ -149,12 +149,12 @@ TEST(Jacobian, ConversionsAreConsistent) {
   for (int r = 0; r < 200; ++r) {
     const PoeModel model = randomRobot(rng);
     const int n = model.dof();
-    PoeData data(model);
+    Data data(model);
     const VecX q = randomConfiguration(model, rng);
     Mat6X Js(6, n), Jb(6, n), Jg(6, n), X(6, n), Y(6, n);
-    spatialJacobian(model, data, q, Js);
-    bodyJacobian(model, data, q, Jb);
-    geometricJacobian(model, data, q, Jg);
+    computeJacobians(model, data, q); getSpatialJacobian(data, Js);
+    computeJacobians(model, data, q); getBodyJacobian(data, Jb);
+    computeJacobians(model, data, q); getGeometricJacobian(data, Jg);
     const Pose& T = data.T_base_tool;
     const double scale = std::max(Js.cwiseAbs().maxCoeff(), 1.0);
     spatialToBody(T, Js, X);
@@ -186,10 +186,10 @@ TEST(Jacobian, GeometricColumnsFollowEq313) {
   Pose tool;
   tool.p << 0, 1, 0;
   const PoeModel model(joints, tool);
-  PoeData data(model);
+  Data data(model);
   Mat6X J(6, 2);
   VecX q = VecX::Zero(2);
-  geometricJacobian(model, data, q, J);
+  computeJacobians(model, data, q); getGeometricJacobian(data, J);
   // column 1: 2 [z x (o_tool - o) + h z; z] = 2 [(0,0,1) x (-1,1,0) + (0,0,0.2); (0,0,1)]
   Vec6 c1;
   c1 << 2 * Vec3(-1, -1, 0.2), 2 * Vec3(0, 0, 1);
@@ -204,8 +204,12 @@ TEST(Jacobian, RejectsWrongSizes) {
   joints[0].twist << 0, 0, 1, 0, 0, 0;
   joints[1].twist << 0, 1, 0, 0, 0, 1;
   const PoeModel model(joints, Pose{});
-  PoeData data(model);
+  Data data(model);
   Mat6X J(6, 2), K(6, 3);
-  EXPECT_THROW(spatialJacobian(model, data, VecX::Zero(3), J), std::invalid_argument);
-  EXPECT_THROW(spatialJacobian(model, data, VecX::Zero(2), K), std::invalid_argument);
+  EXPECT_THROW(computeJacobians(model, data, VecX::Zero(3)), std::invalid_argument);
+  computeJacobians(model, data, VecX::Zero(2));
+  EXPECT_THROW(getSpatialJacobian(data, K), std::invalid_argument);
+  EXPECT_THROW(getBodyJacobian(data, K), std::invalid_argument);
+  EXPECT_THROW(getGeometricJacobian(data, K), std::invalid_argument);
+  EXPECT_NO_THROW(getGeometricJacobian(data, J));
 }

@@ -47,8 +47,8 @@ TEST(ConversionProperty, TenThousandRandomRobots) {
     const double scale = c.fk_check.scale;  // max(L, |d|, |a|)
     ASSERT_TRUE(std::isfinite(scale));
     Worst& cat = by_category[geometryName(robot.geometry)];
-    PoeData poe_data(poe);
-    DhData dh_data(c.model);
+    Data poe_data(poe);
+    Data dh_data(c.model);
     for (int s = 0; s < 20; ++s) {
       const VecX q = lowpair_test::randomConfiguration(poe, rng);
       forwardKinematics(poe, poe_data, q);

@@ -278,9 +278,9 @@ TEST(Singularity, ReportsConditionAndBlocks) {
   EXPECT_EQ(r.rank_linear, 3);
   EXPECT_EQ(r.rank_angular, 3);
   // independently of the SVD: manipulability sqrt(det(J_n J_n^T)), condition sqrt(lambda_max / lambda_min)
-  PoeData data(m);
+  Data data(m);
   Mat6X Jn(6, m.dof());
-  geometricJacobian(m, data, vec({0.3, 0.5, 0.7, 0.4, 0.6, 0.2}), Jn);
+  computeJacobians(m, data, vec({0.3, 0.5, 0.7, 0.4, 0.6, 0.2})); getGeometricJacobian(data, Jn);
   dimensionlessJacobian(m, Jn);
   const Mat6 JJt = Jn * Jn.transpose();
   const Eigen::SelfAdjointEigenSolver<Mat6> eig(JJt);

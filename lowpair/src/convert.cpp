@@ -160,21 +160,17 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   for (int i = 0; i < n; ++i) {
     const Joint& j = model.joint(i);
     DhJoint& dj = joints[static_cast<size_t>(i)];
+    static_cast<JointMotion&>(dj) = j;
+    dj.offset = 0.0;
     dj.name = j.name;
-    dj.type = j.type;
-    dj.pitch = j.pitch;
-    dj.scale = j.scale;
     dj.range = j.range;
     dj.link = rows[static_cast<size_t>(i + 1)];
-    // fold the offset: Q_i(scale dq) A(link_i) = A(theta + j c, d + k c, alpha, a), c = scale dq
-    const double c = j.scale * j.offset;
-    if (c != 0.0) {
-      if (j.type == JointType::Prismatic) {
-        dj.link.d = snapLength(dj.link.d + c, tol.length);
-      } else {
-        dj.link.theta = snapAngle(dj.link.theta + c);
-        if (j.type == JointType::Helical) dj.link.d = snapLength(dj.link.d + j.pitch * c, tol.length);
-      }
+    // fold the offset: Q_i(x) A(link_i) with x = motion(q) = scale q + motion(0)
+    const double x0 = j.motion(0.0);
+    if (x0 != 0.0) {
+      dj.link = movedRow(dj.link, j, x0);
+      dj.link.theta = snapAngle(dj.link.theta);
+      dj.link.d = snapLength(dj.link.d, tol.length);
     }
   }
 
@@ -214,8 +210,8 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   if (options.fk_check_samples > 0) {
     std::mt19937_64 rng(0x10a7a1);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    PoeData poe(model);
-    DhData dh(out.model);
+    Data poe(model);
+    Data dh(out.model);
     VecX q = VecX::Zero(n);
     for (int s = 0; s <= options.fk_check_samples; ++s) {
       if (s > 0) {
@@ -252,24 +248,17 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
 
 PoeModel dhToPoe(const DhModel& model) {
   std::vector<Joint> joints;
-  Pose G = dhTransform(model.base());
-  for (const DhJoint& dj : model.joints()) {
-    Joint j;
+  const std::vector<Pose> frames = restFrames(model.chain());
+  for (int i = 0; i < model.dof(); ++i) {
+    const DhJoint& dj = model.joint(i);
+    Joint j = jointOnFrame(dj, frames[static_cast<size_t>(i)]);
     j.name = dj.name;
-    j.type = dj.type;
-    j.pitch = dj.type == JointType::Helical ? dj.pitch : 0.0;
-    j.scale = dj.scale;
     j.range = dj.range;
-    const Vec3 z = G.R.col(2);
-    if (dj.type == JointType::Prismatic) {
-      j.twist << Vec3::Zero(), z;
-    } else {
-      j.twist << z, G.p.cross(z) + j.pitch * z;
-    }
     joints.push_back(j);
-    G = G * dhTransform(dj.link);
   }
-  return PoeModel(std::move(joints), G * dhToolTransform(model.toolTheta(), model.toolD()), model.name());
+  VecX q_rest(model.dof());  // zero motion: q = -offset, where exp(xi_T) is the tool pose (eq. 5)
+  for (int i = 0; i < model.dof(); ++i) q_rest[i] = model.joint(i).variable(0.0);
+  return PoeModel(std::move(joints), dhForwardKinematics(model, q_rest), model.name());
 }
 
 ModifiedDh toModifiedDh(const DhModel& model) {
@@ -279,14 +268,12 @@ ModifiedDh toModifiedDh(const DhModel& model) {
   double alpha = model.base().alpha, a = model.base().a;
   for (const DhJoint& dj : model.joints()) {
     ModifiedDhJoint mj;
+    static_cast<JointMotion&>(mj) = dj;
     mj.name = dj.name;
-    mj.type = dj.type;
     mj.alpha = alpha;
     mj.a = a;
     mj.theta = dj.link.theta;
     mj.d = dj.link.d;
-    mj.pitch = dj.pitch;
-    mj.scale = dj.scale;
     out.joints.push_back(mj);
     alpha = dj.link.alpha;
     a = dj.link.a;
@@ -312,15 +299,8 @@ Pose modifiedDhForwardKinematics(const ModifiedDh& model, const Eigen::Ref<const
   Pose T = dhToolTransform(model.base_theta, model.base_d);
   for (size_t i = 0; i < model.joints.size(); ++i) {
     const ModifiedDhJoint& j = model.joints[i];
-    const double x = j.scale * q[static_cast<Eigen::Index>(i)];
-    double theta = j.theta, d = j.d;
-    if (j.type == JointType::Prismatic) {
-      d += x;
-    } else {
-      theta += x;
-      if (j.type == JointType::Helical) d += j.pitch * x;
-    }
-    T = T * rxTx(j.alpha, j.a) * dhToolTransform(theta, d);
+    const DhParams moved = movedRow({j.theta, j.d, 0.0, 0.0}, j, j.motion(q[static_cast<Eigen::Index>(i)]));
+    T = T * rxTx(j.alpha, j.a) * dhToolTransform(moved.theta, moved.d);
   }
   return T * rxTx(model.tool_alpha, model.tool_a) * dhToolTransform(model.tool_theta, model.tool_d);
 }

@@ -7,20 +7,18 @@ namespace lowpair {
 
 namespace {
 
-void checkSizes(int dof, const Eigen::Ref<const VecX>& q, Eigen::Index cols) {
-  LP_CHECK(q.size() == dof, "expected " << dof << " joint values, got " << q.size());
-  LP_CHECK(cols == dof, "Jacobian output has " << cols << " columns, expected " << dof);
+void checkColumns(const Data& data, Eigen::Index cols) {
+  LP_CHECK(cols == data.dof, "Jacobian output has " << cols << " columns, expected " << data.dof);
 }
 
-// Spatial column of a joint whose axis has unit direction z through point o (base frame).
-void axisColumn(JointType type, const Vec3& z, const Vec3& o, double pitch, double scale,
-                Eigen::Ref<Mat6X>::ColXpr column) {
-  if (type == JointType::Prismatic) {
-    column.head<3>().setZero();
-    column.tail<3>() = scale * z;
-  } else {
-    column.head<3>() = scale * z;
-    column.tail<3>() = scale * (o.cross(z) + pitch * z);
+void fillSpatial(Data& data, const KinematicChain& chain) {
+  for (int i = 0; i < data.dof; ++i) {
+    const JointMotion& m = chain.links[static_cast<size_t>(i)].motion;
+    const Pose& F = data.T_base_joint[static_cast<size_t>(i)];
+    const Vec3 z = F.R.col(2);
+    const double j = m.scale * m.turnRate(), k = m.scale * m.slideRate();
+    data.J_spatial.col(i).head<3>() = j * z;
+    data.J_spatial.col(i).tail<3>() = j * F.p.cross(z) + k * z;
   }
 }
 
@@ -66,55 +64,31 @@ void geometricToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& 
   }
 }
 
-// --- POE -----------------------------------------------------------------------------------------
-
-void spatialJacobian(const PoeModel& model, PoeData& data, const Eigen::Ref<const VecX>& q,
-                     Eigen::Ref<Mat6X> J_spatial) {
-  checkSizes(model.dof(), q, J_spatial.cols());
+void computeJacobians(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
+  LP_CHECK(q.size() == model.dof(), "expected " << model.dof() << " joint values, got " << q.size());
   forwardKinematics(model, data, q);
-  for (int i = 0; i < model.dof(); ++i) {
-    const Joint& joint = model.joint(i);
-    if (i == 0) {
-      J_spatial.col(0) = joint.scale * joint.twist;  // Ad(identity)
-    } else {
-      J_spatial.col(i) = joint.scale * adjointApply(data.T_base_joint[static_cast<size_t>(i - 1)], joint.twist);
-    }
-  }
+  fillSpatial(data, model.chain());
 }
 
-void bodyJacobian(const PoeModel& model, PoeData& data, const Eigen::Ref<const VecX>& q, Eigen::Ref<Mat6X> J_body) {
-  spatialJacobian(model, data, q, J_body);
-  spatialToBody(data.T_base_tool, J_body, J_body);
-}
-
-void geometricJacobian(const PoeModel& model, PoeData& data, const Eigen::Ref<const VecX>& q,
-                       Eigen::Ref<Mat6X> J_geometric) {
-  spatialJacobian(model, data, q, J_geometric);
-  spatialToGeometric(data.T_base_tool, J_geometric, J_geometric);
-}
-
-// --- D-H -----------------------------------------------------------------------------------------
-
-void spatialJacobian(const DhModel& model, DhData& data, const Eigen::Ref<const VecX>& q,
-                     Eigen::Ref<Mat6X> J_spatial) {
-  checkSizes(model.dof(), q, J_spatial.cols());
+void computeJacobians(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
+  LP_CHECK(q.size() == model.dof(), "expected " << model.dof() << " joint values, got " << q.size());
   forwardKinematics(model, data, q);
-  for (int i = 0; i < model.dof(); ++i) {
-    const DhJoint& joint = model.joint(i);
-    const Pose& F = data.T_base_frame[static_cast<size_t>(i)];  // z = joint i's axis (eq. 10)
-    axisColumn(joint.type, F.R.col(2), F.p, joint.pitch, joint.scale, J_spatial.col(i));
-  }
+  fillSpatial(data, model.chain());
 }
 
-void bodyJacobian(const DhModel& model, DhData& data, const Eigen::Ref<const VecX>& q, Eigen::Ref<Mat6X> J_body) {
-  spatialJacobian(model, data, q, J_body);
-  spatialToBody(data.T_base_tool, J_body, J_body);
+void getSpatialJacobian(const Data& data, Eigen::Ref<Mat6X> J_spatial) {
+  checkColumns(data, J_spatial.cols());
+  J_spatial = data.J_spatial;
 }
 
-void geometricJacobian(const DhModel& model, DhData& data, const Eigen::Ref<const VecX>& q,
-                       Eigen::Ref<Mat6X> J_geometric) {
-  spatialJacobian(model, data, q, J_geometric);
-  spatialToGeometric(data.T_base_tool, J_geometric, J_geometric);
+void getBodyJacobian(const Data& data, Eigen::Ref<Mat6X> J_body) {
+  checkColumns(data, J_body.cols());
+  spatialToBody(data.T_base_tool, data.J_spatial, J_body);
+}
+
+void getGeometricJacobian(const Data& data, Eigen::Ref<Mat6X> J_geometric) {
+  checkColumns(data, J_geometric.cols());
+  spatialToGeometric(data.T_base_tool, data.J_spatial, J_geometric);
 }
 
 }  // namespace lowpair

@@ -1,14 +1,26 @@
 #include "lowpair/kinematics.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "lowpair/check.hpp"
 #include "lowpair/se3.hpp"
+#include "sincos.hpp"
 
 namespace lowpair {
 
-PoeData::PoeData(const PoeModel& model) : T_base_joint(static_cast<size_t>(model.dof())) {}
-DhData::DhData(const DhModel& model) : T_base_frame(static_cast<size_t>(model.dof())) {}
+Data::Data(const KinematicChain& chain)
+    : dof(static_cast<int>(chain.links.size())),
+      T_base_joint(chain.links.size()),
+      J_spatial(6, dof),
+      angle(dof),
+      sin_angle(dof),
+      cos_angle(dof),
+      slide(dof) {
+  J_spatial.setZero();
+}
+Data::Data(const PoeModel& model) : Data(model.chain()) {}
+Data::Data(const DhModel& model) : Data(model.chain()) {}
 
 void checkJointVector(const Eigen::Ref<const VecX>& q, int dof) {
   LP_CHECK(q.size() == dof, "expected " << dof << " joint values, got " << q.size());
@@ -18,7 +30,7 @@ void checkJointVector(const Eigen::Ref<const VecX>& q, int dof) {
 }
 
 void jointExp(const Joint& joint, double q, Pose& out) {
-  const double x = joint.scale * (q + joint.offset);
+  const double x = joint.motion(q);
   if (joint.type == JointType::Prismatic) {
     out.R.setIdentity();
     out.p.noalias() = x * joint.twist.tail<3>();
@@ -27,45 +39,180 @@ void jointExp(const Joint& joint, double q, Pose& out) {
   }
 }
 
-void forwardKinematics(const PoeModel& model, PoeData& data, const Eigen::Ref<const VecX>& q) {
-  LP_ASSERT(q.size() == model.dof());
-  Pose step;
-  Pose T;  // identity
-  for (int i = 0; i < model.dof(); ++i) {
-    jointExp(model.joint(i), q[i], step);
-    T = T * step;
-    data.T_base_joint[static_cast<size_t>(i)] = T;
+namespace {
+
+using detail::sinCosLane;
+
+// sin and cos of n angles together (the loop vectorizes); angles beyond the kernel's accurate range
+// (possible only for huge joint values) are recomputed with libm.
+void sinCosAll(const double* angle, int n, double* s, double* c) {
+  double largest = 0.0;
+  for (int i = 0; i < n; ++i) {
+    sinCosLane(angle[i], s[i], c[i]);
+    largest = std::max(largest, std::abs(angle[i]));
   }
-  data.T_base_tool = T * model.toolPose();
+  if (!(largest <= detail::kSinCosMaxArgument)) {
+    for (int i = 0; i < n; ++i) {
+      s[i] = std::sin(angle[i]);
+      c[i] = std::cos(angle[i]);
+    }
+  }
 }
 
-void forwardKinematics(const DhModel& model, DhData& data, const Eigen::Ref<const VecX>& q) {
-  LP_ASSERT(q.size() == model.dof());
-  Pose T = dhTransform(model.base());
-  for (int i = 0; i < model.dof(); ++i) {
-    const DhJoint& j = model.joint(i);
-    data.T_base_frame[static_cast<size_t>(i)] = T;
-    const double x = j.scale * q[i];
-    DhParams row = j.link;
-    if (j.type == JointType::Prismatic) {
-      row.d += x;
-    } else {
-      row.theta += x;
-      if (j.type == JointType::Helical) row.d += j.pitch * x;
-    }
-    T = T * dhTransform(row);
+// The chain product of model.hpp's KinematicChain. Columns X, Y, Z of the rotation and the position P
+// are updated in place by T <- T Rz(angle) Trans(p + slide e_z) Rx(alpha); kFrames stores the frame
+// before each link (joint i's line) in data.T_base_joint.
+template <bool kFrames>
+void evaluate(const KinematicChain& chain, Data& data, const double* q) {
+  const int n = data.dof;
+  double* angle = data.angle.data();
+  double* slide = data.slide.data();
+  for (int i = 0; i < n; ++i) {
+    const ChainLink& link = chain.links[static_cast<size_t>(i)];
+    const double x = link.motion.motion(q[i]);
+    angle[i] = link.theta + link.motion.turnRate() * x;
+    slide[i] = link.p[2] + link.motion.slideRate() * x;
   }
-  data.T_base_tool = T * dhToolTransform(model.toolTheta(), model.toolD());
+  sinCosAll(angle, n, data.sin_angle.data(), data.cos_angle.data());
+  const double* st = data.sin_angle.data();
+  const double* ct = data.cos_angle.data();
+  double X[3], Y[3], Z[3], P[3];
+  const Pose& B = chain.T_base_first;
+  for (int k = 0; k < 3; ++k) {
+    X[k] = B.R(k, 0);
+    Y[k] = B.R(k, 1);
+    Z[k] = B.R(k, 2);
+    P[k] = B.p[k];
+  }
+  for (int i = 0; i < n; ++i) {
+    const ChainLink& link = chain.links[static_cast<size_t>(i)];
+    if (kFrames) {
+      Pose& F = data.T_base_joint[static_cast<size_t>(i)];
+      for (int k = 0; k < 3; ++k) {
+        F.R(k, 0) = X[k];
+        F.R(k, 1) = Y[k];
+        F.R(k, 2) = Z[k];
+        F.p[k] = P[k];
+      }
+    }
+    const double px = link.p[0], py = link.p[1], pz = slide[i];
+    const double ca = link.cos_alpha, sa = link.sin_alpha;
+    for (int k = 0; k < 3; ++k) {
+      const double x = ct[i] * X[k] + st[i] * Y[k];
+      const double y = ct[i] * Y[k] - st[i] * X[k];
+      const double z = Z[k];
+      P[k] += (px * x + py * y) + pz * z;
+      X[k] = x;
+      Y[k] = ca * y + sa * z;
+      Z[k] = ca * z - sa * y;
+    }
+  }
+  const Pose& E = chain.T_last_tool;
+  Pose& T = data.T_base_tool;
+  for (int k = 0; k < 3; ++k) {
+    for (int m = 0; m < 3; ++m) T.R(k, m) = (X[k] * E.R(0, m) + Y[k] * E.R(1, m)) + Z[k] * E.R(2, m);
+    T.p[k] = ((X[k] * E.p[0] + Y[k] * E.p[1]) + Z[k] * E.p[2]) + P[k];
+  }
+}
+
+// Lanes of one batch block: configurations evaluated together, every inner loop over the lanes.
+constexpr int kBlock = 8;
+
+void evaluateBlock(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses,
+                   Eigen::Index first, int lanes) {
+  constexpr int B = kBlock;
+  alignas(64) double X[3][B], Y[3][B], Z[3][B], P[3][B];
+  alignas(64) double angle[B], st[B], ct[B], slide[B];
+  const Pose& Bs = chain.T_base_first;
+  for (int k = 0; k < 3; ++k) {
+    for (int l = 0; l < B; ++l) {
+      X[k][l] = Bs.R(k, 0);
+      Y[k][l] = Bs.R(k, 1);
+      Z[k][l] = Bs.R(k, 2);
+      P[k][l] = Bs.p[k];
+    }
+  }
+  for (size_t i = 0; i < chain.links.size(); ++i) {
+    const ChainLink& link = chain.links[i];
+    const double* qi = q.col(static_cast<Eigen::Index>(i)).data() + first;
+    const double turn = link.motion.turnRate(), slide_rate = link.motion.slideRate();
+    double largest = 0.0;
+    for (int l = 0; l < B; ++l) {
+      const double x = link.motion.motion(l < lanes ? qi[l] : 0.0);
+      angle[l] = link.theta + turn * x;
+      slide[l] = link.p[2] + slide_rate * x;
+      largest = std::max(largest, std::abs(angle[l]));
+    }
+    for (int l = 0; l < B; ++l) sinCosLane(angle[l], st[l], ct[l]);
+    if (!(largest <= detail::kSinCosMaxArgument)) {
+      for (int l = 0; l < B; ++l) {
+        st[l] = std::sin(angle[l]);
+        ct[l] = std::cos(angle[l]);
+      }
+    }
+    const double px = link.p[0], py = link.p[1], ca = link.cos_alpha, sa = link.sin_alpha;
+    for (int k = 0; k < 3; ++k) {
+      for (int l = 0; l < B; ++l) {
+        const double x = ct[l] * X[k][l] + st[l] * Y[k][l];
+        const double y = ct[l] * Y[k][l] - st[l] * X[k][l];
+        const double z = Z[k][l];
+        P[k][l] += (px * x + py * y) + slide[l] * z;
+        X[k][l] = x;
+        Y[k][l] = ca * y + sa * z;
+        Z[k][l] = ca * z - sa * y;
+      }
+    }
+  }
+  const Pose& E = chain.T_last_tool;
+  for (int k = 0; k < 3; ++k) {
+    for (int m = 0; m < 3; ++m) {
+      double* out = poses.col(3 * k + m).data() + first;
+      for (int l = 0; l < lanes; ++l) out[l] = (X[k][l] * E.R(0, m) + Y[k][l] * E.R(1, m)) + Z[k][l] * E.R(2, m);
+    }
+    double* out = poses.col(9 + k).data() + first;
+    for (int l = 0; l < lanes; ++l) out[l] = ((X[k][l] * E.p[0] + Y[k][l] * E.p[1]) + Z[k][l] * E.p[2]) + P[k][l];
+  }
+}
+
+void evaluateBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+  LP_CHECK(q.cols() == static_cast<Eigen::Index>(chain.links.size()),
+           "forwardKinematicsBatch: q has " << q.cols() << " columns for " << chain.links.size() << " joints");
+  LP_CHECK(poses.rows() == q.rows() && poses.cols() == 12,
+           "forwardKinematicsBatch: poses must be " << q.rows() << " x 12, got " << poses.rows() << " x " << poses.cols());
+  for (Eigen::Index first = 0; first < q.rows(); first += kBlock) {
+    const int lanes = static_cast<int>(std::min<Eigen::Index>(kBlock, q.rows() - first));
+    evaluateBlock(chain, q, poses, first, lanes);
+  }
+}
+
+}  // namespace
+
+void forwardKinematics(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
+  LP_ASSERT(q.size() == model.dof() && data.dof == model.dof());
+  evaluate<true>(model.chain(), data, q.data());
+}
+
+void forwardKinematics(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
+  LP_ASSERT(q.size() == model.dof() && data.dof == model.dof());
+  evaluate<true>(model.chain(), data, q.data());
+}
+
+void forwardKinematicsBatch(const PoeModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+  evaluateBatch(model.chain(), q, poses);
+}
+
+void forwardKinematicsBatch(const DhModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+  evaluateBatch(model.chain(), q, poses);
 }
 
 Pose poeForwardKinematics(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
-  PoeData data(model);
+  Data data(model);
   forwardKinematics(model, data, q);
   return data.T_base_tool;
 }
 
 Pose dhForwardKinematics(const DhModel& model, const Eigen::Ref<const VecX>& q) {
-  DhData data(model);
+  Data data(model);
   forwardKinematics(model, data, q);
   return data.T_base_tool;
 }

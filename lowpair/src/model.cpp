@@ -25,7 +25,126 @@ Mat3 checkedRotation(const Mat3& R, const std::string& what) {
   return svd.matrixU() * svd.matrixV().transpose();
 }
 
+// (theta, alpha) with Rz(theta) Rx(alpha) e_z = u for a unit u (Wu et al. eq. 13 with the roles of the
+// frames as in the chain): alpha from atan2 (never acos), theta = 0 when u is along +-z.
+void zAngles(const Vec3& u, double& theta, double& alpha) {
+  const double h = std::hypot(u[0], u[1]);
+  alpha = std::atan2(h, u[2]);
+  theta = h > 0.0 ? std::atan2(u[0], -u[1]) : 0.0;
+}
+
+Mat3 rzRx(double theta, double cos_alpha, double sin_alpha) {
+  const double ct = std::cos(theta), st = std::sin(theta);
+  Mat3 R;
+  R << ct, -st * cos_alpha, st * sin_alpha,  //
+      st, ct * cos_alpha, -ct * sin_alpha,   //
+      0.0, sin_alpha, cos_alpha;
+  return R;
+}
+
+// The constant part of a link as a pose: Rz(theta) Trans(p) Rx(alpha).
+Pose linkPose(const ChainLink& link) {
+  Pose T;
+  T.R = rzRx(link.theta, link.cos_alpha, link.sin_alpha);
+  const double ct = std::cos(link.theta), st = std::sin(link.theta);
+  T.p << ct * link.p[0] - st * link.p[1], st * link.p[0] + ct * link.p[1], link.p[2];
+  return T;
+}
+
+// POE -> chain: joint i's frame G_i has z on the joint's line (origin at the line's point nearest the
+// base origin; a prismatic joint keeps the previous origin) and x in the previous frame's xy plane, so
+// G_i^-1 G_{i+1} = Rz(theta) Trans(p) Rx(alpha) with |p| bounded by the distances of the lines (<= 2 L).
+// Each G_{i+1} is composed from the stored constants, so the next link is placed relative to the
+// frame the evaluation will actually reach.
+KinematicChain poeChain(const std::vector<Joint>& joints, const Pose& tool_pose) {
+  KinematicChain chain;
+  const size_t n = joints.size();
+  auto lineOf = [&](size_t i, const Vec3& previous_origin, Vec3& z, Vec3& o) {
+    const Joint& j = joints[i];
+    if (j.type == JointType::Prismatic) {
+      z = j.moment();
+      o = previous_origin;
+    } else {
+      z = j.axis();
+      o = j.axis().cross(j.moment());  // the line's point nearest the base origin
+    }
+  };
+  Pose G;
+  if (n > 0) {
+    Vec3 z, o;
+    lineOf(0, Vec3::Zero(), z, o);
+    double theta = 0.0, alpha = 0.0;
+    zAngles(z, theta, alpha);
+    G.R = rzRx(theta, std::cos(alpha), std::sin(alpha));
+    G.p = o;
+  }
+  chain.T_base_first = G;
+  chain.links.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    ChainLink& link = chain.links[i];
+    link.motion = joints[i];
+    if (i + 1 == n) break;  // the last link's constant part is T_last_tool
+    Vec3 z, o;
+    lineOf(i + 1, G.p, z, o);
+    double alpha = 0.0;
+    zAngles(G.R.transpose() * z, link.theta, alpha);
+    link.cos_alpha = std::cos(alpha);
+    link.sin_alpha = std::sin(alpha);
+    const Vec3 p_prev = G.R.transpose() * (o - G.p);  // in G_i coordinates
+    const double ct = std::cos(link.theta), st = std::sin(link.theta);
+    link.p << ct * p_prev[0] + st * p_prev[1], -st * p_prev[0] + ct * p_prev[1], p_prev[2];  // Rz(-theta) p_prev
+    G = G * linkPose(link);
+  }
+  chain.T_last_tool = G.inverse() * tool_pose;
+  return chain;
+}
+
+KinematicChain dhChain(const DhParams& base, const std::vector<DhJoint>& joints, double tool_theta, double tool_d) {
+  KinematicChain chain;
+  chain.T_base_first = dhTransform(base);
+  for (const DhJoint& j : joints) {
+    ChainLink link;
+    link.motion = j;
+    link.theta = j.link.theta;
+    link.cos_alpha = std::cos(j.link.alpha);
+    link.sin_alpha = std::sin(j.link.alpha);
+    link.p << j.link.a, 0.0, j.link.d;  // Rz(theta) Tz(d) Rx(alpha) Tx(a) = Rz(theta) Trans(a, 0, d) Rx(alpha)
+    chain.links.push_back(link);
+  }
+  chain.T_last_tool = dhToolTransform(tool_theta, tool_d);
+  return chain;
+}
+
 }  // namespace
+
+std::vector<Pose> restFrames(const KinematicChain& chain) {
+  std::vector<Pose> frames;
+  Pose G = chain.T_base_first;
+  for (const ChainLink& link : chain.links) {
+    frames.push_back(G);
+    G = G * linkPose(link);
+  }
+  return frames;
+}
+
+Joint jointOnFrame(const JointMotion& motion, const Pose& T_base_frame) {
+  Joint j;
+  static_cast<JointMotion&>(j) = motion;
+  const Vec3 z = T_base_frame.R.col(2);
+  if (motion.type == JointType::Prismatic) {
+    j.twist << Vec3::Zero(), z;
+  } else {
+    j.twist << z, T_base_frame.p.cross(z) + motion.slideRate() * z;  // v = o x w + h w (design.md)
+  }
+  return j;
+}
+
+DhParams movedRow(const DhParams& row, const JointMotion& motion, double x) {
+  DhParams out = row;
+  out.theta += motion.turnRate() * x;
+  out.d += motion.slideRate() * x;
+  return out;
+}
 
 double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose) {
   double size = tool_pose.p.norm();
@@ -74,7 +193,10 @@ PoeModel PoeModel::fromToolTwist(const std::vector<JointSpec>& joints, const Vec
   return PoeModel(joints, expSE3(tool_twist), std::move(name));
 }
 
-void PoeModel::finish() { size_ = robotSize(joints_, tool_pose_); }
+void PoeModel::finish() {
+  size_ = robotSize(joints_, tool_pose_);
+  chain_ = poeChain(joints_, tool_pose_);
+}
 
 Pose dhTransform(const DhParams& row) {
   const double ct = std::cos(row.theta), st = std::sin(row.theta);
@@ -103,13 +225,12 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
   };
   LP_CHECK(finite(base_), "base: non-finite D-H parameter");
   LP_CHECK(std::isfinite(tool_theta_) && std::isfinite(tool_d_), "tool: non-finite D-H parameter");
-  std::vector<Joint> axes;
-  Pose G = dhTransform(base_);
   for (size_t i = 0; i < joints_.size(); ++i) {
     const DhJoint& j = joints_[i];
     const std::string label = jointLabel(static_cast<int>(i), j.name);
     LP_CHECK(finite(j.link), label << ": non-finite D-H parameter");
-    LP_CHECK(std::isfinite(j.pitch) && std::isfinite(j.scale), label << ": non-finite pitch or scale");
+    LP_CHECK(std::isfinite(j.pitch) && std::isfinite(j.scale) && std::isfinite(j.offset),
+             label << ": non-finite pitch, scale or offset");
     LP_CHECK(j.scale > 0.0, label << ": scale must be positive, got " << j.scale);
     LP_CHECK(j.type == JointType::Helical || j.pitch == 0.0,
              label << ": pitch " << j.pitch << " given for a " << jointTypeName(j.type) << " joint");
@@ -117,19 +238,18 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
       LP_CHECK(std::isfinite((*j.range)[0]) && std::isfinite((*j.range)[1]) && (*j.range)[0] <= (*j.range)[1],
                label << ": range must be finite with lo <= hi");
     }
-    Joint axis;
-    axis.type = j.type;
-    axis.range = j.range;
-    const Vec3 z = G.R.col(2);
-    if (j.type == JointType::Prismatic) {
-      axis.twist << Vec3::Zero(), z;
-    } else {
-      axis.twist << z, G.p.cross(z);
-    }
-    axes.push_back(axis);
-    G = G * dhTransform(j.link);
   }
-  size_ = robotSize(axes, G * dhToolTransform(tool_theta_, tool_d_));
+  chain_ = dhChain(base_, joints_, tool_theta_, tool_d_);
+  // L of the equivalent POE model: its joint lines are the chain's frames at zero motion
+  const std::vector<Pose> frames = restFrames(chain_);
+  std::vector<Joint> lines;
+  for (size_t i = 0; i < joints_.size(); ++i) {
+    lines.push_back(jointOnFrame(joints_[i], frames[i]));
+    lines.back().range = joints_[i].range;
+  }
+  Pose T_base_tool = chain_.T_base_first;
+  for (const ChainLink& link : chain_.links) T_base_tool = T_base_tool * linkPose(link);
+  size_ = robotSize(lines, T_base_tool * chain_.T_last_tool);
 }
 
 }  // namespace lowpair

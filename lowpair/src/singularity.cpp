@@ -326,10 +326,9 @@ int numericalRank(const Eigen::Ref<const VecX>& sigma, double tolerance) { retur
 
 std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
   checkJointVector(q, model.dof());
-  PoeData data(model);
-  Mat6X J(6, model.dof());
-  spatialJacobian(model, data, q, J);
-  return linesFromSpatial(model, J);
+  Data data(model);
+  computeJacobians(model, data, q);
+  return linesFromSpatial(model, data.J_spatial);
 }
 
 SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
@@ -341,11 +340,11 @@ SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<con
   r.size = L;
 
   // one FK: the spatial Jacobian gives the joint lines, its geometric form the dimensionless J_n
-  PoeData data(model);
+  Data data(model);
+  computeJacobians(model, data, q);
+  r.lines = linesFromSpatial(model, data.J_spatial);
   Mat6X Jn(6, n);
-  spatialJacobian(model, data, q, Jn);
-  r.lines = linesFromSpatial(model, Jn);
-  spatialToGeometric(data.T_base_tool, Jn, Jn);
+  getGeometricJacobian(data, Jn);
   dimensionlessJacobian(model, Jn);
   const Vec3 p_tool = data.T_base_tool.p;
 

@@ -59,11 +59,9 @@ PoeModel dhToPoe(const DhModel& model);
 /// Modified (Craig) D-H regrouping of a standard D-H chain (design.md):
 /// `H = Rz(theta_B) Tz(d_B) prod_i [Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + j x_i) Tz(d_i + k x_i)]
 ///  Rx(alpha_n) Tx(a_n) Rz(theta_T) Tz(d_T)`.
-struct ModifiedDhJoint {
+struct ModifiedDhJoint : JointMotion {
   std::string name;
-  JointType type = JointType::Revolute;
   double alpha = 0.0, a = 0.0, theta = 0.0, d = 0.0;
-  double pitch = 0.0, scale = 1.0;
 };
 struct ModifiedDh {
   double base_theta = 0.0, base_d = 0.0;

@@ -9,12 +9,21 @@
 /// - geometric `J_geometric` (Paden–Sastry eq. 3.13): rows `[v; w]`, `v` = linear velocity of the tool
 ///   origin and `w` = angular velocity, both in base coordinates.
 ///
-/// Joint variables: joint i moves by `x_i = scale_i (q_i + offset_i)` (POE) or `x_i = scale_i q_i`
-/// (D-H, offsets folded into the table), so every column is `d/dq_i` and carries the factor `scale_i`.
+/// Joint variables: joint i moves by `x_i = scale_i (q_i + offset_i)` (JointMotion), so every column is
+/// `d/dq_i` and carries the factor `scale_i`.
 /// A helical joint of pitch `h_i` (length/rad) contributes `h_i z_i` to the linear part.
 ///
-/// Every function also runs forward kinematics into `data` (`data.T_base_tool` etc. are valid on
-/// return) and allocates nothing: outputs are preallocated `6 x dof` matrices.
+/// Compute, then get (as Pinocchio's computeJointJacobians / getJointJacobian): computeJacobians runs
+/// forward kinematics once and fills `data.J_spatial`; the three getters read `data` and never recompute.
+/// Nothing allocates: outputs are preallocated `6 x dof` matrices.
+///
+/// | function | fills / reads | cost (PUMA 560, bench/README.md) |
+/// |---|---|---|
+/// | forwardKinematics | `T_base_joint`, `T_base_tool` | one chain product |
+/// | computeJacobians | the above and `J_spatial` | FK + one column per joint |
+/// | getSpatialJacobian | reads `J_spatial` | a copy |
+/// | getGeometricJacobian | reads `J_spatial`, `T_base_tool` | one cross product per column |
+/// | getBodyJacobian | reads `J_spatial`, `T_base_tool` | one adjoint per column |
 
 #include "lowpair/kinematics.hpp"
 #include "lowpair/model.hpp"
@@ -22,25 +31,21 @@
 
 namespace lowpair {
 
-/// Spatial Jacobian: column i = `scale_i Ad(exp(xi_1 x_1) ... exp(xi_{i-1} x_{i-1})) xi_i`
-/// (the current joint twist in the base frame, Wu et al. eq. 4 for Ad).
-/// @param q joint variables (size dof); @param J_spatial 6 x dof output.
-/// @throws std::invalid_argument if `q` or `J_spatial` has the wrong size.
-void spatialJacobian(const PoeModel& model, PoeData& data, const Eigen::Ref<const VecX>& q,
-                     Eigen::Ref<Mat6X> J_spatial);
-/// Body Jacobian `Ad(g(q)^-1) J_spatial`.
-void bodyJacobian(const PoeModel& model, PoeData& data, const Eigen::Ref<const VecX>& q, Eigen::Ref<Mat6X> J_body);
-/// Geometric Jacobian (Paden–Sastry eq. 3.13), rows `[v; w]`: column i =
-/// `scale_i [z_i x (o_tool - o_i) + h_i z_i; z_i]` (revolute h = 0, helical) or `scale_i [z_i; 0]` (prismatic),
-/// with `z_i` the current axis direction and `o_i` a point on it, `o_tool` the tool origin.
-void geometricJacobian(const PoeModel& model, PoeData& data, const Eigen::Ref<const VecX>& q,
-                       Eigen::Ref<Mat6X> J_geometric);
+/// Forward kinematics and the spatial Jacobian: column i = `scale_i [j_i z_i; j_i o_i x z_i + k_i z_i]`
+/// (the current joint twist in the base frame, `Ad(exp(xi_1 x_1) ... exp(xi_{i-1} x_{i-1})) xi_i` of Wu et
+/// al. eq. 4), from joint i's line `(z_i, o_i)` = z axis and origin of `data.T_base_joint[i]`.
+/// @throws std::invalid_argument if `q` does not have dof entries.
+void computeJacobians(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q);
+void computeJacobians(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q);
 
-/// The same three for the D-H chain (eq. 10). Joint i's axis is the z axis of `data.T_base_frame[i]`.
-void spatialJacobian(const DhModel& model, DhData& data, const Eigen::Ref<const VecX>& q, Eigen::Ref<Mat6X> J_spatial);
-void bodyJacobian(const DhModel& model, DhData& data, const Eigen::Ref<const VecX>& q, Eigen::Ref<Mat6X> J_body);
-void geometricJacobian(const DhModel& model, DhData& data, const Eigen::Ref<const VecX>& q,
-                       Eigen::Ref<Mat6X> J_geometric);
+/// Reads the spatial Jacobian (`[w; v]`, base frame). Precondition: computeJacobians on this data.
+/// @throws std::invalid_argument unless J_spatial is 6 x dof.
+void getSpatialJacobian(const Data& data, Eigen::Ref<Mat6X> J_spatial);
+/// Body Jacobian `Ad(g(q)^-1) J_spatial` (`[w; v]`, tool frame).
+void getBodyJacobian(const Data& data, Eigen::Ref<Mat6X> J_body);
+/// Geometric Jacobian (Paden-Sastry eq. 3.13), rows `[v; w]`: column i =
+/// `scale_i [j_i z_i x (o_tool - o_i) + k_i z_i; j_i z_i]` (`(j, k)` of JointMotion).
+void getGeometricJacobian(const Data& data, Eigen::Ref<Mat6X> J_geometric);
 
 /// `J_body = Ad(T_base_tool^-1) J_spatial`. Column by column, so `J_body` may alias `J_spatial`.
 void spatialToBody(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_spatial, Eigen::Ref<Mat6X> J_body);

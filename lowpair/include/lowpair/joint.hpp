@@ -20,16 +20,36 @@ struct JointSpec {
   std::optional<std::array<double, 2>> range;  ///< joint-variable limits `[lo, hi]`, when known
 };
 
+/// How a joint moves: the one definition of the joint-motion rule and of the joint-variable map
+/// (design.md, Wu et al. eqs. 5 and 10). The joint variable `q` becomes the motion `x = scale (q + offset)`;
+/// motion `x` turns by `j x` (rad) about and slides by `k x` (length) along the joint's line, i.e.
+/// `Q(x) = Rz(j x) Tz(k x)` in a frame whose z is the line, with `(j, k)` = revolute `(1, 0)`, prismatic
+/// `(0, 1)`, helical `(1, pitch)`. Every algorithm (FK, Jacobians, conversions, the harness's sampling)
+/// goes through these functions; nothing else states the rule.
+struct JointMotion {
+  JointType type = JointType::Revolute;
+  double pitch = 0.0;   ///< length/rad; 0 unless helical
+  double scale = 1.0;   ///< `q_bar > 0`
+  double offset = 0.0;  ///< `dq`, joint-variable units
+
+  /// `x = scale (q + offset)`.
+  double motion(double q) const { return scale * (q + offset); }
+  /// The inverse map: `q = x / scale - offset`.
+  double variable(double x) const { return x / scale - offset; }
+  /// `j`: rad turned per unit of motion.
+  double turnRate() const { return type == JointType::Prismatic ? 0.0 : 1.0; }
+  /// `k`: length slid per unit of motion (the pitch of a helical joint).
+  double slideRate() const {
+    return type == JointType::Prismatic ? 1.0 : type == JointType::Helical ? pitch : 0.0;
+  }
+};
+
 /// A joint in normalized form: `xi = twist * scale` with `|w| = 1` (revolute, helical) or `w = 0`,
 /// `|v| = 1` (prismatic); `pitch = w.v` (length/rad) for helical joints, 0 otherwise.
-struct Joint {
+struct Joint : JointMotion {
   std::string name;
-  JointType type = JointType::Revolute;
-  Vec6 twist = Vec6::Zero();  ///< unit twist `[w; v]`
-  double pitch = 0.0;         ///< length/rad; 0 unless helical
-  double scale = 1.0;         ///< `q_bar`: the D-H joint variable is `scale * q`
-  double offset = 0.0;        ///< `dq`, joint-variable units
-  std::optional<std::array<double, 2>> range;
+  Vec6 twist = Vec6::Zero();  ///< unit twist `[w; v]` in the base frame at the zero configuration
+  std::optional<std::array<double, 2>> range;  ///< joint-variable limits `[lo, hi]`, when known
 
   Vec3 axis() const { return twist.head<3>(); }    ///< unit direction (revolute/helical)
   Vec3 moment() const { return twist.tail<3>(); }  ///< `v`

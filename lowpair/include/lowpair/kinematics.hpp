@@ -11,32 +11,44 @@
 
 namespace lowpair {
 
-/// Workspace for POE forward kinematics, built once per model.
-struct PoeData {
-  explicit PoeData(const PoeModel& model);
-  /// Filled by forwardKinematics:
-  std::vector<Pose> T_base_joint;  ///< [i] = exp(xi_1 x_1) ... exp(xi_i x_i), i = 0..n-1 (prefix products)
-  Pose T_base_tool;                ///< g(q)
+/// Everything the algorithms compute for one model, preallocated once (`Data data(model)`); fields are
+/// grouped by the function that fills them. One index convention for both models: `T_base_joint[i]` is
+/// the frame of joint i's line (z along the line, origin on it) carried by the link *before* joint i,
+/// i.e. moved by joints 1..i-1 only. For a D-H model it is the standard D-H frame i-1.
+struct Data {
+  explicit Data(const PoeModel& model);
+  explicit Data(const DhModel& model);
+  explicit Data(const KinematicChain& chain);
+
+  int dof = 0;
+  // forwardKinematics (and computeJacobians):
+  std::vector<Pose> T_base_joint;  ///< n frames, see above
+  Pose T_base_tool;                ///< `g(q)` (POE) / `H(q)` (D-H)
+  // computeJacobians:
+  Mat6X J_spatial;                 ///< 6 x n, twist coordinates `[w; v]` in the base frame (jacobian.hpp)
+  // scratch of the chain evaluation (joint angles, their sines and cosines, slides):
+  VecX angle, sin_angle, cos_angle, slide;
 };
 
-/// Workspace for D-H forward kinematics.
-struct DhData {
-  explicit DhData(const DhModel& model);
-  /// Filled by forwardKinematics:
-  std::vector<Pose> T_base_frame;  ///< [i] = frame whose z is joint i's axis (before its motion), i = 0..n-1
-  Pose T_base_tool;                ///< H(q)
-};
+/// Forward kinematics: fills `data.T_base_tool` (`g(q)` of eq. 5 for POE, `H(q)` of eq. 10 for D-H) and
+/// `data.T_base_joint`. Allocates nothing; all joint sines and cosines are computed together.
+/// @param q joint variables, size dof (checked only by LP_ASSERT; see checkJointVector).
+void forwardKinematics(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q);
+void forwardKinematics(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q);
 
-/// `g(q)` of the base POE model (eq. 5). @param q joint variables, size dof (unchecked; see checkJointVector).
-void forwardKinematics(const PoeModel& model, PoeData& data, const Eigen::Ref<const VecX>& q);
-/// `H(q)` of the D-H chain (eq. 10).
-void forwardKinematics(const DhModel& model, DhData& data, const Eigen::Ref<const VecX>& q);
+/// Batch forward kinematics, structure of arrays (SIMD across configurations), same results as
+/// forwardKinematics to rounding. @param q `count x dof`: column j holds joint j of every configuration.
+/// @param poses `count x 12` output: columns 0..8 the rotation of `T_base_tool` row-major, 9..11 its
+/// position. Allocates nothing.
+void forwardKinematicsBatch(const PoeModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses);
+void forwardKinematicsBatch(const DhModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses);
 
-/// Convenience forms returning `T_base_tool` (allocate their workspace).
+/// Convenience forms returning `T_base_tool` (they allocate a Data; use forwardKinematics in loops).
 Pose poeForwardKinematics(const PoeModel& model, const Eigen::Ref<const VecX>& q);
 Pose dhForwardKinematics(const DhModel& model, const Eigen::Ref<const VecX>& q);
 
-/// `exp(xi_bar x)` of one normalized joint with `x = scale (q + offset)`.
+/// `exp(xi_bar x)` of one normalized joint with `x = joint.motion(q)`: the exponential form of the same
+/// motion (used by the tool and local POE forms, eqs. 6-7).
 void jointExp(const Joint& joint, double q, Pose& out);
 
 /// @throws std::invalid_argument unless `q` has `dof` finite entries.

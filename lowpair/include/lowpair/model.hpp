@@ -11,6 +11,35 @@
 
 namespace lowpair {
 
+/// One link of a KinematicChain: joint i's motion followed by the constant transform to joint i+1's axis.
+struct ChainLink {
+  JointMotion motion;
+  double theta = 0.0;                       ///< rad, added to the joint's turn `j x`
+  double cos_alpha = 1.0, sin_alpha = 0.0;  ///< of the twist angle about the new x axis
+  Vec3 p = Vec3::Zero();                    ///< translation before `Rx(alpha)` (the joint's slide `k x` adds to p.z)
+};
+
+/// The form in which both models are evaluated, built once at model construction:
+/// `T_base_tool(q) = T_base_first * prod_i [ Rz(theta_i + j_i x_i) Trans(p_i + k_i x_i e_z) Rx(alpha_i) ] * T_last_tool`,
+/// `x_i = scale_i (q_i + offset_i)` (JointMotion). The frame before link i has its z axis on joint i's line
+/// and its origin on it, so each joint is a rotation about / translation along z and all joint sines and
+/// cosines can be computed together. A D-H row maps onto a link directly (`p = (a, 0, d)`, eq. 9); for a
+/// POE model the link frames are placed on the joint lines (origin at the point nearest the base origin)
+/// with `p` general, which keeps every constant bounded by the robot size even for nearly parallel axes.
+struct KinematicChain {
+  Pose T_base_first;            ///< frame of joint 1's line at zero motion
+  std::vector<ChainLink> links;
+  Pose T_last_tool;             ///< from the frame after the last link to the tool
+};
+
+/// Frames of the joint lines at zero motion (every `x_i = 0`): [i] has z along joint i's line and its
+/// origin on it (the `T_base_joint` of kinematics.hpp at `x = 0`).
+std::vector<Pose> restFrames(const KinematicChain& chain);
+
+/// The normalized joint whose line is the z axis of `T_base_frame` (through its origin), moving as `motion`:
+/// twist `[z; o x z + h z]`, or `[0; z]` for a prismatic joint.
+Joint jointOnFrame(const JointMotion& motion, const Pose& T_base_frame);
+
 /// Base POE model `g(q) = exp(xi_1 (q_1 + dq_1)) ... exp(xi_n (q_n + dq_n)) exp(xi_T)` (eq. 5),
 /// twists in the base frame. Joint twists are stored normalized (see Joint).
 class PoeModel {
@@ -31,6 +60,8 @@ class PoeModel {
   /// Robot size `L` (design.md): the largest of the tool position, each revolute/helical axis'
   /// distance from the base origin and each prismatic joint's largest `|q|` in its range; 1 if all 0.
   double size() const { return size_; }
+  /// The compiled chain that forwardKinematics evaluates.
+  const KinematicChain& chain() const { return chain_; }
 
  private:
   void finish();
@@ -38,6 +69,7 @@ class PoeModel {
   Pose tool_pose_;
   std::string name_;
   double size_ = 1.0;
+  KinematicChain chain_;
 };
 
 /// One standard D-H row `A(theta, d, alpha, a) = Rz(theta) Tz(d) Rx(alpha) Tx(a)` (eq. 9).
@@ -48,16 +80,17 @@ struct DhParams {
   double a = 0.0;      ///< length
 };
 
-/// Joint i of a D-H chain: its motion `Q_i(x) = Rz(j x) Tz(k x)`, `x = scale * q`, followed by the
-/// constant `link` transform (for the last joint, the tool's first part).
-struct DhJoint {
+/// Joint i of a D-H chain: its motion `Q_i(x) = Rz(j x) Tz(k x)` (JointMotion; a conversion folds the
+/// offset into `link`, so it is 0 there), followed by the constant `link` transform (for the last joint,
+/// the tool's first part).
+struct DhJoint : JointMotion {
   std::string name;
-  JointType type = JointType::Revolute;
   DhParams link;
-  double pitch = 0.0;  ///< length/rad, helical only
-  double scale = 1.0;  ///< `q_bar`
   std::optional<std::array<double, 2>> range;
 };
+
+/// `row` after joint motion `x`: `Q(x) A(row) = A(theta + j x, d + k x, alpha, a)` (eqs. 9-10).
+DhParams movedRow(const DhParams& row, const JointMotion& motion, double x);
 
 /// D-H model (eq. 10, Fig. 3):
 /// `H(q) = A(base) * prod_i [ Q_i(scale_i q_i) * A(link_i) ] * Rz(tool_theta) Tz(tool_d)`.
@@ -75,6 +108,8 @@ class DhModel {
   const std::string& name() const { return name_; }
   /// Robot size `L` of the equivalent POE model.
   double size() const { return size_; }
+  /// The compiled chain that forwardKinematics evaluates.
+  const KinematicChain& chain() const { return chain_; }
 
  private:
   DhParams base_;
@@ -83,6 +118,7 @@ class DhModel {
   double tool_d_ = 0.0;
   std::string name_;
   double size_ = 1.0;
+  KinematicChain chain_;
 };
 
 /// `A(theta, d, alpha, a)`.

@@ -1,0 +1,48 @@
+// Consumer of the installed lowpair package: a planar 2R arm through the public API, checked against
+// the pose worked out by hand. Exit 0 if it matches, 1 otherwise.
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <lowpair/kinematics.hpp>
+
+int main() {
+  // Two revolute joints about z: the first through the origin, the second through (1, 0, 0);
+  // twist [w; v] with v = p x w, so (0,0,1, 0,0,0) and (0,0,1, 0,-1,0). Tool at (2, 0, 0), no rotation.
+  lowpair::JointSpec s1;
+  s1.twist << 0, 0, 1, 0, 0, 0;
+  lowpair::JointSpec s2;
+  s2.twist << 0, 0, 1, 0, -1, 0;
+  lowpair::Pose tool;
+  tool.p << 2, 0, 0;
+  const lowpair::PoeModel model(std::vector<lowpair::JointSpec>{s1, s2}, tool, "planar_2r");
+
+  Eigen::VectorXd q(2);
+  q << 0.3, -0.7;
+  // The convenience form (it allocates its own workspace): the workspace type is being renamed
+  // (Data -> Data) and this consumer should not depend on that.
+  const lowpair::Pose T = lowpair::poeForwardKinematics(model, q);
+
+  // By hand: links of length 1, absolute angles q1 and q1 + q2.
+  const double a = q(0), b = q(0) + q(1);
+  const Eigen::Vector3d p_expected(std::cos(a) + std::cos(b), std::sin(a) + std::sin(b), 0.0);
+  Eigen::Matrix3d R_expected;
+  R_expected << std::cos(b), -std::sin(b), 0,  //
+                std::sin(b), std::cos(b), 0,   //
+                0, 0, 1;
+
+  // The FK is two 4x4 exponentials and two products: a few roundings of numbers of size <= 2, i.e.
+  // errors of a few eps * 2 ~ 1e-15. 1e-14 (~20 eps * 2) leaves room for that and for libm's last bit,
+  // while any real error (wrong sign, wrong axis point, wrong product order) is O(0.1).
+  const double tol = 1e-14;
+  const double p_err = (T.p - p_expected).cwiseAbs().maxCoeff();
+  const double R_err = (T.R - R_expected).cwiseAbs().maxCoeff();
+  std::printf("consumer: %s p = (%.17g, %.17g, %.17g), |p - p_hand| = %.3g, |R - R_hand| = %.3g\n",
+              model.name().c_str(), T.p.x(), T.p.y(), T.p.z(), p_err, R_err);
+  if (!(p_err <= tol) || !(R_err <= tol)) {
+    std::printf("consumer: MISMATCH (tolerance %.3g)\n", tol);
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,193 @@
+// Forward kinematics (kinematics.hpp): the compiled chain against the product of exponentials it
+// replaces (eq. 5, evaluated independently with expSE3 in long double-free double arithmetic), the
+// frame convention of Data::T_base_joint, the batch form against single calls, the sine/cosine kernel
+// against long double, and huge joint values.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "lowpair/convert.hpp"
+#include "lowpair/kinematics.hpp"
+#include "lowpair/se3.hpp"
+#include "random_robot.hpp"
+#include "sincos.hpp"
+
+using namespace lowpair;
+
+namespace {
+
+// g(q) = exp(xi_1 x_1) ... exp(xi_n x_n) exp(xi_T) with the twists as the user gave them (eq. 5),
+// and the prefix products (the frames' lines) on the way.
+Pose productOfExponentials(const PoeModel& model, const VecX& q, std::vector<Pose>* prefix = nullptr) {
+  Pose T;
+  for (int i = 0; i < model.dof(); ++i) {
+    if (prefix) prefix->push_back(T);
+    const Joint& j = model.joint(i);
+    T = T * expSE3(j.twist * j.motion(q[i]));
+  }
+  return T * model.toolPose();
+}
+
+// Rounding bound of a chain of n links of size up to L: each link adds a few eps of relative error in
+// its rotation and a few eps L in its position; 64 n eps covers the constants with margin (measured
+// worst below is printed as a property).
+double bound(int n) { return 64.0 * std::max(n, 1) * std::numeric_limits<double>::epsilon(); }
+
+}  // namespace
+
+TEST(ForwardKinematics, EqualsProductOfExponentialsOnRandomRobots) {
+  std::mt19937_64 rng(81);
+  double worst_rotation = 0, worst_translation = 0;
+  for (int r = 0; r < 3000; ++r) {
+    const lowpair_test::RandomRobot robot = lowpair_test::randomRobot(rng);
+    const PoeModel& model = robot.model;
+    Data data(model);
+    for (int s = 0; s < 5; ++s) {
+      const VecX q = lowpair_test::randomConfiguration(model, rng);
+      forwardKinematics(model, data, q);
+      const Pose ref = productOfExponentials(model, q);
+      const double rot = rotationError(data.T_base_tool.R, ref.R);
+      const double tr = (data.T_base_tool.p - ref.p).norm() / model.size();
+      worst_rotation = std::max(worst_rotation, rot);
+      worst_translation = std::max(worst_translation, tr);
+      ASSERT_LE(rot, bound(model.dof())) << lowpair_test::geometryName(robot.geometry) << " robot " << r;
+      ASSERT_LE(tr, bound(model.dof())) << lowpair_test::geometryName(robot.geometry) << " robot " << r;
+    }
+  }
+  RecordProperty("worst_rotation", std::to_string(worst_rotation));
+  RecordProperty("worst_translation_over_L", std::to_string(worst_translation));
+}
+
+// T_base_joint[i]: z along joint i's current line, origin on it, moved by joints 1..i-1 only (the
+// line of Ad(exp(xi_1 x_1) ... exp(xi_{i-1} x_{i-1})) xi_i).
+TEST(ForwardKinematics, JointFramesLieOnTheCurrentJointLines) {
+  std::mt19937_64 rng(82);
+  for (int r = 0; r < 1000; ++r) {
+    const PoeModel model = lowpair_test::randomRobot(rng).model;
+    Data data(model);
+    const VecX q = lowpair_test::randomConfiguration(model, rng);
+    forwardKinematics(model, data, q);
+    std::vector<Pose> prefix;
+    productOfExponentials(model, q, &prefix);
+    const double tol = bound(model.dof());
+    for (int i = 0; i < model.dof(); ++i) {
+      const Joint& j = model.joint(i);
+      const Vec6 xi = adjointApply(prefix[static_cast<size_t>(i)], j.twist);
+      const Pose& F = data.T_base_joint[static_cast<size_t>(i)];
+      const Vec3 z = F.R.col(2);
+      if (j.type == JointType::Prismatic) {
+        EXPECT_LE((z - xi.tail<3>()).norm(), tol) << "robot " << r << " joint " << i;
+        continue;
+      }
+      EXPECT_LE((z - xi.head<3>()).norm(), tol) << "robot " << r << " joint " << i;
+      // the origin is on the line: its moment o x w equals v - h w
+      const Vec3 moment = xi.tail<3>() - j.pitch * xi.head<3>();
+      EXPECT_LE((F.p.cross(z) - moment).norm(), tol * model.size()) << "robot " << r << " joint " << i;
+      EXPECT_LE((F.R.transpose() * F.R - Mat3::Identity()).norm(), tol);
+    }
+  }
+}
+
+TEST(ForwardKinematics, DhModelEqualsItsPoeEquivalent) {
+  // a D-H chain with every joint type and nonzero offsets, against dhToPoe's product of exponentials
+  std::vector<DhJoint> joints(4);
+  joints[0].link = {0.1, 0.2, 1.2, 0.3};
+  joints[1].type = JointType::Helical;
+  joints[1].pitch = 0.05;
+  joints[1].offset = 0.4;
+  joints[1].link = {-0.3, 0.0, -0.7, 0.5};
+  joints[2].type = JointType::Prismatic;
+  joints[2].scale = 2.0;
+  joints[2].link = {0.0, 0.1, 0.0, 0.2};  // alpha = 0: the next axis is parallel
+  joints[3].scale = 0.5;
+  joints[3].link = {0.2, 0.3, 0.4, 0.0};
+  const DhModel dh({0.3, 0.1, 0.2, 0.4}, joints, 0.5, 0.25, "all-types");
+  const PoeModel poe = dhToPoe(dh);
+  Data data(dh);
+  std::mt19937_64 rng(83);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int s = 0; s < 200; ++s) {
+    VecX q(4);
+    for (int i = 0; i < 4; ++i) q[i] = u(rng);
+    forwardKinematics(dh, data, q);
+    const Pose ref = productOfExponentials(poe, q);
+    EXPECT_LE(rotationError(data.T_base_tool.R, ref.R), bound(4));
+    EXPECT_LE((data.T_base_tool.p - ref.p).norm(), bound(4) * dh.size());
+  }
+}
+
+TEST(ForwardKinematics, BatchEqualsSingleCalls) {
+  std::mt19937_64 rng(84);
+  for (int r = 0; r < 300; ++r) {
+    const PoeModel model = lowpair_test::randomRobot(rng).model;
+    const DhModel dh = poeToDh(model).model;
+    const int count = 1 + r % 29;  // full and partial blocks
+    MatX q(count, model.dof());
+    for (int k = 0; k < count; ++k) q.row(k) = lowpair_test::randomConfiguration(model, rng).transpose();
+    MatX poses(count, 12), poses_dh(count, 12);
+    forwardKinematicsBatch(model, q, poses);
+    forwardKinematicsBatch(dh, q, poses_dh);
+    Data data(model), data_dh(dh);
+    for (int k = 0; k < count; ++k) {
+      const VecX qk = q.row(k).transpose();
+      forwardKinematics(model, data, qk);
+      forwardKinematics(dh, data_dh, qk);
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+          EXPECT_LE(std::abs(poses(k, 3 * a + b) - data.T_base_tool.R(a, b)), bound(model.dof()));
+          EXPECT_LE(std::abs(poses_dh(k, 3 * a + b) - data_dh.T_base_tool.R(a, b)), bound(model.dof()));
+        }
+        EXPECT_LE(std::abs(poses(k, 9 + a) - data.T_base_tool.p[a]), bound(model.dof()) * model.size());
+        // the D-H table's own scale (|d| can exceed L near parallel axes)
+        EXPECT_LE(std::abs(poses_dh(k, 9 + a) - data_dh.T_base_tool.p[a]),
+                  bound(model.dof()) * std::max(model.size(), data_dh.T_base_tool.p.norm()));
+      }
+    }
+  }
+}
+
+TEST(ForwardKinematics, HugeJointValuesStayAccurate) {
+  // beyond the sine kernel's range the chain falls back to libm: still the product of exponentials
+  std::vector<JointSpec> specs(2);
+  specs[0].twist << 0, 0, 1, 0, 0, 0;
+  specs[1].twist << 1, 0, 0, 0, 0.5, 0;
+  Pose tool;
+  tool.p << 0.3, 0.2, 0.1;
+  const PoeModel model(specs, tool);
+  Data data(model);
+  for (const double big : {1e6, 3e7, 1e12, -5e13}) {
+    const VecX q = (VecX(2) << big, -big / 3).finished();
+    forwardKinematics(model, data, q);
+    const Pose ref = productOfExponentials(model, q);
+    // a joint angle |x| is itself known to half an ulp (eps |x| / 2), and each form rounds its own sum
+    // `theta + x` once: the two may differ by about eps |x| per joint, whatever the algorithm
+    const double tol = bound(2) + 2.0 * std::numeric_limits<double>::epsilon() * std::abs(big);
+    EXPECT_TRUE(data.T_base_tool.R.allFinite() && data.T_base_tool.p.allFinite()) << big;
+    EXPECT_LE(rotationError(data.T_base_tool.R, ref.R), tol) << big;
+    EXPECT_LE((data.T_base_tool.p - ref.p).norm(), tol) << big;
+  }
+}
+
+TEST(SinCos, WithinOneUlpOverJointRanges) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  std::mt19937_64 rng(3);
+  std::vector<double> x;
+  std::uniform_real_distribution<double> small(-4 * M_PI, 4 * M_PI), large(-1e6, 1e6);
+  for (int i = 0; i < 200000; ++i) x.push_back(small(rng));
+  for (int i = 0; i < 20000; ++i) x.push_back(large(rng));
+  for (int k = -8; k <= 8; ++k) {  // around the quadrant boundaries and the zeros
+    for (int j = -50; j <= 50; ++j) x.push_back(k * M_PI / 4 + j * 1e-9);
+  }
+  double abs_err = 0.0;
+  for (const double xi : x) {
+    double s = 0, c = 0;
+    detail::sinCosLane(xi, s, c);
+    const long double xs = std::sin(static_cast<long double>(xi)), xc = std::cos(static_cast<long double>(xi));
+    abs_err = std::max(abs_err, static_cast<double>(std::max(std::abs(s - xs), std::abs(c - xc))) / eps);
+  }
+  RecordProperty("max_abs_error_eps", std::to_string(abs_err));
+  EXPECT_LE(abs_err, 1.2);
+}
