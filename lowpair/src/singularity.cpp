@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
+#include "lowpair/check.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/tolerances.hpp"
@@ -323,6 +324,19 @@ void dimensionlessJacobian(const PoeModel& model, Eigen::Ref<Mat6X> J) {
 double rankTolerance(double sigma_max, int dof) { return kRankFactor * std::max(6, dof) * kEps * sigma_max; }
 
 int numericalRank(const Eigen::Ref<const VecX>& sigma, double tolerance) { return countAbove(sigma, tolerance); }
+
+JacobianRank jacobianRank(const PoeModel& model, const Eigen::Ref<const Mat6X>& J_geometric) {
+  LP_CHECK(J_geometric.cols() == model.dof(),
+           "jacobianRank: the Jacobian has " << J_geometric.cols() << " columns for " << model.dof() << " joints");
+  Mat6X Jn = J_geometric;
+  dimensionlessJacobian(model, Jn);
+  JacobianRank r;
+  const int m = std::min(6, model.dof());
+  r.singular_values = Eigen::JacobiSVD<MatX>(Jn).singularValues().head(m);
+  r.tolerance = rankTolerance(m > 0 ? r.singular_values(0) : 0.0, model.dof());
+  r.rank = countAbove(r.singular_values, r.tolerance);
+  return r;
+}
 
 std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
   checkJointVector(q, model.dof());

@@ -103,6 +103,15 @@ double rankTolerance(double sigma_max, int dof);
 /// Number of singular values above `tolerance`.
 int numericalRank(const Eigen::Ref<const VecX>& singular_values, double tolerance);
 
+/// The rank rule applied to a geometric Jacobian of `model` (from the library or from elsewhere, e.g.
+/// MuJoCo): J_n, its singular values (descending, min(6, dof)) and the count above rankTolerance.
+struct JacobianRank {
+  int rank = 0;
+  double tolerance = 0.0;
+  VecX singular_values;
+};
+JacobianRank jacobianRank(const PoeModel& model, const Eigen::Ref<const Mat6X>& J_geometric);
+
 /// Joint lines of a POE model at q (from the forward-kinematics prefix frames).
 std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const VecX>& q);
 
