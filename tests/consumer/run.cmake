@@ -30,6 +30,8 @@ endfunction()
 
 set(prefix ${WORK_DIR}/prefix)
 set(consumer_build ${WORK_DIR}/build)
+# Two ctest runs on one build tree would remove each other's prefix: take turns.
+file(LOCK ${WORK_DIR}.lock GUARD PROCESS TIMEOUT 100)
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 
