@@ -1,7 +1,8 @@
 # Thin wrapper (README): `make check` and `make run` install missing Debian packages (as root), configure
 # and build into build/, then run. `make bench` builds in Release and runs the benchmarks.
 PACKAGES := cmake g++ make libeigen3-dev libmujoco-dev libqhull-dev liburdfdom-dev libyaml-cpp-dev \
-            googletest libgtest-dev libbenchmark-dev liborocos-kdl-dev libcli11-dev nlohmann-json3-dev gnuplot-nox python3
+            googletest libgtest-dev libbenchmark-dev liborocos-kdl-dev libcli11-dev nlohmann-json3-dev gnuplot-nox python3 \
+            valgrind bc libsleef-dev
 BUILD ?= build
 JOBS ?= $(shell nproc)
 

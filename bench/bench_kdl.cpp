@@ -133,4 +133,21 @@ void registerKdlBenchmarks(RobotCaseGetter get) {
   }
 }
 
+void runKdlCalls(RobotCaseGetter get, RobotId id, bool jacobian, int calls, void (*start)(), void (*stop)()) {
+  KdlFixture& f = fixture(get, id);
+  KDL::Frame F;
+  start();
+  for (int c = 0; c < calls; ++c) {
+    f.load(c & (kPool - 1));
+    if (jacobian) {
+      f.jac_solver.JntToJac(f.q, f.jac);
+    } else {
+      f.fk.JntToCart(f.q, F);
+    }
+  }
+  stop();
+  benchmark::DoNotOptimize(F);
+  benchmark::DoNotOptimize(f.jac.data.data());
+}
+
 }  // namespace lowpair_bench

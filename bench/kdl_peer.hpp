@@ -12,4 +12,9 @@ using RobotCaseGetter = const RobotCase& (*)(RobotId);
 // Registers BM_Fk_Kdl_<Robot> and BM_Jacobian_Kdl_<Robot> for every robot.
 LOWPAIR_BENCH_KDL_API void registerKdlBenchmarks(RobotCaseGetter get);
 
+// `calls` KDL FK (or Jacobian) calls cycling through the robot's configurations, between
+// `start()` and `stop()` (the instruction counter's toggles: bench/callgrind_calls.cpp).
+LOWPAIR_BENCH_KDL_API void runKdlCalls(RobotCaseGetter get, RobotId id, bool jacobian, int calls, void (*start)(),
+                                       void (*stop)());
+
 }  // namespace lowpair_bench

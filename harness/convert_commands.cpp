@@ -31,13 +31,15 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     const RobotFile file = loadRobot(o->robot);
     ConvertOptions options;
     options.parallel_threshold = o->parallel_threshold;
-    const DhConversion c = poeToDh(file.poeModel(), options);
+    const PoeModel poe = file.poeModel();
+    const DhConversion c = poeToDh(poe, options);
+    const FkCheck check = checkDhConversion(poe, c.model);
     if (o->as_json) {
-      std::cout << (o->modified ? modifiedDhJson(file, c) : dhJson(file, c)).dump(1) << "\n";
+      std::cout << (o->modified ? modifiedDhJson(file, c, check) : dhJson(file, c, check)).dump(1) << "\n";
     } else if (o->modified) {
-      printModifiedDh(std::cout, file, c);
+      printModifiedDh(std::cout, file, c, check);
     } else {
-      printDh(std::cout, file, c);
+      printDh(std::cout, file, c, check);
     }
     return 0;
   });

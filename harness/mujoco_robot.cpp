@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <cstdlib>
+#include <mutex>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -56,6 +58,38 @@ std::string urdfCopy(const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+// MuJoCo's messages on one line (its load errors and warnings span several).
+std::string oneLine(const char* text) {
+  std::string s = text ? text : "";
+  for (char& ch : s) {
+    if (ch == '\n' || ch == '\r' || ch == '\t') ch = ' ';
+  }
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+// The model being loaded, for MuJoCo's error handler (which gets no context).
+thread_local std::string g_loading = "MuJoCo";
+
+// MuJoCo's default handlers print to stdout (breaking --json) and append to MUJOCO_LOG.TXT in the
+// working directory. Ours: warnings as one "note:" line on stderr; a fatal error (MuJoCo must not
+// continue after one) as the CLI's one "error: FILE: what" line and exit status 2.
+void installMujocoHandlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    mju_user_warning = [](const char* msg) { std::fprintf(stderr, "note: MuJoCo: %s\n", oneLine(msg).c_str()); };
+    mju_user_error = [](const char* msg) {
+      std::fprintf(stderr, "error: %s: MuJoCo: %s\n", g_loading.c_str(), oneLine(msg).c_str());
+      std::fflush(stderr);
+      std::_Exit(2);
+    };
+  });
+}
+
+}  // namespace
+
 void MujocoRobot::ModelDeleter::operator()(mjModel_* m) const { mj_deleteModel(m); }
 
 MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base)
@@ -67,9 +101,11 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
   const bool urdf = path.size() > 5 && path.substr(path.size() - 5) == ".urdf";
   const std::string load_path = urdf ? urdfCopy(path) : path;
   char error[1000] = "";
+  installMujocoHandlers();
+  g_loading = path;
   model_.reset(mj_loadXML(load_path.c_str(), nullptr, error, sizeof error));
   if (urdf) std::remove(load_path.c_str());
-  if (!model_) fail(path, std::string("MuJoCo could not load the model: ") + error);
+  if (!model_) fail(path, "MuJoCo could not load the model: " + oneLine(error));
   const mjModel* m = model_.get();
 
   tip_site_ = mj_name2id(m, mjOBJ_SITE, tip.c_str());

@@ -3,8 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
+#include <sstream>
 
 #include "lowpair/se3.hpp"
+#include "lowpair/tolerances.hpp"
 
 namespace lowpair {
 
@@ -65,7 +67,42 @@ json poseJson(const Pose& T) {
   return rows;
 }
 
-json dhJson(const RobotFile& file, const DhConversion& c) {
+std::vector<std::string> conversionWarnings(const DhConversion& c, const FkCheck& check) {
+  std::vector<std::string> warnings;
+  const double L = c.size;
+  auto message = [] {
+    std::ostringstream msg;
+    msg.precision(3);
+    return msg;
+  };
+  for (const DhRowReport& r : c.rows) {
+    if (!r.ill_conditioned) continue;
+    std::ostringstream msg = message();
+    const std::string what = r.row == 0 ? std::string("base row (joint 1's axis)")
+                                        : "row of " + jointLabel(r.row - 1, c.model.joint(r.row - 1).name);
+    msg << what << ": |d| = " << r.abs_d << ", |a| = " << r.abs_a << " exceed " << kIllConditioned << " L (L = " << L
+        << "); the line before and after this row meet at " << r.axis_angle
+        << " rad: nearly parallel axes make the D-H table ill-conditioned (Wu et al. §V)";
+    warnings.push_back(msg.str());
+  }
+  if (c.tool.ill_conditioned) {
+    std::ostringstream msg = message();
+    msg << "tool: |d_T| = " << c.tool.abs_d << " exceeds " << kIllConditioned
+        << " L: the last joint axis is nearly parallel to the tool z axis";
+    warnings.push_back(msg.str());
+  }
+  if (c.above_rounding) {
+    std::ostringstream msg = message();
+    msg << "parallel threshold " << c.parallel_threshold << " is above rounding level ("
+        << c.rounding_parallel_threshold << "): nearly parallel axes were snapped; FK deviation "
+        << check.max_translation << " (length), " << check.max_rotation << " rad over " << check.samples
+        << " configurations";
+    warnings.push_back(msg.str());
+  }
+  return warnings;
+}
+
+json dhJson(const RobotFile& file, const DhConversion& c, const FkCheck& check) {
   json j = headerJson(file, c.size);
   j["convention"] = "standard";
   j["base"] = paramsJson(c.model.base());
@@ -81,12 +118,12 @@ json dhJson(const RobotFile& file, const DhConversion& c) {
   j["tool"] = {{"theta", c.model.toolTheta()}, {"d", c.model.toolD()}};
   j["parallel_threshold"] = c.parallel_threshold;
   j["conditioning"] = conditioningJson(c);
-  j["fk_check"] = fkCheckJson(c.fk_check);
-  j["warnings"] = c.warnings;
+  j["fk_check"] = fkCheckJson(check);
+  j["warnings"] = conversionWarnings(c, check);
   return j;
 }
 
-json modifiedDhJson(const RobotFile& file, const DhConversion& c) {
+json modifiedDhJson(const RobotFile& file, const DhConversion& c, const FkCheck& check) {
   const ModifiedDh m = toModifiedDh(c.model);
   json j = headerJson(file, c.size);
   j["convention"] = "modified";
@@ -101,8 +138,8 @@ json modifiedDhJson(const RobotFile& file, const DhConversion& c) {
   }
   j["tool"] = {{"alpha", m.tool_alpha}, {"a", m.tool_a}, {"theta", m.tool_theta}, {"d", m.tool_d}};
   j["conditioning"] = conditioningJson(c);
-  j["fk_check"] = fkCheckJson(c.fk_check);
-  j["warnings"] = c.warnings;
+  j["fk_check"] = fkCheckJson(check);
+  j["warnings"] = conversionWarnings(c, check);
   return j;
 }
 
@@ -125,16 +162,16 @@ json poeJson(const RobotFile& file, const PoeModel& model) {
 }
 
 namespace {
-void printWarnings(std::ostream& out, const DhConversion& c) {
-  out << "FK check: POE vs D-H over " << c.fk_check.samples << " configurations: max rotation "
-      << fixed(c.fk_check.max_rotation, 2) << " rad, max translation " << fixed(c.fk_check.max_translation, 2) << "\n";
-  for (const auto& w : c.warnings) out << "warning: " << w << "\n";
+void printWarnings(std::ostream& out, const DhConversion& c, const FkCheck& check) {
+  out << "FK check: POE vs D-H over " << check.samples << " configurations: max rotation "
+      << fixed(check.max_rotation, 2) << " rad, max translation " << fixed(check.max_translation, 2) << "\n";
+  for (const auto& w : conversionWarnings(c, check)) out << "warning: " << w << "\n";
 }
 
 std::string pitchUnit(const RobotFile& file) { return unitOr(file) + "/" + file.angle_unit; }
 }  // namespace
 
-void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c) {
+void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c, const FkCheck& check) {
   const std::string u = unitOr(file);
   out << robotLabel(file) << ": standard D-H (Wu et al. eq. 10), L = " << fixed(c.size)
       << " " << u << "\n";
@@ -166,10 +203,10 @@ void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c) {
   out << line << "\n";
   out << "Row i: joint i moves about (revolute) or along (prismatic) the z axis of frame i-1, then A(row i) leads to\n"
          "frame i; row n also carries the tool's first part (Wu et al. Fig. 3).\n";
-  printWarnings(out, c);
+  printWarnings(out, c, check);
 }
 
-void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversion& c) {
+void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversion& c, const FkCheck& check) {
   const ModifiedDh m = toModifiedDh(c.model);
   const std::string u = unitOr(file);
   out << robotLabel(file) << ": modified (Craig) D-H, L = " << fixed(c.size) << " " << u
@@ -197,7 +234,7 @@ void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversio
   std::snprintf(line, sizeof line, "%-6s %-9s %12s %14s %12s %14s\n", "tool", "", fixed(m.tool_alpha * kDeg).c_str(),
                 fixed(m.tool_a).c_str(), fixed(m.tool_theta * kDeg).c_str(), fixed(m.tool_d).c_str());
   out << line << "\n";
-  printWarnings(out, c);
+  printWarnings(out, c, check);
 }
 
 void printPoe(std::ostream& out, const RobotFile& file, const PoeModel& model) {

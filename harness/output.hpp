@@ -13,14 +13,20 @@
 namespace lowpair {
 
 nlohmann::json poseJson(const Pose& T);
-nlohmann::json dhJson(const RobotFile& file, const DhConversion& conversion);
-nlohmann::json modifiedDhJson(const RobotFile& file, const DhConversion& conversion);
+/// The table with its conditioning, the FK check `check` of it and the warnings (conversionWarnings).
+nlohmann::json dhJson(const RobotFile& file, const DhConversion& conversion, const FkCheck& check);
+nlohmann::json modifiedDhJson(const RobotFile& file, const DhConversion& conversion, const FkCheck& check);
 nlohmann::json poeJson(const RobotFile& file, const PoeModel& model);
 
-void printDh(std::ostream& out, const RobotFile& file, const DhConversion& conversion);
-void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversion& conversion);
+void printDh(std::ostream& out, const RobotFile& file, const DhConversion& conversion, const FkCheck& check);
+void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversion& conversion, const FkCheck& check);
 void printPoe(std::ostream& out, const RobotFile& file, const PoeModel& model);
 void printPose(std::ostream& out, const Pose& T, const std::string& length_unit);
+
+/// The conversion's conditioning in sentences (conversion.md, "Accuracy and conditioning"): one per
+/// ill-conditioned row, one for an ill-conditioned tool, one for a parallel threshold above rounding level
+/// (with the deviation `check` measured).
+std::vector<std::string> conversionWarnings(const DhConversion& conversion, const FkCheck& check);
 
 /// The robot's name, or its file when it has none.
 std::string robotLabel(const RobotFile& file);

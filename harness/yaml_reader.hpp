@@ -34,8 +34,13 @@ class YamlReader {
 
   void allowOnly(const YAML::Node& map, const std::string& where, const std::set<std::string>& keys) const {
     if (!map.IsMap()) yamlError(path_, map, where + " must be a mapping");
+    std::set<std::string> seen;
     for (const auto& kv : map) {
-      const std::string key = kv.first.as<std::string>();
+      // a key must be a plain scalar (yaml-cpp's own message for a sequence key is not one line with FILE)
+      if (!kv.first.IsScalar()) yamlError(path_, kv.first, "a key in " + where + " must be a plain name");
+      const std::string key = kv.first.Scalar();
+      // YAML forbids duplicate keys; yaml-cpp keeps the first silently
+      if (!seen.insert(key).second) yamlError(path_, kv.first, "duplicate key '" + key + "' in " + where);
       if (!keys.count(key)) {
         std::string allowed;
         for (const auto& k : keys) allowed += (allowed.empty() ? "" : ", ") + k;

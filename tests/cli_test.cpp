@@ -87,6 +87,47 @@ TEST(CliEveryModel, ConvertsAndRoundTrips) {
   }
 }
 
+TEST(CliPoe2dh, ConditioningWarningsAreWordedFromTheData) {
+  // joint 2's axis 1e-7 rad from joint 1's and the tool z 1e-9 rad from joint 2's: rows 1 and 2 and the
+  // tool get |d| ~ |p| / angle (the D-H singularity of Wu et al. §V)
+  const std::string f = writeFile("nearly_parallel.yaml", R"(name: nearly-parallel
+length_unit: m
+poe:
+  joints:
+    - {name: waist, twist: [0, 0, 1, 0, 0, 0]}
+    - {name: elbow, twist: [9.999999999999982e-08, 0, 0.999999999999995, 0.399999999999998, -0.2999999999999985, -3.9999999999999935e-08]}
+  tool_pose: [[1.0, 0, 1e-09, 0.5], [0, 1, 0, 0.1], [-1e-09, 0, 1.0, 0.2], [0, 0, 0, 1]]
+)");
+  const CliRun r = run("poe2dh " + f);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string expected[3] = {
+      "warning: row of joint 1 (waist): |d| = 3e+06, |a| = 0.4 exceed 1e+03 L (L = 0.548); the line before and "
+      "after this row meet at 1e-07 rad: nearly parallel axes make the D-H table ill-conditioned (Wu et al. §V)\n",
+      "warning: row of joint 2 (elbow): |d| = 5.02e+06, |a| = 0.3 exceed 1e+03 L (L = 0.548); the line before and "
+      "after this row meet at 9.9e-08 rad: nearly parallel axes make the D-H table ill-conditioned (Wu et al. §V)\n",
+      "warning: tool: |d_T| = 2.02e+06 exceeds 1e+03 L: the last joint axis is nearly parallel to the tool z axis\n"};
+  for (const std::string& w : expected) EXPECT_NE(r.out.find(w), std::string::npos) << w << "\nnot in\n" << r.out;
+  EXPECT_NE(r.out.find("FK check: POE vs D-H over 65 configurations"), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(run("poe2dh " + f + " --json").out);
+  ASSERT_EQ(j["warnings"].size(), 3u);
+  EXPECT_EQ("warning: " + j["warnings"][2].get<std::string>() + "\n", expected[2]);
+  EXPECT_EQ(j["conditioning"][1]["ill_conditioned"], true);
+  EXPECT_EQ(j["conditioning"][0]["ill_conditioned"], false);
+
+  // a threshold above rounding level snaps the axes and says by how much FK moved
+  const CliRun snapped = run("poe2dh " + f + " --parallel-threshold 1e-6");
+  ASSERT_EQ(snapped.status, 0) << snapped.err;
+  EXPECT_NE(snapped.out.find("warning: parallel threshold 1e-06 is above rounding level (7.11e-15): nearly parallel "
+                             "axes were snapped; FK deviation "),
+            std::string::npos)
+      << snapped.out;
+  EXPECT_NE(snapped.out.find(" rad over 65 configurations\n"), std::string::npos) << snapped.out;
+  // a well-conditioned robot gets no warning
+  const CliRun puma = run("poe2dh " + model("puma560_okamura_nominal.yaml"));
+  ASSERT_EQ(puma.status, 0) << puma.err;
+  EXPECT_EQ(puma.out.find("warning:"), std::string::npos) << puma.out;
+}
+
 TEST(CliFk, PoeAndDhAgree) {
   const std::string q = "--q 0.1,-0.2,0.3,-0.4,0.5,-0.6";
   const CliRun a = run("fk " + model("puma560_corke.yaml") + " " + q + " --json --model dh");

@@ -88,7 +88,13 @@ TEST(PoeToDh, ReproducesTableIINominal) {
   EXPECT_EQ(m.joint(1).link.theta, 0.0);
   expectPrinted(m.toolTheta() / kDeg, p4(0), "tool theta");
   expectPrinted(m.toolD(), p4(0), "tool d");
-  EXPECT_TRUE(c.warnings.empty());
+  // well conditioned: nothing to warn about
+  ASSERT_EQ(c.rows.size(), 7u);
+  for (const DhRowReport& r : c.rows) EXPECT_FALSE(r.ill_conditioned) << "row " << r.row;
+  EXPECT_FALSE(c.tool.ill_conditioned);
+  EXPECT_FALSE(c.above_rounding);
+  EXPECT_EQ(c.rows[3].abs_a, 150.0);  // row 3: a = 150, d = -50 (Table II)
+  EXPECT_EQ(c.rows[3].abs_d, 50.0);
 }
 
 TEST(PoeToDh, ReproducesTableIIActual) {
@@ -114,8 +120,39 @@ TEST(PoeToDh, ReproducesTableIIActual) {
   }
   expectPrinted(m.toolTheta() / kDeg, p4(83.1872), "tool theta");
   expectPrinted(m.toolD(), p4(-35.4328), "tool d");
-  EXPECT_LE(c.fk_check.max_rotation, 1e-12);
-  EXPECT_LE(c.fk_check.max_translation, 1e-12 * c.fk_check.scale);
+  const FkCheck check = checkDhConversion(pumaActual(), m);
+  EXPECT_EQ(check.samples, kFkCheckSamples + 1);
+  EXPECT_LE(check.max_rotation, 1e-12);
+  EXPECT_LE(check.max_translation, 1e-12 * check.scale);
+  // the bound's scale is the largest of L and the table's lengths: here |d| of row 2 (567.6554 mm)
+  expectPrinted(check.scale, p4(567.6554), "bound scale");
+  EXPECT_EQ(check.scale, c.scale);
+}
+
+TEST(CheckDhConversion, DetectsAWrongTable) {
+  // The check compares two independent forward kinematics, so it must see a table that is off by 1e-6.
+  const PoeModel poe = pumaNominal();
+  const DhConversion c = poeToDh(poe);
+  const FkCheck exact = checkDhConversion(poe, c.model);
+  EXPECT_LE(exact.max_translation, 1e-12 * exact.scale);
+  std::vector<DhJoint> joints = c.model.joints();
+  joints[2].link.a += 1e-6;  // row 3
+  const DhModel wrong(c.model.base(), joints, c.model.toolTheta(), c.model.toolD());
+  const FkCheck off = checkDhConversion(poe, wrong);
+  EXPECT_GT(off.max_translation, 0.5e-6);
+  EXPECT_LT(off.max_translation, 1.5e-6);
+  joints = c.model.joints();
+  joints[4].link.alpha += 1e-6;  // a twist of the wrist turns the tool
+  const FkCheck turned = checkDhConversion(poe, DhModel(c.model.base(), joints, c.model.toolTheta(), c.model.toolD()));
+  EXPECT_GT(turned.max_rotation, 0.5e-6);
+  EXPECT_LT(turned.max_rotation, 1.5e-6);
+  // the zero configuration alone, and errors
+  EXPECT_EQ(checkDhConversion(poe, wrong, 0).samples, 1);
+  EXPECT_THROW(checkDhConversion(poe, wrong, -1), std::invalid_argument);
+  std::vector<JointSpec> two(2);
+  two[0].twist = twist(0, 0, 1, 0, 0, 0);
+  two[1].twist = twist(0, 0, 1, 0, -1, 0);
+  EXPECT_THROW(checkDhConversion(PoeModel(two, Pose()), c.model), std::invalid_argument);
 }
 
 TEST(PoeToDh, PrismaticJointsConvert) {
@@ -162,13 +199,22 @@ TEST(PoeToDh, NearlyParallelAxesAreAccurateAndReported) {
     j[2].twist = twist(1, 0, 0, 0, 0.1, 0);
     const PoeModel poe(j, expSE3(twist(0, 0, 0, 0.5, 0.5, 0.2)));
     const DhConversion c = poeToDh(poe);
-    const double bound = 1e-12 * c.fk_check.scale;
-    EXPECT_LE(c.fk_check.max_translation, bound) << "tilt " << tilt;
-    EXPECT_LE(c.fk_check.max_rotation, 1e-12) << "tilt " << tilt;
-    const bool ill = std::abs(c.model.joint(0).link.d) > kIllConditioned * poe.size();
+    const FkCheck check = checkDhConversion(poe, c.model);
+    const double bound = 1e-12 * check.scale;
+    EXPECT_LE(check.max_translation, bound) << "tilt " << tilt;
+    EXPECT_LE(check.max_rotation, 1e-12) << "tilt " << tilt;
+    // the lengths the warning quotes are the table's, and |d| ~ |p| / tan(tilt) grows as the axes close
+    const DhParams& row1 = c.model.joint(0).link;
+    EXPECT_EQ(c.rows[1].abs_d, std::abs(row1.d));
+    EXPECT_EQ(c.rows[1].abs_a, std::abs(row1.a));
+    EXPECT_EQ(c.tool.abs_d, std::abs(c.model.toolD()));
+    const bool ill = std::abs(row1.d) > kIllConditioned * poe.size();
     EXPECT_EQ(c.rows[1].ill_conditioned, ill);
-    if (ill) {
-      EXPECT_FALSE(c.warnings.empty());
+    if (tilt >= 1e-3) {
+      EXPECT_FALSE(ill) << "tilt " << tilt;
+    }
+    if (tilt <= 1e-6 && !c.rows[1].parallel) {
+      EXPECT_TRUE(ill) << "tilt " << tilt;
     }
     if (!c.rows[1].parallel) {
       EXPECT_NEAR(c.rows[1].axis_angle, tilt, 1e-15 + 1e-12 * tilt);
@@ -186,10 +232,18 @@ TEST(PoeToDh, ParallelThresholdOptionReportsDeviation) {
   snap.parallel_threshold = 1e-6;
   const DhConversion c = poeToDh(poe, snap);
   EXPECT_TRUE(c.rows[1].parallel);
-  EXPECT_GT(c.fk_check.max_translation, 1e-9);  // snapping a 1e-7 rad tilt moves the tool
-  EXPECT_LT(c.fk_check.max_translation, 1e-5);
-  ASSERT_FALSE(c.warnings.empty());
-  EXPECT_NE(c.warnings.back().find("snapped"), std::string::npos);
+  EXPECT_TRUE(c.above_rounding);
+  EXPECT_EQ(c.parallel_threshold, 1e-6);
+  EXPECT_EQ(c.rounding_parallel_threshold, 16 * 2 * kEps);  // 16 eps per joint, 2 joints
+  const FkCheck check = checkDhConversion(poe, c.model);
+  EXPECT_GT(check.max_translation, 1e-9);  // snapping a 1e-7 rad tilt moves the tool
+  EXPECT_LT(check.max_translation, 1e-5);
+  // at the default threshold the same robot converts exactly and nothing is flagged
+  const DhConversion exact = poeToDh(poe);
+  EXPECT_FALSE(exact.above_rounding);
+  EXPECT_FALSE(exact.rows[1].parallel);
+  EXPECT_EQ(exact.parallel_threshold, exact.rounding_parallel_threshold);
+  EXPECT_LE(checkDhConversion(poe, exact.model).max_translation, 1e-12 * exact.scale);
 }
 
 TEST(PoeToDh, OffsetsFoldIntoThetaAndD) {
@@ -202,7 +256,6 @@ TEST(PoeToDh, OffsetsFoldIntoThetaAndD) {
   j[2].offset = 0.2;
   const PoeModel poe(j, expSE3(twist(0.3, 0, 0, 1, 1, 1)));
   const DhConversion c = poeToDh(poe);
-  ConvertOptions no_offsets;
   std::vector<JointSpec> j0 = j;
   for (auto& s : j0) s.offset = 0;
   const DhConversion c0 = poeToDh(PoeModel(j0, poe.toolPose()));
@@ -266,17 +319,42 @@ TEST(DhToPoe, RoundTripOnTheActualPuma) {
   EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.size());
 }
 
-TEST(ModifiedDh, SameChainRegrouped) {
+TEST(ModifiedDh, NominalPumaCraigTable) {
+  // Craig's table of the nominal PUMA, regrouped by hand from Table II (standard rows
+  // (theta, d, alpha, a) = (0,0,90,0) (0,0,0,100) (0,-50,90,150) (180,20,90,0) (180,0,90,0) (0,0,180,0)):
+  // joint i gets (alpha_{i-1}, a_{i-1}) of the row before and (theta_i, d_i) of its own row.
+  const PoeModel poe = pumaNominal();
+  const ModifiedDh m = toModifiedDh(poeToDh(poe).model);
+  struct Row {
+    double alpha, a, theta, d;  // deg, mm
+  };
+  const Row expected[6] = {{0, 0, 0, 0}, {90, 0, 0, 0}, {0, 100, 0, -50}, {90, 150, 180, 20}, {90, 0, 180, 0}, {90, 0, 0, 0}};
+  ASSERT_EQ(m.joints.size(), 6u);
+  EXPECT_NEAR(m.base_theta, 0.0, 1e-12);
+  EXPECT_NEAR(m.base_d, 0.0, 1e-12);
+  for (int i = 0; i < 6; ++i) {
+    const ModifiedDhJoint& j = m.joints[static_cast<size_t>(i)];
+    EXPECT_NEAR(j.alpha / kDeg, expected[i].alpha, 1e-10) << "joint " << i + 1;
+    EXPECT_NEAR(j.a, expected[i].a, 1e-10) << "joint " << i + 1;
+    EXPECT_NEAR(std::abs(wrapAngle(j.theta - expected[i].theta * kDeg)), 0.0, 1e-12) << "joint " << i + 1;
+    EXPECT_NEAR(j.d, expected[i].d, 1e-10) << "joint " << i + 1;
+  }
+  EXPECT_NEAR(m.tool_alpha / kDeg, 180.0, 1e-10);
+  EXPECT_NEAR(m.tool_a, 0.0, 1e-10);
+  EXPECT_NEAR(m.tool_theta, 0.0, 1e-12);
+  EXPECT_NEAR(m.tool_d, 0.0, 1e-10);
+}
+
+TEST(ModifiedDh, ForwardKinematicsMatchesPoe) {
+  // against the POE model the table came from (product of exponentials), not the standard table
   const PoeModel poe = pumaActual();
-  const DhConversion c = poeToDh(poe);
-  const ModifiedDh m = toModifiedDh(c.model);
-  EXPECT_EQ(m.joints[0].alpha, c.model.base().alpha);
-  EXPECT_EQ(m.joints[1].a, c.model.joint(0).link.a);
-  EXPECT_EQ(m.tool_alpha, c.model.joint(5).link.alpha);
-  const VecX q = (VecX(6) << 0.1, -0.4, 2.0, -3.0, 0.5, 1.5).finished();
-  const Pose a = dhForwardKinematics(c.model, q), b = modifiedDhForwardKinematics(m, q);
-  EXPECT_LE(rotationError(a.R, b.R), 1e-14);
-  EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.size());
+  const ModifiedDh m = toModifiedDh(poeToDh(poe).model);
+  for (const VecX& q : {VecX((VecX(6) << 0.1, -0.4, 2.0, -3.0, 0.5, 1.5).finished()), VecX(VecX::Zero(6)),
+                        VecX((VecX(6) << -2.5, 1.0, -0.3, 0.8, -1.9, 3.0).finished())}) {
+    const Pose a = poeForwardKinematics(poe, q), b = modifiedDhForwardKinematics(m, q);
+    EXPECT_LE(rotationError(a.R, b.R), 1e-14);
+    EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.size());
+  }
 }
 
 TEST(PoeForms, ToolAndLocalRoundTrips) {

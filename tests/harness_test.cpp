@@ -8,9 +8,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
+#include <string>
+
+#include <sys/resource.h>
 
 #include "cli_runner.hpp"
-#include <string>
 
 namespace {
 
@@ -148,6 +151,19 @@ TEST(Validate, ResultsIndependentOfThreadsAndShards) {
             one["scenarios"][0]["samples"].get<int>());
 }
 
+// Memory does not grow with --samples (issue 11, finding 5): 2,000,000 samples used 416 MB when every
+// sample's q and errors were kept; the statistics are now constant memory and the plot keeps 20,000 points.
+TEST(Validate, MemoryDoesNotGrowWithSamples) {
+  const CliRun r = run("validate " + model("elbow_mls.xml") + " --tip tool --samples 2000000 --threads 2 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  rusage usage{};
+  ASSERT_EQ(getrusage(RUSAGE_CHILDREN, &usage), 0);
+  EXPECT_LT(usage.ru_maxrss, 150 * 1024) << "largest child's resident set, KB";
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["scenarios"][0]["samples"].get<int>(), 2000000);
+  EXPECT_TRUE(j["pass"].get<bool>());
+}
+
 namespace {
 void expectRejectedWithoutReport(const std::string& args, const std::string& what) {
   const std::string report = tempDir() + "/should_not_exist";
@@ -199,6 +215,41 @@ TEST(ValidateReport, ReportThatCannotBeWrittenFailsWithoutOutput) {
   for (const auto& entry : std::filesystem::directory_iterator(tempDir())) {
     EXPECT_EQ(entry.path().filename().string().find("blocked.partial"), std::string::npos) << "partial report left";
   }
+}
+
+TEST(ValidateReport, PictureOfABoundedSubsampleHistogramOfEverySample) {
+  // 50,000 samples: the error picture shows every 3rd (16,667 points), the histogram counts all of them
+  const std::string dir = tempDir() + "/report_subsample";
+  const CliRun r = run("validate " + model("elbow_mls.xml") + " --tip tool --samples 50000 --report " + dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream summary(dir + "/summary.md");
+  const std::string md((std::istreambuf_iterator<char>(summary)), {});
+  EXPECT_NE(md.find("1 sample in 3 (16667 of 50000)"), std::string::npos) << md;
+  std::ifstream errors(dir + "/elbow_mls_errors.dat");
+  std::string line;
+  long long rows = 0, last = -1;
+  while (std::getline(errors, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    ++rows;
+    last = std::stoll(line.substr(0, line.find(' ')));
+  }
+  EXPECT_EQ(rows, 16667);
+  EXPECT_EQ(last, 49998);
+  std::ifstream histogram(dir + "/elbow_mls_histogram.dat");
+  std::vector<long long> totals;
+  while (std::getline(histogram, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream in(line);
+    double edge = 0;
+    in >> edge;
+    long long v = 0;
+    for (size_t c = 0; in >> v; ++c) {
+      if (totals.size() <= c) totals.resize(c + 1, 0);
+      totals[c] += v;
+    }
+  }
+  ASSERT_EQ(totals.size(), 6u) << "rotation and translation of poe_vs_mujoco, dh_vs_mujoco, jacobian_vs_mujoco";
+  for (long long t : totals) EXPECT_EQ(t, 50000);
 }
 
 TEST(ValidateReport, WritesJsonSummaryAndPictures) {

@@ -1,22 +1,54 @@
-// Jacobians against central finite differences of forward kinematics, on 1,000 seeded random robots
-// (2-7 joints: revolute, prismatic, helical; scales != 1; offsets; degenerate axis geometry), POE and
-// D-H (via poeToDh), and the consistency of the adjoint conversions.
+// Jacobians (jacobian.hpp) against references that do not come from the library's Jacobian code:
 //
-// Step and tolerance from the math: with joint motion x = scale (q + offset), a step of x by
-// h_x = 1e-5 (rad, or 1e-5 R for prismatic) gives T(q+h) T(q-h)^-1 = exp(2 h xi_s + O(h^3)) (the h^2
-// terms cancel), so the central difference has truncation error ~ h_x^2 ~ 1e-10 relative and rounding
-// error ~ eps R / h_x ~ 2e-11 R. Errors are measured per unit joint motion, linear parts relative to the
-// length scale R of the configuration; the bound 1e-8 is a hundredfold margin.
+// 1. Central finite differences of forward kinematics on 1,000 seeded random robots x 3 poses
+//    (tests/random_robot.hpp: 2-7 joints, revolute/prismatic/helical, scales != 1, offsets, parallel,
+//    nearly parallel, collinear, intersecting axes), POE and the D-H form poeToDh(model).model, each
+//    Jacobian with its own definition:
+//      spatial   V_s = vee((dg/dx_i) g^-1)            [w; v], base frame
+//      body      V_b = vee(g^-1 (dg/dx_i))            [w; v], tool frame
+//      geometric [d p_tool/dx_i; vee((dR/dx_i) R^T)]  [v; w], base frame
+//    g(x) is evaluated by this file (product of exponentials / D-H rows, written here from
+//    docs/conventions.md) in long double, and checked to equal the library's forward kinematics to
+//    double rounding, so the Jacobians are the derivatives of the library's FK.
+// 2. Hand-derived columns of small robots (planar RR with offsets and a scale, RP with a scaled
+//    prismatic joint, a helical joint, a spatial RR), written from the geometry.
+// 3. The compute-then-get contract: the getters do not change data, do not depend on call order, and
+//    agree with each other through the definitions (derived below, not the library's conversions).
+// 4. The conversion functions against the finite-difference references of the Jacobians they convert.
+//
+// Step and tolerance of the finite differences. Errors are per unit joint *motion* x = scale (q + offset)
+// (column / scale_i), angular rows in rad, linear rows relative to the length scale R of the
+// configuration (max of L, |p_tool|, |o_i|; for D-H also the table's max |d|, |a|), prismatic columns
+// per slide of R. The step is h in x for revolute/helical joints and h R for prismatic ones.
+//   - truncation: (g(x+h) - g(x-h)) / 2h = g' + h^2/6 g''' + O(h^4). For a joint of unit twist xi,
+//     g''' g^-1 = hat(xi_s)^3 and g^-1 g''' = hat(xi_b)^3; with |w| = 1, hat(xi)^3 = [-hat(w), hat(w)^2 v]
+//     and |hat(w)^2 v| = distance of the axis from the origin of the frame (base or tool) <= 2R (a pitch
+//     is along w and drops out); for the tool position, |p'''| = distance of the tool from the axis
+//     <= 2R. Prismatic: g is affine in x, no truncation. So truncation <= h^2/6 (rad) and h^2/3 (/R).
+//   - rounding of g: n <= 7 factors plus base/tool, each a few eps relative (positions eps R):
+//     |dg| <= 36 eps_ld R, hence <= 36 eps_ld / h after the difference (the step itself is exact:
+//     the difference is divided by the computed (x+h) - (x-h), Sterbenz).
+//   - the library's double rounding (and its double x against the long double one): ~64 eps = 1.4e-14.
+//   With long double (x86: eps_ld = 1.08e-19) the step h = 2^-19 = 1.9e-6 (near the minimum of
+//   h^2/3 + 36 eps_ld / h) predicts at most 1.2e-12 + 2.1e-12 + 1.4e-14 = 3.3e-12; the bound is three
+//   times that, 9.8e-12. Measured: angular 7.0e-13 (h^2/6 = 6.1e-13), linear 1.2e-12 (h^2/3 = 1.2e-12):
+//   the truncation term, as predicted. (In double the same formula picks h = 2^-15 and a bound of
+//   1.7e-9, the accuracy a double finite difference can reach: eps / h ~ 1e-11 times the chain's factor;
+//   long double makes the check two orders of magnitude tighter. Where long double is double, e.g. MSVC,
+//   fdStep/fdBound give those double values.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "lowpair/convert.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
-#include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
 #include "random_robot.hpp"
 
@@ -24,179 +56,621 @@ using namespace lowpair;
 
 namespace {
 
-PoeModel randomRobot(std::mt19937_64& rng) { return lowpair_test::randomRobot(rng).model; }
-using lowpair_test::randomConfiguration;
+using Real = long double;
+using Mat4r = Eigen::Matrix<Real, 4, 4>;
+using Mat3r = Eigen::Matrix<Real, 3, 3>;
+using Vec3r = Eigen::Matrix<Real, 3, 1>;
+using VecXr = Eigen::Matrix<Real, Eigen::Dynamic, 1>;
 
-// Finite-difference Jacobians (spatial, body, geometric) of any forward-kinematics function.
-struct FdJacobians {
-  Mat6X spatial, body, geometric;
-};
+constexpr double kEpsD = std::numeric_limits<double>::epsilon();
+constexpr Real kEpsLd = std::numeric_limits<Real>::epsilon();
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
-template <class Fk>
-FdJacobians finiteDifferences(const Fk& fk, const VecX& q, const VecX& step) {
-  const int n = static_cast<int>(q.size());
-  FdJacobians fd{Mat6X(6, n), Mat6X(6, n), Mat6X(6, n)};
-  for (int i = 0; i < n; ++i) {
-    VecX qp = q, qm = q;
-    qp[i] += step[i];
-    qm[i] -= step[i];
-    const Pose Tp = fk(qp), Tm = fk(qm);
-    const double h2 = 2.0 * step[i];
-    const Vec6 xs = logSE3(Tp * Tm.inverse()) / h2;  // spatial twist
-    fd.spatial.col(i) = xs;
-    fd.body.col(i) = logSE3(Tm.inverse() * Tp) / h2;
-    fd.geometric.col(i) << (Tp.p - Tm.p) / h2, xs.head<3>();
-  }
-  return fd;
+// ---- the finite-difference step and bound (see the header) -------------------------------------------
+constexpr double kRoundingFactor = 36.0;  // |dg| <= 36 eps R for a chain of <= 9 factors
+double fdStep() {
+  const double h_opt = std::cbrt(1.5 * kRoundingFactor * static_cast<double>(kEpsLd));
+  return std::ldexp(1.0, static_cast<int>(std::lround(std::log2(h_opt))));
+}
+double fdPredicted() {
+  const double h = fdStep();
+  return h * h / 3.0 + kRoundingFactor * static_cast<double>(kEpsLd) / h + 64.0 * kEpsD;
+}
+double fdBound() { return 3.0 * fdPredicted(); }
+
+// ---- forward kinematics of this file, long double ------------------------------------------------------
+Mat3r skew(const Vec3r& w) {
+  Mat3r W;
+  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return W;
+}
+Vec3r veeSkew(const Mat3r& M) {  // w of the antisymmetric part
+  return Vec3r(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1)) / 2;
+}
+Mat4r matrixOf(const Pose& T) {
+  Mat4r M = Mat4r::Identity();
+  M.topLeftCorner<3, 3>() = T.R.cast<Real>();
+  M.topRightCorner<3, 1>() = T.p.cast<Real>();
+  return M;
+}
+Mat4r inverseOf(const Mat4r& G) {
+  Mat4r M = Mat4r::Identity();
+  M.topLeftCorner<3, 3>() = G.topLeftCorner<3, 3>().transpose();
+  M.topRightCorner<3, 1>() = -(G.topLeftCorner<3, 3>().transpose() * G.topRightCorner<3, 1>());
+  return M;
 }
 
-// Worst error per unit joint motion: angular rows (rad), linear rows / R.
+// exp(xi_bar x) of a normalized joint (conventions.md, Wu eq. 2): R = I + sin x W + (1 - cos x) W^2,
+// p = (I - R)(w x v) + h x w; prismatic: translation v x.
+Mat4r jointExponential(const Joint& j, Real x) {
+  Mat4r E = Mat4r::Identity();
+  const Vec3r w = j.twist.head<3>().cast<Real>(), v = j.twist.tail<3>().cast<Real>();
+  if (j.type == JointType::Prismatic) {
+    E.topRightCorner<3, 1>() = v * x;
+    return E;
+  }
+  const Mat3r W = skew(w);
+  const Real s = std::sin(x / 2);
+  const Mat3r R = Mat3r::Identity() + std::sin(x) * W + 2 * s * s * W * W;
+  E.topLeftCorner<3, 3>() = R;
+  E.topRightCorner<3, 1>() = (Mat3r::Identity() - R) * w.cross(v) + static_cast<Real>(j.pitch) * x * w;
+  return E;
+}
+
+// g(x) = exp(xi_1 x_1) ... exp(xi_n x_n) exp(xi_T) (eq. 5) in the joint motions x.
+Mat4r poeFk(const PoeModel& model, const VecXr& x) {
+  Mat4r G = Mat4r::Identity();
+  for (int i = 0; i < model.dof(); ++i) G = G * jointExponential(model.joint(i), x[i]);
+  return G * matrixOf(model.toolPose());
+}
+
+// A(theta, d, alpha, a) = Rz(theta) Tz(d) Rx(alpha) Tx(a) (eq. 9).
+Mat4r dhRow(Real theta, Real d, Real alpha, Real a) {
+  const Real ct = std::cos(theta), st = std::sin(theta), ca = std::cos(alpha), sa = std::sin(alpha);
+  Mat4r A;
+  A << ct, -st * ca, st * sa, a * ct,  //
+      st, ct * ca, -ct * sa, a * st,   //
+      0, sa, ca, d,                    //
+      0, 0, 0, 1;
+  return A;
+}
+
+// H(x) = A(base) prod_i [Rz(j x_i) Tz(k x_i) A(link_i)] Rz(theta_T) Tz(d_T) (eq. 10) in the joint motions x.
+Mat4r dhFk(const DhModel& model, const VecXr& x) {
+  const DhParams& b = model.base();
+  Mat4r G = dhRow(b.theta, b.d, b.alpha, b.a);
+  for (int i = 0; i < model.dof(); ++i) {
+    const DhJoint& j = model.joint(i);
+    const DhParams& l = j.link;
+    G = G * dhRow(l.theta + j.turnRate() * x[i], l.d + j.slideRate() * x[i], l.alpha, l.a);
+  }
+  return G * dhRow(model.toolTheta(), model.toolD(), 0, 0);
+}
+
+template <class Model>
+VecXr motions(const Model& model, const VecX& q) {
+  VecXr x(model.dof());
+  for (int i = 0; i < model.dof(); ++i) {
+    const JointMotion& m = model.joint(i);
+    x[i] = static_cast<Real>(m.scale) * (static_cast<Real>(q[i]) + static_cast<Real>(m.offset));
+  }
+  return x;
+}
+
+// ---- finite-difference Jacobians, d/dx (per unit joint motion) -----------------------------------------
+struct Reference {
+  Mat6X spatial, body, geometric;
+  Pose T;  // g(x) rounded to double
+};
+
+// step[i]: h for revolute/helical joints (rad), h R for prismatic ones (length), so that both have the
+// relative truncation and rounding errors of the header.
+template <class Fk>
+Reference finiteDifferences(const Fk& fk, const VecXr& x, const VecX& step) {
+  const int n = static_cast<int>(x.size());
+  Reference ref{Mat6X(6, n), Mat6X(6, n), Mat6X(6, n), Pose{}};
+  const Mat4r G = fk(x), Ginv = inverseOf(G);
+  ref.T.R = G.topLeftCorner<3, 3>().cast<double>();
+  ref.T.p = G.topRightCorner<3, 1>().cast<double>();
+  for (int i = 0; i < n; ++i) {
+    const Real h = step[i];
+    VecXr xp = x, xm = x;
+    xp[i] += h;
+    xm[i] -= h;
+    const Mat4r dG = (fk(xp) - fk(xm)) / (xp[i] - xm[i]);
+    const Mat4r S = dG * Ginv;  // hat(V_s)
+    const Mat4r B = Ginv * dG;  // hat(V_b)
+    ref.spatial.col(i) << veeSkew(S.topLeftCorner<3, 3>()).cast<double>(), S.topRightCorner<3, 1>().cast<double>();
+    ref.body.col(i) << veeSkew(B.topLeftCorner<3, 3>()).cast<double>(), B.topRightCorner<3, 1>().cast<double>();
+    // geometric: [dp/dx; vee(dR/dx R^T)], and dR R^T is the rotation block of S
+    ref.geometric.col(i) << dG.topRightCorner<3, 1>().cast<double>(), ref.spatial.col(i).head<3>();
+  }
+  return ref;
+}
+
+// ---- dimensionless errors -------------------------------------------------------------------------------
+double finiteOrInf(double e) { return std::isfinite(e) ? e : kInf; }  // NaN never passes a bound
+
+// Worst error per unit joint motion: column i of J (d/dq) divided by scale_i against ref (d/dx);
+// revolute/helical columns: angular in rad, linear / R; prismatic: angular * R, linear as is. Keeps the
+// place of the worst one for the failure message.
 struct Worst {
   double angular = 0.0, linear = 0.0;
-  void add(const Mat6X& J, const Mat6X& ref, const PoeModel& model, double R, bool angular_first) {
-    for (int i = 0; i < model.dof(); ++i) {
-      const Joint& j = model.joint(i);
-      const double unit = j.type == JointType::Prismatic ? j.scale / R : j.scale;  // |dx/dq| in units of R
-      const Vec6 e = (J.col(i) - ref.col(i)) / unit;
-      const Vec3 ea = angular_first ? e.head<3>() : e.tail<3>();
-      const Vec3 el = angular_first ? e.tail<3>() : e.head<3>();
-      angular = std::max(angular, ea.norm());
-      linear = std::max(linear, el.norm() / R);
+  std::string where;
+  double max() const { return std::max(angular, linear); }
+  void add(double a, double l, const std::string& at) {
+    a = finiteOrInf(a);
+    l = finiteOrInf(l);
+    if (std::max(a, l) > max() || (where.empty() && !at.empty())) where = at;
+    angular = std::max(angular, a);
+    linear = std::max(linear, l);
+  }
+  void add(const Mat6X& J, const Mat6X& ref, const std::vector<JointMotion>& joints, double R, bool angular_first,
+           const std::string& at) {
+    for (size_t i = 0; i < joints.size(); ++i) {
+      const Eigen::Index c = static_cast<Eigen::Index>(i);
+      const bool prismatic = joints[i].type == JointType::Prismatic;
+      const Vec6 e = J.col(c) / joints[i].scale - ref.col(c);
+      const double ea = (angular_first ? e.head<3>() : e.tail<3>()).norm();
+      const double el = (angular_first ? e.tail<3>() : e.head<3>()).norm();
+      add(prismatic ? ea * R : ea, prismatic ? el : el / R, at + " column " + std::to_string(i + 1));
     }
   }
 };
 
-// The length scale of a configuration: the largest distance from the base origin to a joint axis,
-// the tool, or (for D-H) a frame of the table.
-double lengthScale(const PoeModel& model, const Data& data) {
-  double R = std::max(model.size(), data.T_base_tool.p.norm());
+template <class Model>
+std::vector<JointMotion> motionsOf(const Model& model) {
+  std::vector<JointMotion> m;
+  for (int i = 0; i < model.dof(); ++i) m.push_back(model.joint(i));
+  return m;
+}
+VecX steps(const std::vector<JointMotion>& joints, double h, double R) {
+  VecX step(static_cast<Eigen::Index>(joints.size()));
+  for (size_t i = 0; i < joints.size(); ++i) {
+    step[static_cast<Eigen::Index>(i)] = joints[i].type == JointType::Prismatic ? h * R : h;
+  }
+  return step;
+}
+// scale 1 versions, for comparisons of d/dx with d/dx
+std::vector<JointMotion> unitScale(std::vector<JointMotion> m) {
+  for (JointMotion& j : m) j.scale = 1.0;
+  return m;
+}
+
+// The length scale of a configuration: the largest distance from the base origin to a joint line's
+// frame origin or the tool, at least L.
+double lengthScale(double L, const Data& data) {
+  double R = std::max(L, data.T_base_tool.p.norm());
   for (const Pose& T : data.T_base_joint) R = std::max(R, T.p.norm());
   return R;
+}
+
+// The rounding scale of a D-H table (conversion.md, "Accuracy"): max(L, max |d|, max |a|, |d_T|) over the
+// base row and the links; its FK and Jacobian are exact to eps times this.
+double tableScale(const DhModel& dh) {
+  double s = std::max({dh.size(), std::abs(dh.base().d), std::abs(dh.base().a), std::abs(dh.toolD())});
+  for (const DhJoint& j : dh.joints()) s = std::max({s, std::abs(j.link.d), std::abs(j.link.a)});
+  return s;
+}
+
+double poseError(const Pose& a, const Pose& b, double R) {
+  return finiteOrInf(std::max((a.R - b.R).cwiseAbs().maxCoeff(), (a.p - b.p).cwiseAbs().maxCoeff() / R));
+}
+
+struct Jacobians {
+  Mat6X spatial, body, geometric;
+};
+template <class Model>
+Jacobians libraryJacobians(const Model& model, Data& data, const VecX& q) {
+  const int n = model.dof();
+  Jacobians J{Mat6X(6, n), Mat6X(6, n), Mat6X(6, n)};
+  computeJacobians(model, data, q);
+  getSpatialJacobian(data, J.spatial);
+  getBodyJacobian(data, J.body);
+  getGeometricJacobian(data, J.geometric);
+  return J;
 }
 
 }  // namespace
 
 TEST(Jacobian, FiniteDifferencesOnThousandRandomRobots) {
+  const double h = fdStep(), bound = fdBound();
   std::mt19937_64 rng(19840924);
-  Worst poe_s, poe_b, poe_g, dh_s, dh_b, dh_g, dh_vs_poe;
-  int robots = 0, configurations = 0, ill_conditioned = 0;
+  Worst poe_s, poe_b, poe_g, dh_s, dh_b, dh_g, conv_sb, conv_bs, conv_sg, conv_gs, dh_vs_poe, fk_poe, fk_dh;
+  int configurations = 0, ill_conditioned = 0;
   for (int r = 0; r < 1000; ++r) {
-    const PoeModel model = randomRobot(rng);
+    const lowpair_test::RandomRobot robot = lowpair_test::randomRobot(rng);
+    const PoeModel& model = robot.model;
     const DhConversion c = poeToDh(model);
-    const int n = model.dof();
-    Data pd(model);
-    Data dd(c.model);
-    Mat6X Js(6, n), Jb(6, n), Jg(6, n), Ds(6, n), Db(6, n), Dg(6, n);
+    const double dh_scale = tableScale(c.model);
+    const std::vector<JointMotion> poe_joints = motionsOf(model), dh_joints = motionsOf(c.model);
+    const std::vector<JointMotion> per_motion = unitScale(poe_joints);
+    Data pd(model), dd(c.model);
+    Mat6X X(6, model.dof());
     for (int k = 0; k < 3; ++k) {
-      const VecX q = randomConfiguration(model, rng);
-      computeJacobians(model, pd, q); getSpatialJacobian(pd, Js);
-      computeJacobians(model, pd, q); getBodyJacobian(pd, Jb);
-      computeJacobians(model, pd, q); getGeometricJacobian(pd, Jg);
-      const double R = lengthScale(model, pd);
-      VecX step(n);
-      for (int i = 0; i < n; ++i) {
-        const Joint& j = model.joint(i);
-        step[i] = (j.type == JointType::Prismatic ? 1e-5 * R : 1e-5) / j.scale;
-      }
-      const FdJacobians fd = finiteDifferences([&](const VecX& x) { return poeForwardKinematics(model, x); }, q, step);
-      poe_s.add(Js, fd.spatial, model, R, true);
-      poe_b.add(Jb, fd.body, model, R, true);
-      poe_g.add(Jg, fd.geometric, model, R, false);
+      ++configurations;
+      const VecX q = lowpair_test::randomConfiguration(model, rng);
+      const std::string at = std::string(lowpair_test::geometryName(robot.geometry)) + " robot " +
+                             std::to_string(r) + " pose " + std::to_string(k);
+      const Jacobians P = libraryJacobians(model, pd, q);
+      const double R = lengthScale(model.size(), pd);
+      const Reference fd = finiteDifferences([&](const VecXr& x) { return poeFk(model, x); }, motions(model, q),
+                                             steps(poe_joints, h, R));
+      // the reference FK is the library's FK (to its rounding, 64 n eps as in kinematics_test)
+      const double e_fk = poseError(pd.T_base_tool, fd.T, R);
+      fk_poe.add(e_fk, e_fk, at);
+      poe_s.add(P.spatial, fd.spatial, poe_joints, R, true, at);
+      poe_b.add(P.body, fd.body, poe_joints, R, true, at);
+      poe_g.add(P.geometric, fd.geometric, poe_joints, R, false, at);
 
-      // D-H chain of the same robot; its rounding scale includes the table's |d|, |a| (design.md)
-      computeJacobians(c.model, dd, q); getSpatialJacobian(dd, Ds);
-      computeJacobians(c.model, dd, q); getBodyJacobian(dd, Db);
-      computeJacobians(c.model, dd, q); getGeometricJacobian(dd, Dg);
-      const double R_dh = std::max(R, c.fk_check.scale);
-      dh_vs_poe.add(Ds, Js, model, R_dh, true);
-      // Finite differences of the D-H FK carry its rounding eps R_dh / h: with nearly parallel axes
-      // (|d| up to 1e16 L) that swamps the derivative, so they are taken only on well-conditioned tables;
-      // the ill-conditioned ones are covered by the analytic D-H vs POE comparison above.
-      if (c.fk_check.scale > kIllConditioned * model.size()) {
+      // the conversion functions map one independent reference onto another (both d/dx: scale 1)
+      spatialToBody(fd.T, fd.spatial, X);
+      conv_sb.add(X, fd.body, per_motion, R, true, at);
+      bodyToSpatial(fd.T, fd.body, X);
+      conv_bs.add(X, fd.spatial, per_motion, R, true, at);
+      spatialToGeometric(fd.T, fd.spatial, X);
+      conv_sg.add(X, fd.geometric, per_motion, R, false, at);
+      geometricToSpatial(fd.T, fd.geometric, X);
+      conv_gs.add(X, fd.spatial, per_motion, R, true, at);
+
+      // D-H chain of the same robot, same joint variables. Its rounding scale is the table's
+      // R_dh = max(R, max |d|, max |a|) (conversion.md): its FK and Jacobian are exact to eps R_dh.
+      const Jacobians D = libraryJacobians(c.model, dd, q);
+      const double R_dh = std::max({R, dh_scale, lengthScale(model.size(), dd)});
+      dh_vs_poe.add(D.spatial, P.spatial, unitScale(dh_joints), R_dh, true, at);
+      // Nearly parallel axes give tables with |d| up to 1e16 L. Evaluated in double, their FK (hence
+      // their Jacobian) carries rounding eps R_dh, up to ~L itself, and a finite difference of any
+      // precision would be compared against that: a bound relative to R_dh would allow errors larger
+      // than the Jacobian. Such tables (over the library's kIllConditioned = 1e3 L warning) are covered
+      // by the comparison with the POE Jacobian just above, which is itself checked against FD.
+      if (dh_scale > kIllConditioned * model.size()) {
         ++ill_conditioned;
         continue;
       }
-      const FdJacobians fd_dh =
-          finiteDifferences([&](const VecX& x) { return dhForwardKinematics(c.model, x); }, q, step);
-      dh_s.add(Ds, fd_dh.spatial, model, R_dh, true);
-      dh_b.add(Db, fd_dh.body, model, R_dh, true);
-      dh_g.add(Dg, fd_dh.geometric, model, R_dh, false);
+      const Reference fd_dh = finiteDifferences([&](const VecXr& x) { return dhFk(c.model, x); },
+                                                motions(c.model, q), steps(dh_joints, h, R_dh));
+      const double e_fk_dh = poseError(dd.T_base_tool, fd_dh.T, R_dh);
+      fk_dh.add(e_fk_dh, e_fk_dh, at);
+      dh_s.add(D.spatial, fd_dh.spatial, dh_joints, R_dh, true, at);
+      dh_b.add(D.body, fd_dh.body, dh_joints, R_dh, true, at);
+      dh_g.add(D.geometric, fd_dh.geometric, dh_joints, R_dh, false, at);
     }
-    configurations += 3;
-    ++robots;
   }
-  std::printf("%d robots, %d configurations (%d with an ill-conditioned D-H table: no D-H finite differences); "
-              "worst error per unit joint motion\n", robots, configurations, ill_conditioned);
-  EXPECT_LT(ill_conditioned, configurations / 4);  // most configurations do check the D-H Jacobians
-  std::printf("%-28s %12s %14s\n", "", "angular", "linear / R");
-  const std::pair<const char*, Worst*> rows[] = {{"POE spatial vs FD", &poe_s}, {"POE body vs FD", &poe_b},
-                                                 {"POE geometric vs FD", &poe_g}, {"D-H spatial vs FD", &dh_s},
-                                                 {"D-H body vs FD", &dh_b},       {"D-H geometric vs FD", &dh_g},
-                                                 {"D-H spatial vs POE spatial", &dh_vs_poe}};
-  for (const auto& [name, w] : rows) {
-    std::printf("%-28s %12.3g %14.3g\n", name, w->angular, w->linear);
-    EXPECT_LE(w->angular, 1e-8) << name;
-    EXPECT_LE(w->linear, 1e-8) << name;
+  std::printf("1000 robots, %d configurations (%d with an ill-conditioned D-H table: D-H checked against POE "
+              "only)\nstep h = %.3g, predicted <= %.3g, bound %.3g; worst error per unit joint motion:\n",
+              configurations, ill_conditioned, h, fdPredicted(), bound);
+  std::printf("%-34s %10s %11s %10s\n", "", "angular", "linear / R", "bound");
+  // the D-H and POE Jacobians are both double evaluations of the same lines: rounding, measured ~1e-13;
+  // 1e-12 is the validate tolerance. FK: 64 n eps with n <= 9 factors.
+  const double fk_bound = 64 * 9 * kEpsD;
+  const struct {
+    const char* name;
+    const Worst& w;
+    double bound;
+  } rows[] = {{"POE spatial vs FD", poe_s, bound},
+              {"POE body vs FD", poe_b, bound},
+              {"POE geometric vs FD", poe_g, bound},
+              {"D-H spatial vs FD", dh_s, bound},
+              {"D-H body vs FD", dh_b, bound},
+              {"D-H geometric vs FD", dh_g, bound},
+              {"spatialToBody(FD) vs FD", conv_sb, bound},
+              {"bodyToSpatial(FD) vs FD", conv_bs, bound},
+              {"spatialToGeometric(FD) vs FD", conv_sg, bound},
+              {"geometricToSpatial(FD) vs FD", conv_gs, bound},
+              {"D-H spatial vs POE (/ R_dh)", dh_vs_poe, 1e-12},
+              {"reference FK vs library FK", fk_poe, fk_bound},
+              {"reference D-H FK vs library", fk_dh, fk_bound}};
+  for (const auto& row : rows) {
+    std::printf("%-34s %10.3g %11.3g %10.3g\n", row.name, row.w.angular, row.w.linear, row.bound);
+    EXPECT_LE(row.w.max(), row.bound) << row.name << ", worst at " << row.w.where;
   }
-  // the two analytic forms agree to rounding
-  EXPECT_LE(dh_vs_poe.angular, 1e-12);
-  EXPECT_LE(dh_vs_poe.linear, 1e-12);
+  EXPECT_LT(ill_conditioned, configurations / 4);  // most configurations do check the D-H Jacobians by FD
 }
 
-TEST(Jacobian, ConversionsAreConsistent) {
-  std::mt19937_64 rng(31415);
-  double worst = 0.0;
-  for (int r = 0; r < 200; ++r) {
-    const PoeModel model = randomRobot(rng);
-    const int n = model.dof();
-    Data data(model);
-    const VecX q = randomConfiguration(model, rng);
-    Mat6X Js(6, n), Jb(6, n), Jg(6, n), X(6, n), Y(6, n);
-    computeJacobians(model, data, q); getSpatialJacobian(data, Js);
-    computeJacobians(model, data, q); getBodyJacobian(data, Jb);
-    computeJacobians(model, data, q); getGeometricJacobian(data, Jg);
-    const Pose& T = data.T_base_tool;
-    const double scale = std::max(Js.cwiseAbs().maxCoeff(), 1.0);
-    spatialToBody(T, Js, X);
-    worst = std::max(worst, (X - Jb).cwiseAbs().maxCoeff() / scale);
-    bodyToSpatial(T, Jb, Y);
-    worst = std::max(worst, (Y - Js).cwiseAbs().maxCoeff() / scale);
-    spatialToGeometric(T, Js, X);
-    worst = std::max(worst, (X - Jg).cwiseAbs().maxCoeff() / scale);
-    geometricToSpatial(T, Jg, Y);
-    worst = std::max(worst, (Y - Js).cwiseAbs().maxCoeff() / scale);
-    // the matrix form of the adjoint (Wu et al. eq. 4)
-    const Mat6X Jb_matrix = adjoint(T.inverse()) * Js;
-    worst = std::max(worst, (Jb_matrix - Jb).cwiseAbs().maxCoeff() / scale);
-    // in place (aliasing) gives the same
-    X = Js;
-    spatialToBody(T, X, X);
-    worst = std::max(worst, (X - Jb).cwiseAbs().maxCoeff() / scale);
-  }
-  std::printf("worst conversion mismatch (relative to max |J|): %.3g\n", worst);
-  EXPECT_LE(worst, 1e-12);
+// ---- hand-derived columns -------------------------------------------------------------------------------
+
+namespace {
+
+Vec6 col(double a, double b, double c, double d, double e, double f) {
+  Vec6 v;
+  v << a, b, c, d, e, f;
+  return v;
 }
 
-TEST(Jacobian, GeometricColumnsFollowEq313) {
-  // a helical joint about z through (1, 0, 0) with pitch 0.2 and scale 2, then a prismatic one along x
+Mat6X columns(std::initializer_list<Vec6> cols) {
+  Mat6X J(6, static_cast<Eigen::Index>(cols.size()));
+  Eigen::Index i = 0;
+  for (const Vec6& c : cols) J.col(i++) = c;
+  return J;
+}
+
+VecX vec(std::initializer_list<double> values) {
+  VecX q(static_cast<Eigen::Index>(values.size()));
+  Eigen::Index i = 0;
+  for (double x : values) q[i++] = x;
+  return q;
+}
+
+// The expected spatial, body and geometric Jacobians (d/dq) of a small robot, in both the POE model and
+// its D-H form. Entries are O(1) (lengths 0.7-3.5, scales <= 3), so the error is the rounding of a few
+// operations on them, ~1e-15; the bound 1e-14 leaves a tenfold margin. Returns the worst error.
+template <class Model>
+double expectJacobians(const Model& model, const VecX& q, const Jacobians& expected, const std::string& what) {
+  Data data(model);
+  const Jacobians J = libraryJacobians(model, data, q);
+  const double tol = 1e-14;
+  const double es = finiteOrInf((J.spatial - expected.spatial).cwiseAbs().maxCoeff());
+  const double eb = finiteOrInf((J.body - expected.body).cwiseAbs().maxCoeff());
+  const double eg = finiteOrInf((J.geometric - expected.geometric).cwiseAbs().maxCoeff());
+  EXPECT_LE(es, tol) << what << " spatial\n" << J.spatial << "\nexpected\n" << expected.spatial;
+  EXPECT_LE(eb, tol) << what << " body\n" << J.body << "\nexpected\n" << expected.body;
+  EXPECT_LE(eg, tol) << what << " geometric\n" << J.geometric << "\nexpected\n" << expected.geometric;
+  return std::max({es, eb, eg});
+}
+
+double expectPoeAndDh(const PoeModel& model, const VecX& q, const Jacobians& expected, const std::string& what) {
+  const double e = expectJacobians(model, q, expected, what + " (POE)");
+  return std::max(e, expectJacobians(poeToDh(model).model, q, expected, what + " (poeToDh)"));
+}
+
+void printWorst(const char* what, double worst) { std::printf("%s: worst |J - expected| %.3g\n", what, worst); }
+
+}  // namespace
+
+// Planar RR arm: joint 1 about z through the origin (offset 0.1), joint 2 about z through (l1, 0, 0)
+// (twist scaled by 2, offset -0.2), tool at (l1 + l2, 0, 0) with the base orientation.
+// Motions x1 = q1 + 0.1, x2 = 2 (q2 - 0.2); tool p = l1 (c1, s1) + l2 (c12, s12), R = Rz(x1 + x2).
+//   geometric: col1 = [z x p; z], col2 = 2 [z x (p - o2); z] = 2 [(-l2 s12, l2 c12, 0); z]
+//   spatial:   col1 = [z; 0] (axis through the origin), col2 = 2 [z; o2 x z] = 2 [z; (l1 s1, -l1 c1, 0)]
+//   body:      col1 = [z; R^T (z x p)] = [z; (l1 s2, l1 c2 + l2, 0)], col2 = 2 [z; (0, l2, 0)]
+TEST(Jacobian, PlanarRRWithOffsetsAndScale) {
+  const double l1 = 2.0, l2 = 1.5;
   std::vector<JointSpec> joints(2);
-  joints[0].type = JointType::Helical;
-  joints[0].twist << 0, 0, 2, 2 * (Vec3(1, 0, 0).cross(Vec3(0, 0, 1)) + 0.2 * Vec3(0, 0, 1));
+  joints[0].twist << 0, 0, 1, 0, 0, 0;
+  joints[0].offset = 0.1;
+  joints[1].twist << 0, 0, 2, 2 * Vec3(l1, 0, 0).cross(Vec3(0, 0, 1));  // [w; o x w], scaled by 2
+  joints[1].offset = -0.2;
+  Pose tool;
+  tool.p << l1 + l2, 0, 0;
+  const PoeModel model(joints, tool);
+
+  // the same arm as a D-H table written by hand: A(x1, 0, 0, l1) A(x2, 0, 0, l2)
+  std::vector<DhJoint> dh(2);
+  dh[0].offset = 0.1;
+  dh[0].link = {0, 0, 0, l1};
+  dh[1].scale = 2.0;
+  dh[1].offset = -0.2;
+  dh[1].link = {0, 0, 0, l2};
+  const DhModel dh_model(DhParams{}, dh, 0.0, 0.0);
+  double worst = 0.0;
+
+  for (const VecX& q : {vec({0.3, -0.7}), vec({-2.5, 1.9}), vec({-0.1, 0.2})}) {
+    const double x1 = q[0] + 0.1, x2 = 2 * (q[1] - 0.2);
+    const double c1 = std::cos(x1), s1 = std::sin(x1), c2 = std::cos(x2), s2 = std::sin(x2);
+    const double c12 = std::cos(x1 + x2), s12 = std::sin(x1 + x2);
+    const double px = l1 * c1 + l2 * c12, py = l1 * s1 + l2 * s12;
+    Jacobians e;
+    e.geometric = columns({col(-py, px, 0, 0, 0, 1), 2 * col(-l2 * s12, l2 * c12, 0, 0, 0, 1)});
+    e.spatial = columns({col(0, 0, 1, 0, 0, 0), 2 * col(0, 0, 1, l1 * s1, -l1 * c1, 0)});
+    e.body = columns({col(0, 0, 1, l1 * s2, l1 * c2 + l2, 0), 2 * col(0, 0, 1, 0, l2, 0)});
+    worst = std::max(worst, expectPoeAndDh(model, q, e, "RR"));
+    worst = std::max(worst, expectJacobians(dh_model, q, e, "RR (hand-written D-H)"));
+  }
+  printWorst("planar RR", worst);
+}
+
+// RP arm: joint 1 about z through the origin, joint 2 prismatic along x (twist [0; 3 x]: scale 3,
+// offset 0.5), tool at (l, 0, 0). Motion x2 = 3 (q2 + 0.5); the tool is at r (c1, s1, 0), r = l + x2,
+// with R = Rz(q1).
+//   geometric: col1 = [(-r s1, r c1, 0); z], col2 = 3 [(c1, s1, 0); 0]
+//   spatial:   col1 = [z; 0],                col2 = 3 [0; (c1, s1, 0)]
+//   body:      col1 = [z; (0, r, 0)],        col2 = 3 [0; (1, 0, 0)]
+TEST(Jacobian, RevolutePrismaticWithScale) {
+  const double l = 1.2;
+  std::vector<JointSpec> joints(2);
+  joints[0].twist << 0, 0, 1, 0, 0, 0;
   joints[1].twist << 0, 0, 0, 3, 0, 0;
+  joints[1].offset = 0.5;
+  Pose tool;
+  tool.p << l, 0, 0;
+  const PoeModel model(joints, tool);
+  double worst = 0.0;
+  for (const VecX& q : {vec({0.4, 0.25}), vec({2.8, -1.1}), vec({-1.3, 0.0})}) {
+    const double c1 = std::cos(q[0]), s1 = std::sin(q[0]), r = l + 3 * (q[1] + 0.5);
+    Jacobians e;
+    e.geometric = columns({col(-r * s1, r * c1, 0, 0, 0, 1), 3 * col(c1, s1, 0, 0, 0, 0)});
+    e.spatial = columns({col(0, 0, 1, 0, 0, 0), 3 * col(0, 0, 0, c1, s1, 0)});
+    e.body = columns({col(0, 0, 1, 0, r, 0), 3 * col(0, 0, 0, 1, 0, 0)});
+    worst = std::max(worst, expectPoeAndDh(model, q, e, "RP"));
+  }
+  printWorst("RP", worst);
+}
+
+// One helical joint about z through c = (1, 0, 0), pitch 0.2 length/rad, scale 2 (twist
+// 2 [z; c x z + 0.2 z] = [0 0 2; 0 -2 0.4]), offset 0.3; tool at (0, 1, 0). Motion x = 2 (q + 0.3):
+// the tool turns by x about the axis and rises by 0.2 x, p = c + Rz(x) (-1, 1, 0) + 0.2 x z, R = Rz(x).
+//   geometric: 2 [z x (p - c) + 0.2 z; z] = 2 [(-cos x + sin x, -sin x - cos x, 0.2); z]
+//   spatial:   2 [z; c x z + 0.2 z] = 2 [z; (0, -1, 0.2)]   (constant: the first joint)
+//   body:      2 [R^T z; R^T (geometric linear)] = 2 [z; (-1, -1, 0.2)]
+TEST(Jacobian, HelicalPitchEntersTheLinearPart) {
+  std::vector<JointSpec> joints(1);
+  joints[0].type = JointType::Helical;
+  joints[0].twist << 0, 0, 2, 0, -2, 0.4;
+  joints[0].offset = 0.3;
   Pose tool;
   tool.p << 0, 1, 0;
   const PoeModel model(joints, tool);
+  ASSERT_EQ(model.joint(0).type, JointType::Helical);
+  double worst = 0.0;
+  for (const VecX& q : {vec({0.0}), vec({1.7}), vec({-2.9})}) {
+    const double x = 2 * (q[0] + 0.3), c = std::cos(x), s = std::sin(x);
+    Jacobians e;
+    e.geometric = columns({2 * col(-c + s, -s - c, 0.2, 0, 0, 1)});
+    e.spatial = columns({2 * col(0, 0, 1, 0, -1, 0.2)});
+    e.body = columns({2 * col(0, 0, 1, -1, -1, 0.2)});
+    worst = std::max(worst, expectPoeAndDh(model, q, e, "helical"));
+  }
+  printWorst("helical", worst);
+}
+
+// Spatial RR: joint 1 about z through the origin, joint 2 about y through o2 = (0, 0, a), tool at
+// (b, 0, a). At q: z2 = (-s1, c1, 0), p = o2 + Rz(q1) Ry(q2) (b, 0, 0) = (b c2 c1, b c2 s1, a - b s2),
+// R = Rz(q1) Ry(q2).
+//   geometric: col1 = [z x p; z] = [(-b c2 s1, b c2 c1, 0); z]
+//              col2 = [z2 x (p - o2); z2] = [(-b s2 c1, -b s2 s1, -b c2); (-s1, c1, 0)]
+//   spatial:   col1 = [z; 0], col2 = [z2; o2 x z2] = [(-s1, c1, 0); (-a c1, -a s1, 0)]
+//   body:      col1 = [R^T z; R^T (z x p)] = [(-s2, 0, c2); (0, b c2, 0)]
+//              col2 = [R^T z2; R^T (z2 x (p - o2))] = [(0, 1, 0); (0, 0, -b)]
+TEST(Jacobian, SpatialRRWithPerpendicularAxes) {
+  const double a = 0.7, b = 1.3;
+  std::vector<JointSpec> joints(2);
+  joints[0].twist << 0, 0, 1, 0, 0, 0;
+  joints[1].twist << 0, 1, 0, -a, 0, 0;  // o2 x y = (0, 0, a) x (0, 1, 0) = (-a, 0, 0)
+  Pose tool;
+  tool.p << b, 0, a;
+  const PoeModel model(joints, tool);
+  double worst = 0.0;
+  for (const VecX& q : {vec({0.4, -1.1}), vec({-2.2, 2.6}), vec({3.0, 0.05})}) {
+    const double c1 = std::cos(q[0]), s1 = std::sin(q[0]), c2 = std::cos(q[1]), s2 = std::sin(q[1]);
+    Jacobians e;
+    e.geometric = columns({col(-b * c2 * s1, b * c2 * c1, 0, 0, 0, 1),
+                           col(-b * s2 * c1, -b * s2 * s1, -b * c2, -s1, c1, 0)});
+    e.spatial = columns({col(0, 0, 1, 0, 0, 0), col(-s1, c1, 0, -a * c1, -a * s1, 0)});
+    e.body = columns({col(-s2, 0, c2, 0, b * c2, 0), col(0, 1, 0, 0, 0, -b)});
+    worst = std::max(worst, expectPoeAndDh(model, q, e, "spatial RR"));
+  }
+  printWorst("spatial RR", worst);
+}
+
+// ---- the compute-then-get contract ----------------------------------------------------------------------
+
+namespace {
+
+bool sameData(const Data& a, const Data& b) {
+  if (a.dof != b.dof || a.T_base_joint.size() != b.T_base_joint.size()) return false;
+  for (size_t i = 0; i < a.T_base_joint.size(); ++i) {
+    if (a.T_base_joint[i].R != b.T_base_joint[i].R || a.T_base_joint[i].p != b.T_base_joint[i].p) return false;
+  }
+  return a.T_base_tool.R == b.T_base_tool.R && a.T_base_tool.p == b.T_base_tool.p && a.J_spatial == b.J_spatial;
+}
+
+// One model: the getters leave data as computeJacobians left it, give the same result in any order and
+// on repetition, a reused Data gives what a fresh one gives, and the three Jacobians are related by
+// their definitions. From the geometric column [v; w] (v = dp/dq, w = angular velocity, base frame) and
+// g = (R, p):
+//   spatial: hat(V_s) = (dg/dq) g^-1 = [hat(w)  v - hat(w) p]  ->  [w; v - w x p]
+//   body:    hat(V_b) = g^-1 (dg/dq) = [R^T hat(w) R  R^T v]   ->  [R^T w; R^T v]
+// (the library builds body and geometric from the spatial Jacobian with an adjoint and v + w x p).
+template <class Model>
+double checkContract(const Model& model, const VecX& q, const VecX& q_other, double L) {
+  const int n = model.dof();
   Data data(model);
-  Mat6X J(6, 2);
-  VecX q = VecX::Zero(2);
-  computeJacobians(model, data, q); getGeometricJacobian(data, J);
-  // column 1: 2 [z x (o_tool - o) + h z; z] = 2 [(0,0,1) x (-1,1,0) + (0,0,0.2); (0,0,1)]
-  Vec6 c1;
-  c1 << 2 * Vec3(-1, -1, 0.2), 2 * Vec3(0, 0, 1);
-  Vec6 c2;
-  c2 << 3, 0, 0, 0, 0, 0;
-  EXPECT_LE((J.col(0) - c1).norm(), 1e-15);
-  EXPECT_LE((J.col(1) - c2).norm(), 1e-15);
+  computeJacobians(model, data, q_other);  // stale state that must not leak into the next results
+  computeJacobians(model, data, q);
+  const Data snapshot = data;
+  Mat6X S1(6, n), B1(6, n), G1(6, n), S2(6, n), B2(6, n), G2(6, n);
+  getGeometricJacobian(data, G1);
+  getBodyJacobian(data, B1);
+  getSpatialJacobian(data, S1);
+  EXPECT_TRUE(sameData(data, snapshot)) << "a getter changed data";
+  getSpatialJacobian(data, S2);
+  getGeometricJacobian(data, G2);
+  getBodyJacobian(data, B2);
+  EXPECT_TRUE(sameData(data, snapshot)) << "a getter changed data";
+  EXPECT_TRUE(S1 == S2 && B1 == B2 && G1 == G2) << "getters depend on call order";
+  EXPECT_TRUE(S1 == data.J_spatial) << "getSpatialJacobian is not data.J_spatial";
+
+  Data fresh(model);
+  const Jacobians F = libraryJacobians(model, fresh, q);
+  EXPECT_TRUE(sameData(fresh, data) && F.spatial == S1 && F.body == B1 && F.geometric == G1)
+      << "a reused Data gives other results than a fresh one";
+  // computeJacobians includes forward kinematics
+  Data fk(model);
+  forwardKinematics(model, fk, q);
+  const double R = lengthScale(L, data);
+  EXPECT_LE(poseError(fk.T_base_tool, data.T_base_tool, R), 64 * kEpsD);
+
+  const Mat3& Rt = data.T_base_tool.R;
+  const Vec3& p = data.T_base_tool.p;
+  double worst = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const JointMotion& m = model.joint(i);
+    const double unit = m.type == JointType::Prismatic ? m.scale / R : m.scale;  // per motion of size R
+    const Vec3 v = G1.col(i).head<3>(), w = G1.col(i).tail<3>();
+    Vec6 s, b;
+    s << w, v - w.cross(p);
+    b << Rt.transpose() * w, Rt.transpose() * v;
+    const Vec6 es = (S1.col(i) - s) / unit, eb = (B1.col(i) - b) / unit;
+    worst = std::max({worst, finiteOrInf(es.head<3>().cwiseAbs().maxCoeff()),
+                      finiteOrInf(es.tail<3>().cwiseAbs().maxCoeff() / R),
+                      finiteOrInf(eb.head<3>().cwiseAbs().maxCoeff()),
+                      finiteOrInf(eb.tail<3>().cwiseAbs().maxCoeff() / R)});
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(Jacobian, GettersReadDataAndAgreeWithTheDefinitions) {
+  std::mt19937_64 rng(31415);
+  double worst_poe = 0.0, worst_dh = 0.0;
+  for (int r = 0; r < 200; ++r) {
+    const PoeModel model = lowpair_test::randomRobot(rng).model;
+    const VecX q = lowpair_test::randomConfiguration(model, rng);
+    const VecX q_other = lowpair_test::randomConfiguration(model, rng);
+    worst_poe = std::max(worst_poe, checkContract(model, q, q_other, model.size()));
+    const DhConversion c = poeToDh(model);
+    if (tableScale(c.model) <= kIllConditioned * model.size()) {
+      worst_dh = std::max(worst_dh, checkContract(c.model, q, q_other, tableScale(c.model)));
+    }
+  }
+  // rounding of one adjoint / cross product on quantities of size R: a few eps
+  std::printf("getters vs their definitions (per unit motion, linear / R): POE %.3g, D-H %.3g\n", worst_poe,
+              worst_dh);
+  EXPECT_LE(worst_poe, 64 * kEpsD);
+  EXPECT_LE(worst_dh, 64 * kEpsD);
+}
+
+// The conversion functions: inverse pairs, and each may work in place (documented aliasing).
+TEST(Jacobian, ConversionsInvertAndMayAlias) {
+  std::mt19937_64 rng(2718);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst = 0.0;
+  for (int r = 0; r < 200; ++r) {
+    const double size = std::pow(10.0, 3.0 * u(rng));
+    Vec6 xi;
+    xi << 3.0 * Vec3(u(rng), u(rng), u(rng)), size * Vec3(u(rng), u(rng), u(rng));
+    const Pose T = expSE3(xi);
+    const int n = 1 + static_cast<int>(rng() % 7);
+    Mat6X J(6, n);
+    for (int i = 0; i < n; ++i) J.col(i) << Vec3(u(rng), u(rng), u(rng)), size * Vec3(u(rng), u(rng), u(rng));
+    Mat6X X(6, n), Y(6, n), A(6, n);
+    auto relative = [&](const Mat6X& a, const Mat6X& b) {
+      // spatial [w; v], |w| <= 1 rad and |v| <= size: angular rows as they are, linear rows / size
+      return finiteOrInf(std::max((a.topRows<3>() - b.topRows<3>()).cwiseAbs().maxCoeff(),
+                                  (a.bottomRows<3>() - b.bottomRows<3>()).cwiseAbs().maxCoeff() / size));
+    };
+    spatialToBody(T, J, X);
+    bodyToSpatial(T, X, Y);
+    worst = std::max(worst, relative(Y, J));
+    A = J;
+    spatialToBody(T, A, A);
+    EXPECT_TRUE(A == X) << "spatialToBody in place";
+    A = X;
+    bodyToSpatial(T, A, A);
+    EXPECT_TRUE(A == Y) << "bodyToSpatial in place";
+    spatialToGeometric(T, J, X);
+    geometricToSpatial(T, X, Y);
+    worst = std::max(worst, relative(Y, J));
+    A = J;
+    spatialToGeometric(T, A, A);
+    EXPECT_TRUE(A == X) << "spatialToGeometric in place";
+    A = X;
+    geometricToSpatial(T, A, A);
+    EXPECT_TRUE(A == Y) << "geometricToSpatial in place";
+  }
+  std::printf("round trips (relative to the twist size): %.3g\n", worst);
+  EXPECT_LE(worst, 64 * kEpsD);
 }
 
 TEST(Jacobian, RejectsWrongSizes) {

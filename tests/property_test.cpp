@@ -4,6 +4,7 @@
 // translation <= 1e-12 * max(L, max |d|, max |a|).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -44,7 +45,10 @@ TEST(ConversionProperty, TenThousandRandomRobots) {
     const ToolPoeModel tool = toToolPoe(poe);
     const LocalPoeModel local = toLocalPoe(poe);
     const PoeModel tool_back = fromToolPoe(tool), local_back = fromLocalPoe(local);
-    const double scale = c.fk_check.scale;  // max(L, |d|, |a|)
+    // the bound's scale max(L, |d|, |a|, |d_T|), read off the table here rather than taken from the library
+    double scale = std::max({poe.size(), std::abs(c.model.base().d), std::abs(c.model.base().a), std::abs(c.model.toolD())});
+    for (const DhJoint& j : c.model.joints()) scale = std::max({scale, std::abs(j.link.d), std::abs(j.link.a)});
+    EXPECT_EQ(scale, c.scale);
     ASSERT_TRUE(std::isfinite(scale));
     Worst& cat = by_category[geometryName(robot.geometry)];
     Data poe_data(poe);

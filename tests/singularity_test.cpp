@@ -224,6 +224,19 @@ namespace {
 bool hasListedClass(const SingularityReport& r) {
   return std::any_of(r.classes.begin(), r.classes.end(), [](const SingularClass& c) { return c.id != "other"; });
 }
+
+// "A class is reported iff the rank is deficient" (conventions.md), both directions: a regular pose has
+// no class; a rank-deficient one has at least one, each naming its joints, `other` only when no listed
+// class explains the deficiency. Empty when the report keeps the rule.
+std::string iffViolation(const SingularityReport& r) {
+  if (!r.singular && !r.classes.empty()) return "regular, but classes " + classesText(r);
+  if (r.singular && r.classes.empty()) return "rank deficient, but no class";
+  for (const SingularClass& c : r.classes) {
+    if (c.joints.empty()) return "class " + c.id + " names no joint";
+    if (c.id == "other" && hasListedClass(r)) return "`other` next to a listed class: " + classesText(r);
+  }
+  return "";
+}
 }  // namespace
 
 TEST(Singularity, OtherNamesTheDependentScrews) {
@@ -257,9 +270,7 @@ TEST(Singularity, RandomPosesClassIffRankDeficient) {
       const SingularityReport r = analyzeSingularity(m, q);
       singular += r.singular;
       smallest = std::min(smallest, r.sigma_min);
-      // a regular pose gets no class at all, and for 6 joints a listed class (not `other`) means a
-      // deficiency (a singular pose always gets at least `other`, by construction)
-      if ((!r.singular && !r.classes.empty()) || (m.dof() == 6 && hasListedClass(r) && !r.singular)) ++mismatches;
+      if (!iffViolation(r).empty()) ++mismatches;
       if (r.decoupled.applies && m.dof() == 6 && r.singular != (r.decoupled.wrist_singular || r.decoupled.arm_singular)) {
         ++split_mismatches;
       }
@@ -269,6 +280,171 @@ TEST(Singularity, RandomPosesClassIffRankDeficient) {
     EXPECT_EQ(mismatches, 0) << name;
     EXPECT_EQ(split_mismatches, 0) << name;
   }
+  // Random poses are almost never singular, so the direction "rank deficient => a class" is exercised on
+  // the listed singular poses and on random perturbations of them from 1e-6 to 1e-16 (both sides of the
+  // rank threshold), `other` poses included.
+  int singular = 0, regular = 0, mismatches = 0;
+  for (const Pose6& p : listedPoses()) {
+    const PoeModel m = robot(p.file).poeModel();
+    std::vector<VecX> qs = {p.q};
+    for (double size = 1e-6; size >= 1e-16; size /= 10) {
+      VecX dq(m.dof());
+      for (int i = 0; i < m.dof(); ++i) dq[i] = angle(rng);
+      qs.push_back(p.q + size * dq.normalized());
+    }
+    for (const VecX& q : qs) {
+      const SingularityReport r = analyzeSingularity(m, q);
+      (r.singular ? singular : regular) += 1;
+      const std::string violation = iffViolation(r);
+      if (!violation.empty()) {
+        ++mismatches;
+        std::printf("mismatch: %s %s rank %d: %s\n", m.name().c_str(), p.label.c_str(), r.rank, violation.c_str());
+      }
+    }
+  }
+  std::printf("listed poses and perturbations: %d singular, %d regular, %d mismatches\n", singular, regular, mismatches);
+  EXPECT_GT(singular, 100);  // both directions are exercised
+  EXPECT_GT(regular, 100);
+  EXPECT_EQ(mismatches, 0);
+}
+
+TEST(Singularity, ClassGeometryIsData) {
+  // the numbers the CLI words: C3's common point lies on its axes, C6's line meets every axis, C7 names
+  // its prismatic joint (checked on the joint lines, independently of how the classes were found)
+  // distance between two lines; parallel lines meet at infinity (P-S example 6: "possibly at infinity")
+  auto lineDistance = [](const JointLine& a, const Vec3& point, const Vec3& direction) {
+    const Vec3 n = a.direction.cross(direction);
+    return n.norm() < 1e-9 ? 0.0 : std::abs((point - a.point).dot(n)) / n.norm();
+  };
+  const std::vector<Pose6> poses = listedPoses();
+  int c3 = 0, c6 = 0, c7 = 0;
+  for (const Pose6& p : poses) {
+    const PoeModel m = robot(p.file).poeModel();
+    const SingularityReport r = analyzeSingularity(m, p.q);
+    for (const SingularClass& c : r.classes) {
+      SCOPED_TRACE(m.name() + ": " + p.label + ": " + c.id);
+      if (c.id == "C3") {
+        ++c3;
+        for (int j : c.joints) {
+          const JointLine& l = r.lines[static_cast<size_t>(j - 1)];
+          EXPECT_LE((c.point - l.point).cross(l.direction).norm(), 1e-9 * m.size());
+        }
+      }
+      if (c.id == "C6") {
+        ++c6;
+        EXPECT_NEAR(c.direction.norm(), 1.0, 1e-12);
+        EXPECT_EQ(c.joints.size(), static_cast<size_t>(m.dof()));
+        for (const JointLine& l : r.lines) {
+          if (c.at_infinity) {
+            EXPECT_LE(std::abs(l.direction.dot(c.direction)), 1e-9);
+          } else {
+            EXPECT_LE(lineDistance(l, c.point, c.direction), 1e-9 * m.size());
+          }
+        }
+      }
+      if (c.id == "C7") {
+        ++c7;
+        ASSERT_GE(c.prismatic_joint, 1);
+        EXPECT_EQ(m.joint(c.prismatic_joint - 1).type, JointType::Prismatic);
+        EXPECT_NE(std::find(c.joints.begin(), c.joints.end(), c.prismatic_joint), c.joints.end());
+      }
+    }
+  }
+  EXPECT_GT(c3, 0);
+  EXPECT_GT(c6, 0);
+  EXPECT_GT(c7, 0);
+}
+
+namespace {
+// n revolute joints, all axes parallel to z through (i, 0, 0): a planar chain, rank 3.
+PoeModel parallelChain(int n) {
+  std::vector<JointSpec> joints(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) joints[static_cast<size_t>(i)].twist << 0, 0, 1, 0, -i, 0;
+  Pose tool;
+  tool.p = Vec3(n, 0, 0);
+  return PoeModel(joints, tool);
+}
+
+// n revolute joints with seeded random axes: rank 6, null space of dimension n - 6.
+PoeModel randomChain(int n, std::mt19937_64& rng) {
+  std::normal_distribution<double> normal;
+  std::vector<JointSpec> joints(static_cast<size_t>(n));
+  for (JointSpec& j : joints) {
+    const Vec3 w = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
+    const Vec3 p(normal(rng), normal(rng), normal(rng));
+    j.twist << w, p.cross(w);
+  }
+  return PoeModel(joints, Pose());
+}
+
+// J_n x for every returned null vector, and the basis orthonormal.
+void expectNullBasis(const PoeModel& m, const VecX& q, const SingularityReport& r) {
+  Data data(m);
+  Mat6X Jn(6, m.dof());
+  computeJacobians(m, data, q);
+  getGeometricJacobian(data, Jn);
+  dimensionlessJacobian(m, Jn);
+  for (size_t a = 0; a < r.null_space.size(); ++a) {
+    ASSERT_EQ(r.null_space[a].size(), m.dof());
+    EXPECT_LE((Jn * r.null_space[a]).norm(), 1e-11 * std::sqrt(m.dof())) << "vector " << a;
+    for (size_t b = 0; b <= a; ++b) {
+      EXPECT_NEAR(r.null_space[a].dot(r.null_space[b]), a == b ? 1.0 : 0.0, 1e-12) << a << ", " << b;
+    }
+  }
+}
+}  // namespace
+
+TEST(Singularity, LongChainsSkipTheClassSearch) {
+  std::mt19937_64 rng(11);
+  for (int n : {kClassSearchMaxJoints, kClassSearchMaxJoints + 1, 300}) {
+    SCOPED_TRACE(n);
+    const PoeModel m = parallelChain(n);
+    const VecX q = VecX::Constant(n, 0.1);
+    const SingularityReport r = analyzeSingularity(m, q);
+    EXPECT_EQ(r.rank, 3);  // planar: v_x, v_y, w_z
+    EXPECT_TRUE(r.singular);
+    EXPECT_EQ(r.nullity, n - 3);
+    EXPECT_EQ(r.null_space.size(), static_cast<size_t>(n - 3));
+    expectNullBasis(m, q, r);
+    EXPECT_EQ(r.classes_searched, n <= kClassSearchMaxJoints);
+    if (r.classes_searched) {
+      EXPECT_FALSE(r.classes.empty());  // C4: all axes parallel
+    } else {
+      EXPECT_TRUE(r.classes.empty());
+    }
+  }
+  // a bounded null space: the first vectors of the same basis, the dimension still counted
+  const PoeModel m = randomChain(500, rng);
+  const VecX q = VecX::Constant(500, 0.2);
+  SingularityOptions options;
+  options.max_null_vectors = 4;
+  const SingularityReport r = analyzeSingularity(m, q, options);
+  EXPECT_FALSE(r.singular);
+  EXPECT_EQ(r.rank, 6);
+  EXPECT_EQ(r.nullity, 494);
+  ASSERT_EQ(r.null_space.size(), 4u);
+  expectNullBasis(m, q, r);
+  options.max_null_vectors = 0;
+  EXPECT_TRUE(analyzeSingularity(m, q, options).null_space.empty());
+  options.max_null_vectors = -1;
+  EXPECT_THROW(analyzeSingularity(m, q, options), std::invalid_argument);
+}
+
+TEST(Singularity, BoundedNullSpaceOfAShortChain) {
+  // Panda (7 joints) at a regular pose: one self-motion vector; asking for none keeps the count
+  const PoeModel m = robot("panda.yaml").poeModel();
+  const VecX q = vec({0.1, -0.3, 0.2, -1.5, 0.1, 1.5, 0.3});
+  const SingularityReport all = analyzeSingularity(m, q);
+  EXPECT_FALSE(all.singular);
+  EXPECT_EQ(all.nullity, 1);
+  ASSERT_EQ(all.null_space.size(), 1u);
+  expectNullBasis(m, q, all);
+  SingularityOptions none;
+  none.max_null_vectors = 0;
+  const SingularityReport r = analyzeSingularity(m, q, none);
+  EXPECT_EQ(r.nullity, 1);
+  EXPECT_TRUE(r.null_space.empty());
+  EXPECT_EQ(r.rank, all.rank);
 }
 
 TEST(Singularity, ReportsConditionAndBlocks) {

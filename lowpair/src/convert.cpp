@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
-#include <sstream>
 
 #include "lowpair/check.hpp"
 #include "lowpair/kinematics.hpp"
@@ -117,6 +117,16 @@ void splitTool(const Pose& M, const Tolerances& tol, DhParams& row, double& tool
   row.d = b.z() - c_alpha * tool_d;
 }
 
+// The seed of checkDhConversion's configurations: fixed so that the check is reproducible (any value would do).
+constexpr std::uint64_t kFkCheckSeed = 0x10a7a1;
+
+// max(L, max |d|, max |a|, |d_T|): the scale of the accuracy bound (conversion.md).
+double boundScale(const DhModel& dh, double L) {
+  double scale = std::max({L, std::abs(dh.base().d), std::abs(dh.base().a), std::abs(dh.toolD())});
+  for (const DhJoint& j : dh.joints()) scale = std::max({scale, std::abs(j.link.d), std::abs(j.link.a)});
+  return scale;
+}
+
 double lineAngle(double alpha) {
   const double x = std::abs(wrapAngle(alpha));
   return std::min(x, M_PI - x);
@@ -132,7 +142,8 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
            "poeToDh: parallel_threshold must be in [0, 1), got " << options.parallel_threshold);
   const double L = model.size();
   Tolerances tol;
-  tol.parallel = options.parallel_threshold > 0.0 ? options.parallel_threshold : kParallelPerJoint * kEps * n;
+  const double rounding_parallel = kParallelPerJoint * kEps * n;
+  tol.parallel = options.parallel_threshold > 0.0 ? options.parallel_threshold : rounding_parallel;
   tol.length = kSnapLength * L;
 
   std::vector<DhRowReport> reports(static_cast<size_t>(n + 1));
@@ -174,76 +185,65 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
     }
   }
 
-  DhConversion out{DhModel(rows[0], std::move(joints), tool_theta, tool_d, model.name()), L, tol.parallel, {}, {}, {}};
-  double scale = L;
+  DhModel dh(rows[0], std::move(joints), tool_theta, tool_d, model.name());
   auto consider = [&](const DhParams& r, int row_index) {
     DhRowReport& rep = reports[static_cast<size_t>(row_index)];
     rep.row = row_index;
     rep.axis_angle = lineAngle(r.alpha);
-    const double biggest = std::max(std::abs(r.d), std::abs(r.a));
-    scale = std::max(scale, biggest);
-    rep.ill_conditioned = biggest > kIllConditioned * L;
-    if (rep.ill_conditioned) {
-      std::ostringstream msg;
-      msg.precision(3);
-      const std::string what = row_index == 0 ? std::string("base row (joint 1's axis)")
-                                              : "row of " + jointLabel(row_index - 1, model.joint(row_index - 1).name);
-      msg << what << ": |d| = " << std::abs(r.d) << ", |a| = " << std::abs(r.a) << " exceed " << kIllConditioned
-          << " L (L = " << L << "); the line before and after this row meet at " << rep.axis_angle
-          << " rad: nearly parallel axes make the D-H table ill-conditioned (Wu et al. §V)";
-      out.warnings.push_back(msg.str());
-    }
+    rep.abs_d = std::abs(r.d);
+    rep.abs_a = std::abs(r.a);
+    rep.ill_conditioned = std::max(rep.abs_d, rep.abs_a) > kIllConditioned * L;
   };
-  consider(out.model.base(), 0);
-  for (int i = 0; i < n; ++i) consider(out.model.joint(i).link, i + 1);
-  if (std::abs(tool_d) > kIllConditioned * L) {
-    std::ostringstream msg;
-    msg.precision(3);
-    msg << "tool: |d_T| = " << std::abs(tool_d) << " exceeds " << kIllConditioned
-        << " L: the last joint axis is nearly parallel to the tool z axis";
-    out.warnings.push_back(msg.str());
-  }
-  scale = std::max(scale, std::abs(tool_d));
-  out.rows = std::move(reports);
-  out.fk_check.scale = scale;
+  consider(dh.base(), 0);
+  for (int i = 0; i < n; ++i) consider(dh.joint(i).link, i + 1);
+  DhToolReport tool;
+  tool.abs_d = std::abs(dh.toolD());
+  tool.ill_conditioned = tool.abs_d > kIllConditioned * L;
+  const double scale = boundScale(dh, L);
+  return DhConversion{std::move(dh),
+                      L,
+                      tol.parallel,
+                      rounding_parallel,
+                      options.parallel_threshold > rounding_parallel,
+                      std::move(reports),
+                      tool,
+                      scale,
+                      DhBoundScale{scale}};
+}
 
-  if (options.fk_check_samples > 0) {
-    std::mt19937_64 rng(0x10a7a1);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    Data poe(model);
-    Data dh(out.model);
-    VecX q = VecX::Zero(n);
-    for (int s = 0; s <= options.fk_check_samples; ++s) {
-      if (s > 0) {
-        for (int i = 0; i < n; ++i) {
-          const Joint& j = model.joint(i);
-          if (j.range) {
-            const auto& r = *j.range;
-            q[i] = r[0] + 0.5 * (unit(rng) + 1.0) * (r[1] - r[0]);
-          } else {
-            q[i] = unit(rng) * (j.type == JointType::Prismatic ? L / j.scale : M_PI);
-          }
+FkCheck checkDhConversion(const PoeModel& poe, const DhModel& dh, int samples) {
+  const int n = poe.dof();
+  LP_CHECK(dh.dof() == n, "checkDhConversion: the D-H model has " << dh.dof() << " joints, the POE model " << n);
+  LP_CHECK(samples >= 0, "checkDhConversion: samples must be >= 0, got " << samples);
+  const double L = poe.size();
+  FkCheck check;
+  check.scale = boundScale(dh, L);
+  std::mt19937_64 rng(kFkCheckSeed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Data poe_data(poe);
+  Data dh_data(dh);
+  VecX q = VecX::Zero(n);
+  for (int s = 0; s <= samples; ++s) {
+    if (s > 0) {
+      for (int i = 0; i < n; ++i) {
+        const Joint& j = poe.joint(i);
+        if (j.range) {
+          const auto& r = *j.range;
+          q[i] = r[0] + 0.5 * (unit(rng) + 1.0) * (r[1] - r[0]);
+        } else {
+          q[i] = unit(rng) * (j.type == JointType::Prismatic ? L / j.scale : M_PI);
         }
-      } else {
-        for (int i = 0; i < n; ++i) q[i] = -model.joint(i).offset;
       }
-      forwardKinematics(model, poe, q);
-      forwardKinematics(out.model, dh, q);
-      out.fk_check.max_rotation = std::max(out.fk_check.max_rotation, rotationError(poe.T_base_tool.R, dh.T_base_tool.R));
-      out.fk_check.max_translation = std::max(out.fk_check.max_translation, (poe.T_base_tool.p - dh.T_base_tool.p).norm());
+    } else {
+      for (int i = 0; i < n; ++i) q[i] = -poe.joint(i).offset;
     }
-    out.fk_check.samples = options.fk_check_samples + 1;
+    forwardKinematics(poe, poe_data, q);
+    forwardKinematics(dh, dh_data, q);
+    check.max_rotation = std::max(check.max_rotation, rotationError(poe_data.T_base_tool.R, dh_data.T_base_tool.R));
+    check.max_translation = std::max(check.max_translation, (poe_data.T_base_tool.p - dh_data.T_base_tool.p).norm());
   }
-  if (options.parallel_threshold > kParallelPerJoint * kEps * n) {
-    std::ostringstream msg;
-    msg.precision(3);
-    msg << "parallel threshold " << options.parallel_threshold << " is above rounding level ("
-        << kParallelPerJoint * kEps * n << "): nearly parallel axes were snapped; FK deviation "
-        << out.fk_check.max_translation << " (length), " << out.fk_check.max_rotation << " rad over "
-        << out.fk_check.samples << " configurations";
-    out.warnings.push_back(msg.str());
-  }
-  return out;
+  check.samples = samples + 1;
+  return check;
 }
 
 PoeModel dhToPoe(const DhModel& model) {

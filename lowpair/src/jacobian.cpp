@@ -13,10 +13,10 @@ void checkColumns(const Data& data, Eigen::Index cols) {
 
 void fillSpatial(Data& data, const KinematicChain& chain) {
   for (int i = 0; i < data.dof; ++i) {
-    const JointMotion& m = chain.links[static_cast<size_t>(i)].motion;
+    const ChainLink& link = chain.links[static_cast<size_t>(i)];
     const Pose& F = data.T_base_joint[static_cast<size_t>(i)];
     const Vec3 z = F.R.col(2);
-    const double j = m.scale * m.turnRate(), k = m.scale * m.slideRate();
+    const double j = link.motion.scale * link.turn, k = link.motion.scale * link.slide;
     data.J_spatial.col(i).head<3>() = j * z;
     data.J_spatial.col(i).tail<3>() = j * F.p.cross(z) + k * z;
   }
@@ -66,13 +66,13 @@ void geometricToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& 
 
 void computeJacobians(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
   LP_CHECK(q.size() == model.dof(), "expected " << model.dof() << " joint values, got " << q.size());
-  forwardKinematics(model, data, q);
+  forwardKinematicsWithFrames(model.chain(), data, q);
   fillSpatial(data, model.chain());
 }
 
 void computeJacobians(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
   LP_CHECK(q.size() == model.dof(), "expected " << model.dof() << " joint values, got " << q.size());
-  forwardKinematics(model, data, q);
+  forwardKinematicsWithFrames(model.chain(), data, q);
   fillSpatial(data, model.chain());
 }
 

@@ -2,10 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "lowpair/check.hpp"
 #include "lowpair/se3.hpp"
 #include "sincos.hpp"
+
+#if defined(__GNUC__) && !defined(__clang__)
+#define LP_ALWAYS_INLINE __attribute__((always_inline))
+#else
+#define LP_ALWAYS_INLINE
+#endif
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(LOWPAIR_NO_DISPATCH)
+#define LP_DISPATCH __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define LP_DISPATCH
+#endif
 
 namespace lowpair {
 
@@ -13,10 +25,11 @@ Data::Data(const KinematicChain& chain)
     : dof(static_cast<int>(chain.links.size())),
       T_base_joint(chain.links.size()),
       J_spatial(6, dof),
-      angle(dof),
-      sin_angle(dof),
-      cos_angle(dof),
-      slide(dof) {
+      q_padded(VecX::Zero(chain.paddedDof())),
+      angle(VecX::Zero(chain.paddedDof())),
+      sin_angle(VecX::Zero(chain.paddedDof())),
+      cos_angle(VecX::Zero(chain.paddedDof())),
+      slide(VecX::Zero(chain.paddedDof())) {
   J_spatial.setZero();
 }
 Data::Data(const PoeModel& model) : Data(model.chain()) {}
@@ -43,15 +56,19 @@ namespace {
 
 using detail::sinCosLane;
 
-// sin and cos of n angles together (the loop vectorizes); angles beyond the kernel's accurate range
+// sin and cos of n angles together, n a multiple of KinematicChain::kLanes (the loop vectorizes); angles beyond the kernel's accurate range
 // (possible only for huge joint values) are recomputed with libm.
-void sinCosAll(const double* angle, int n, double* s, double* c) {
-  double largest = 0.0;
+// (The range test is an integer OR so that the loop still vectorizes; a floating max would not.)
+inline bool outOfRange(double angle) { return !(std::abs(angle) <= detail::kSinCosMaxArgument); }
+
+LP_ALWAYS_INLINE inline void sinCosAll(const double* __restrict angle, int n, double* __restrict s,
+                                       double* __restrict c) {
+  int out_of_range = 0;
   for (int i = 0; i < n; ++i) {
     sinCosLane(angle[i], s[i], c[i]);
-    largest = std::max(largest, std::abs(angle[i]));
+    out_of_range |= outOfRange(angle[i]);
   }
-  if (!(largest <= detail::kSinCosMaxArgument)) {
+  if (out_of_range) {
     for (int i = 0; i < n; ++i) {
       s[i] = std::sin(angle[i]);
       c[i] = std::cos(angle[i]);
@@ -63,19 +80,33 @@ void sinCosAll(const double* angle, int n, double* s, double* c) {
 // are updated in place by T <- T Rz(angle) Trans(p + slide e_z) Rx(alpha); kFrames stores the frame
 // before each link (joint i's line) in data.T_base_joint.
 template <bool kFrames>
-void evaluate(const KinematicChain& chain, Data& data, const double* q) {
+LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, const double* q) {
   const int n = data.dof;
-  double* angle = data.angle.data();
-  double* slide = data.slide.data();
-  for (int i = 0; i < n; ++i) {
-    const ChainLink& link = chain.links[static_cast<size_t>(i)];
-    const double x = link.motion.motion(q[i]);
-    angle[i] = link.theta + link.motion.turnRate() * x;
-    slide[i] = link.p[2] + link.motion.slideRate() * x;
+  const int padded = chain.paddedDof();  // a multiple of kLanes: the lane loops below run in full vectors
+  const KinematicChain::Lanes& c = chain.lanes;
+  double* __restrict qp = data.q_padded.data();
+  double* __restrict angle = data.angle.data();
+  double* __restrict slide = data.slide.data();
+  const double* __restrict theta = c.theta.data();
+  const double* __restrict turn = c.turn.data();
+  const double* __restrict slide_rate = c.slide.data();
+  const double* __restrict z0 = c.z.data();
+  const double* __restrict scale = c.scale.data();
+  const double* __restrict offset = c.offset.data();
+  std::memcpy(qp, q, sizeof(double) * static_cast<size_t>(n));
+  constexpr int L = KinematicChain::kLanes;
+  for (int b = 0; b < padded; b += L) {
+    for (int i = b; i < b + L; ++i) {  // fixed trip count: one SIMD vector
+      const double x = motionOf(qp[i], scale[i], offset[i]);
+      angle[i] = theta[i] + turn[i] * x;
+      slide[i] = z0[i] + slide_rate[i] * x;
+    }
   }
-  sinCosAll(angle, n, data.sin_angle.data(), data.cos_angle.data());
-  const double* st = data.sin_angle.data();
-  const double* ct = data.cos_angle.data();
+  double* __restrict sin_angle = data.sin_angle.data();
+  double* __restrict cos_angle = data.cos_angle.data();
+  sinCosAll(angle, padded, sin_angle, cos_angle);
+  const double* st = sin_angle;
+  const double* ct = cos_angle;
   double X[3], Y[3], Z[3], P[3];
   const Pose& B = chain.T_base_first;
   for (int k = 0; k < 3; ++k) {
@@ -115,94 +146,126 @@ void evaluate(const KinematicChain& chain, Data& data, const double* q) {
   }
 }
 
-// Lanes of one batch block: configurations evaluated together, every inner loop over the lanes.
-constexpr int kBlock = 8;
+// Lanes of one batch block: four configurations in one GNU vector (detail::Vec4d), so the whole state of
+// a block (rotation columns X, Y, Z and position P, three rows each) stays in registers.
+constexpr int kBlock = 4;
+using detail::Vec4d;
 
-void evaluateBlock(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses,
-                   Eigen::Index first, int lanes) {
-  constexpr int B = kBlock;
-  alignas(64) double X[3][B], Y[3][B], Z[3][B], P[3][B];
-  alignas(64) double angle[B], st[B], ct[B], slide[B];
+inline Vec4d broadcast(double v) { return Vec4d{v, v, v, v}; }
+
+// kFull: all lanes are configurations; otherwise the last, partial block (unused lanes hold q = 0).
+template <bool kFull>
+LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
+                                           Eigen::Ref<MatX> poses, Eigen::Index first, int partial_lanes,
+                                           bool use_libm) {
+  const int lanes = kFull ? kBlock : partial_lanes;
+  const size_t bytes = sizeof(double) * static_cast<size_t>(lanes);
+  Vec4d X[3], Y[3], Z[3], P[3];
   const Pose& Bs = chain.T_base_first;
   for (int k = 0; k < 3; ++k) {
-    for (int l = 0; l < B; ++l) {
-      X[k][l] = Bs.R(k, 0);
-      Y[k][l] = Bs.R(k, 1);
-      Z[k][l] = Bs.R(k, 2);
-      P[k][l] = Bs.p[k];
-    }
+    X[k] = broadcast(Bs.R(k, 0));
+    Y[k] = broadcast(Bs.R(k, 1));
+    Z[k] = broadcast(Bs.R(k, 2));
+    P[k] = broadcast(Bs.p[k]);
   }
   for (size_t i = 0; i < chain.links.size(); ++i) {
     const ChainLink& link = chain.links[i];
-    const double* qi = q.col(static_cast<Eigen::Index>(i)).data() + first;
-    const double turn = link.motion.turnRate(), slide_rate = link.motion.slideRate();
-    double largest = 0.0;
-    for (int l = 0; l < B; ++l) {
-      const double x = link.motion.motion(l < lanes ? qi[l] : 0.0);
-      angle[l] = link.theta + turn * x;
-      slide[l] = link.p[2] + slide_rate * x;
-      largest = std::max(largest, std::abs(angle[l]));
-    }
-    for (int l = 0; l < B; ++l) sinCosLane(angle[l], st[l], ct[l]);
-    if (!(largest <= detail::kSinCosMaxArgument)) {
-      for (int l = 0; l < B; ++l) {
+    Vec4d qv = broadcast(0.0);
+    std::memcpy(&qv, q.col(static_cast<Eigen::Index>(i)).data() + first, bytes);
+    const Vec4d x = motionOf(qv, link.motion.scale, link.motion.offset);
+    const Vec4d angle = link.theta + link.turn * x;
+    const Vec4d slide = link.p[2] + link.slide * x;
+    Vec4d st, ct;
+    detail::sinCos4(angle, st, ct);
+    if (use_libm) {
+      for (int l = 0; l < kBlock; ++l) {
         st[l] = std::sin(angle[l]);
         ct[l] = std::cos(angle[l]);
       }
     }
     const double px = link.p[0], py = link.p[1], ca = link.cos_alpha, sa = link.sin_alpha;
     for (int k = 0; k < 3; ++k) {
-      for (int l = 0; l < B; ++l) {
-        const double x = ct[l] * X[k][l] + st[l] * Y[k][l];
-        const double y = ct[l] * Y[k][l] - st[l] * X[k][l];
-        const double z = Z[k][l];
-        P[k][l] += (px * x + py * y) + slide[l] * z;
-        X[k][l] = x;
-        Y[k][l] = ca * y + sa * z;
-        Z[k][l] = ca * z - sa * y;
-      }
+      const Vec4d xk = ct * X[k] + st * Y[k];
+      const Vec4d yk = ct * Y[k] - st * X[k];
+      const Vec4d zk = Z[k];
+      P[k] += (px * xk + py * yk) + slide * zk;
+      X[k] = xk;
+      Y[k] = ca * yk + sa * zk;
+      Z[k] = ca * zk - sa * yk;
     }
   }
+  // T * T_last_tool, written to the output columns
   const Pose& E = chain.T_last_tool;
   for (int k = 0; k < 3; ++k) {
     for (int m = 0; m < 3; ++m) {
-      double* out = poses.col(3 * k + m).data() + first;
-      for (int l = 0; l < lanes; ++l) out[l] = (X[k][l] * E.R(0, m) + Y[k][l] * E.R(1, m)) + Z[k][l] * E.R(2, m);
+      const Vec4d r = (X[k] * E.R(0, m) + Y[k] * E.R(1, m)) + Z[k] * E.R(2, m);
+      std::memcpy(poses.col(3 * k + m).data() + first, &r, bytes);
     }
-    double* out = poses.col(9 + k).data() + first;
-    for (int l = 0; l < lanes; ++l) out[l] = ((X[k][l] * E.p[0] + Y[k][l] * E.p[1]) + Z[k][l] * E.p[2]) + P[k][l];
+    const Vec4d p = ((X[k] * E.p[0] + Y[k] * E.p[1]) + Z[k] * E.p[2]) + P[k];
+    std::memcpy(poses.col(9 + k).data() + first, &p, bytes);
   }
 }
 
-void evaluateBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
+                                           Eigen::Ref<MatX> poses) {
   LP_CHECK(q.cols() == static_cast<Eigen::Index>(chain.links.size()),
            "forwardKinematicsBatch: q has " << q.cols() << " columns for " << chain.links.size() << " joints");
   LP_CHECK(poses.rows() == q.rows() && poses.cols() == 12,
            "forwardKinematicsBatch: poses must be " << q.rows() << " x 12, got " << poses.rows() << " x " << poses.cols());
-  for (Eigen::Index first = 0; first < q.rows(); first += kBlock) {
-    const int lanes = static_cast<int>(std::min<Eigen::Index>(kBlock, q.rows() - first));
-    evaluateBlock(chain, q, poses, first, lanes);
+  // one pass over the input decides whether an angle is beyond the sine kernel's range (then libm is used
+  // for the whole call): no per-lane test inside the blocks
+  int out_of_range = 0;
+  for (size_t i = 0; i < chain.links.size(); ++i) {
+    const ChainLink& link = chain.links[i];
+    const double* qi = q.col(static_cast<Eigen::Index>(i)).data();
+    for (Eigen::Index k = 0; k < q.rows(); ++k) {
+      out_of_range |= outOfRange(link.theta + link.turn * motionOf(qi[k], link.motion.scale, link.motion.offset));
+    }
+  }
+  const bool use_libm = out_of_range != 0;
+  Eigen::Index first = 0;
+  for (; first + kBlock <= q.rows(); first += kBlock) evaluateBlock<true>(chain, q, poses, first, kBlock, use_libm);
+  if (first < q.rows()) {
+    evaluateBlock<false>(chain, q, poses, first, static_cast<int>(q.rows() - first), use_libm);
   }
 }
 
 }  // namespace
 
+namespace detail {
+
+// The three entry points into the chain evaluation, compiled twice on x86-64 with GCC: for the baseline
+// and for x86-64-v3 (AVX2 + FMA), chosen once at load time (target_clones), so users of the default
+// build get the vectorized kernel without -march flags.
+LP_DISPATCH void chainTool(const KinematicChain& chain, Data& data, const double* q) { evaluate<false>(chain, data, q); }
+LP_DISPATCH void chainFrames(const KinematicChain& chain, Data& data, const double* q) { evaluate<true>(chain, data, q); }
+LP_DISPATCH void chainBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+  evaluateBatch(chain, q, poses);
+}
+
+}  // namespace detail
+
 void forwardKinematics(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
   LP_ASSERT(q.size() == model.dof() && data.dof == model.dof());
-  evaluate<true>(model.chain(), data, q.data());
+  detail::chainTool(model.chain(), data, q.data());
 }
 
 void forwardKinematics(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
   LP_ASSERT(q.size() == model.dof() && data.dof == model.dof());
-  evaluate<true>(model.chain(), data, q.data());
+  detail::chainTool(model.chain(), data, q.data());
+}
+
+void forwardKinematicsWithFrames(const KinematicChain& chain, Data& data, const Eigen::Ref<const VecX>& q) {
+  LP_ASSERT(q.size() == data.dof);
+  detail::chainFrames(chain, data, q.data());
 }
 
 void forwardKinematicsBatch(const PoeModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
-  evaluateBatch(model.chain(), q, poses);
+  detail::chainBatch(model.chain(), q, poses);
 }
 
 void forwardKinematicsBatch(const DhModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
-  evaluateBatch(model.chain(), q, poses);
+  detail::chainBatch(model.chain(), q, poses);
 }
 
 Pose poeForwardKinematics(const PoeModel& model, const Eigen::Ref<const VecX>& q) {

@@ -13,14 +13,15 @@ namespace lowpair {
 
 namespace {
 
-// A rotation given by a user must be orthonormal to 1e-9; rounding-level defects are removed by
-// projecting onto the nearest rotation (polar decomposition), larger ones are an input error.
+// A rotation given by a user must be orthonormal to kRotationOrthonormal; defects above rounding
+// (kRotationExact) are removed by projecting onto the nearest rotation (polar decomposition).
 Mat3 checkedRotation(const Mat3& R, const std::string& what) {
   LP_CHECK(R.allFinite(), what << ": rotation has a non-finite entry");
   const double defect = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
-  LP_CHECK(defect <= 1e-9, what << ": rotation is not orthonormal (max |R^T R - I| = " << defect << ")");
+  LP_CHECK(defect <= kRotationOrthonormal,
+           what << ": rotation is not orthonormal (max |R^T R - I| = " << defect << ")");
   LP_CHECK(R.determinant() > 0.0, what << ": rotation has determinant " << R.determinant() << " (a reflection)");
-  if (defect <= 4.0 * kEps) return R;
+  if (defect <= kRotationExact) return R;
   Eigen::JacobiSVD<Mat3> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   return svd.matrixU() * svd.matrixV().transpose();
 }
@@ -83,6 +84,8 @@ KinematicChain poeChain(const std::vector<Joint>& joints, const Pose& tool_pose)
   for (size_t i = 0; i < n; ++i) {
     ChainLink& link = chain.links[i];
     link.motion = joints[i];
+    link.turn = link.motion.turnRate();
+    link.slide = link.motion.slideRate();
     if (i + 1 == n) break;  // the last link's constant part is T_last_tool
     Vec3 z, o;
     lineOf(i + 1, G.p, z, o);
@@ -96,6 +99,7 @@ KinematicChain poeChain(const std::vector<Joint>& joints, const Pose& tool_pose)
     G = G * linkPose(link);
   }
   chain.T_last_tool = G.inverse() * tool_pose;
+  packLanes(chain);
   return chain;
 }
 
@@ -105,6 +109,8 @@ KinematicChain dhChain(const DhParams& base, const std::vector<DhJoint>& joints,
   for (const DhJoint& j : joints) {
     ChainLink link;
     link.motion = j;
+    link.turn = j.turnRate();
+    link.slide = j.slideRate();
     link.theta = j.link.theta;
     link.cos_alpha = std::cos(j.link.alpha);
     link.sin_alpha = std::sin(j.link.alpha);
@@ -112,10 +118,32 @@ KinematicChain dhChain(const DhParams& base, const std::vector<DhJoint>& joints,
     chain.links.push_back(link);
   }
   chain.T_last_tool = dhToolTransform(tool_theta, tool_d);
+  packLanes(chain);
   return chain;
 }
 
 }  // namespace
+
+void packLanes(KinematicChain& chain) {
+  const size_t n = chain.links.size();
+  const size_t padded = (n + KinematicChain::kLanes - 1) / KinematicChain::kLanes * KinematicChain::kLanes;
+  KinematicChain::Lanes& l = chain.lanes;
+  l.theta.assign(padded, 0.0);
+  l.turn.assign(padded, 0.0);
+  l.slide.assign(padded, 0.0);
+  l.z.assign(padded, 0.0);
+  l.scale.assign(padded, 1.0);
+  l.offset.assign(padded, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    const ChainLink& link = chain.links[i];
+    l.theta[i] = link.theta;
+    l.turn[i] = link.turn;
+    l.slide[i] = link.slide;
+    l.z[i] = link.p[2];
+    l.scale[i] = link.motion.scale;
+    l.offset[i] = link.motion.offset;
+  }
+}
 
 std::vector<Pose> restFrames(const KinematicChain& chain) {
   std::vector<Pose> frames;
@@ -177,7 +205,7 @@ PoeModel::PoeModel(std::vector<Joint> joints, const Pose& tool_pose, std::string
              label << ": non-finite parameter");
     LP_CHECK(j.scale > 0.0, label << ": scale must be positive, got " << j.scale);
     const double unit = j.type == JointType::Prismatic ? j.twist.tail<3>().norm() : j.twist.head<3>().norm();
-    LP_CHECK(std::abs(unit - 1.0) <= 1e3 * kEps, label << ": twist is not normalized (norm " << unit << ")");
+    LP_CHECK(std::abs(unit - 1.0) <= kUnitNorm, label << ": twist is not normalized (norm " << unit << ")");
     if (j.type == JointType::Prismatic) {
       LP_CHECK(j.twist.head<3>().isZero(0.0), label << ": prismatic twist has w != 0");
     }

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <set>
-#include <sstream>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include "lowpair/check.hpp"
@@ -20,22 +20,15 @@ namespace {
 
 using JointSet = std::vector<int>;  // 0-based, sorted
 
-// "4 and 6", "2, 3 and 5" (1-based).
-std::string jointList(const JointSet& joints) {
-  std::ostringstream out;
-  for (size_t k = 0; k < joints.size(); ++k) {
-    if (k > 0) out << (k + 1 == joints.size() ? " and " : ", ");
-    out << joints[k] + 1;
-  }
-  return out.str();
-}
+// The rank of a Jacobian is at most 6, the dimension of the twist space se(3).
+constexpr int kTwistDim = 6;
 
-std::string vec3Text(const Vec3& v) {
-  std::ostringstream out;
-  out.precision(6);
-  out << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
-  return out.str();
-}
+// Lines of one Paden-Sastry family span a space of zero-pitch screws of one dimension less than these
+// counts, so this many distinct lines of the family are linearly dependent (examples 2-5).
+constexpr size_t kParallelCoplanarLines = 3;  // C2: parallel lines in one plane span 2 dimensions
+constexpr size_t kConcurrentLines = 4;        // C3: lines through one point span 3
+constexpr size_t kParallelLines = 4;          // C4: parallel lines span 3
+constexpr size_t kCoplanarLines = 4;          // C5: lines in one plane span 3
 
 int countAbove(const VecX& sigma, double tol) {
   return static_cast<int>((sigma.array() > tol).count());
@@ -103,12 +96,12 @@ void addDistinct(const Lines& lines, JointSet& members, int k) {
   members.push_back(k);
 }
 
-void add(std::vector<SingularClass>& out, const std::string& id, const JointSet& joints, const std::string& text) {
+SingularClass& add(std::vector<SingularClass>& out, const std::string& id, const JointSet& joints) {
   SingularClass c;
   c.id = id;
   for (int j : joints) c.joints.push_back(j + 1);
-  c.description = text;
   out.push_back(std::move(c));
+  return out.back();
 }
 
 // Revolute lines grouped into parallel families (each family sorted).
@@ -136,7 +129,7 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       if (lines.revolute(i) && lines.revolute(j) && lines.collinear(i, j)) {
-        add(out, "C1", {i, j}, "joint axes " + jointList({i, j}) + " are collinear");
+        add(out, "C1", {i, j});
       }
     }
   }
@@ -144,7 +137,7 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
   // C2 (example 2): three parallel coplanar revolute axes (maximal sets).
   std::set<JointSet> c2;
   for (const JointSet& f : families) {
-    if (f.size() < 3) continue;
+    if (f.size() < kParallelCoplanarLines) continue;
     for (size_t a = 0; a < f.size(); ++a) {
       for (size_t b = a + 1; b < f.size(); ++b) {
         Vec3 normal;
@@ -153,11 +146,11 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
         for (int k : f) {
           if (lines.inPlane(k, normal, lines[f[a]].point)) addDistinct(lines, members, k);
         }
-        if (members.size() >= 3) c2.insert(members);
+        if (members.size() >= kParallelCoplanarLines) c2.insert(members);
       }
     }
   }
-  for (const JointSet& s : c2) add(out, "C2", s, "joint axes " + jointList(s) + " are parallel and coplanar");
+  for (const JointSet& s : c2) add(out, "C2", s);
   // C3 (example 3): four revolute axes through one point.
   std::set<JointSet> c3;
   for (int i = 0; i < n; ++i) {
@@ -168,8 +161,8 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
       for (int k = 0; k < n; ++k) {
         if (lines.revolute(k) && lines.onLine(p, k)) addDistinct(lines, members, k);
       }
-      if (members.size() >= 4 && c3.insert(members).second) {
-        add(out, "C3", members, "joint axes " + jointList(members) + " pass through one point " + vec3Text(p));
+      if (members.size() >= kConcurrentLines && c3.insert(members).second) {
+        add(out, "C3", members).point = p;
       }
     }
   }
@@ -177,7 +170,7 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
   for (const JointSet& f : families) {
     JointSet distinct;
     for (int k : f) addDistinct(lines, distinct, k);
-    if (distinct.size() >= 4) add(out, "C4", distinct, "joint axes " + jointList(distinct) + " are parallel");
+    if (distinct.size() >= kParallelLines) add(out, "C4", distinct);
   }
   // C5 (example 5): four coplanar revolute axes.
   std::set<JointSet> c5;
@@ -189,10 +182,10 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
       for (int k = 0; k < n; ++k) {
         if (lines.revolute(k) && lines.inPlane(k, normal, lines[i].point)) addDistinct(lines, members, k);
       }
-      if (members.size() >= 4) c5.insert(members);
+      if (members.size() >= kCoplanarLines) c5.insert(members);
     }
   }
-  for (const JointSet& s : c5) add(out, "C5", s, "joint axes " + jointList(s) + " lie in one plane");
+  for (const JointSet& s : c5) add(out, "C5", s);
   // C7 (example 7): a prismatic axis normal to the plane of two parallel revolute axes.
   for (int k = 0; k < n; ++k) {
     if (lines[k].type != JointType::Prismatic) continue;
@@ -204,9 +197,7 @@ void lineClasses(const Lines& lines, std::vector<SingularClass>& out) {
           if (lines[k].direction.cross(normal).norm() > lines.tolerance()) continue;
           JointSet s = {f[a], f[b], k};
           std::sort(s.begin(), s.end());
-          add(out, "C7", s,
-              "prismatic joint " + std::to_string(k + 1) + " is normal to the plane of the parallel joint axes " +
-                  jointList({f[a], f[b]}));
+          add(out, "C7", s).prismatic_joint = k + 1;
         }
       }
     }
@@ -235,20 +226,23 @@ void lineClassC6(const MatX& left_null, const Vec3& p_tool, double size, int n, 
     JointSet all(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) all[static_cast<size_t>(i)] = i;
     if (uv.norm() <= kWrenchPitchTolerance) {
-      add(out, "C6", all, "all " + std::to_string(n) + " joint axes meet one line at infinity: all are perpendicular to " +
-                              vec3Text(uw.normalized()));
+      SingularClass& c = add(out, "C6", all);
+      c.at_infinity = true;
+      c.direction = uw.normalized();
       return;
     }
     if (std::abs(uv.dot(uw)) <= kWrenchPitchTolerance * uv.squaredNorm()) {
       const Vec3 f = uv / size;
-      const Vec3 point = p_tool + f.cross(uw) / f.squaredNorm();
-      add(out, "C6", all,
-          "all " + std::to_string(n) + " joint axes meet the line through " + vec3Text(point) + " along " +
-              vec3Text(f.normalized()));
+      SingularClass& c = add(out, "C6", all);
+      c.point = p_tool + f.cross(uw) / f.squaredNorm();
+      c.direction = f.normalized();
       return;
     }
   }
 }
+
+// Rows of the arm block of eq. 5.2 (the linear velocity of the wrist point): its full rank.
+constexpr int kArmBlockRows = 3;
 
 // Paden–Sastry §5: the last three consecutive revolute axes that meet in one point.
 DecoupledAnalysis decouple(const Lines& lines, double size, double tol) {
@@ -284,7 +278,7 @@ DecoupledAnalysis decouple(const Lines& lines, double size, double tol) {
     const Eigen::JacobiSVD<MatX> a_svd(A);
     const VecX& s = a_svd.singularValues();
     d.arm_sigma_min = s(s.size() - 1);
-    d.arm_singular = numericalRank(s, tol) < std::min<int>(3, static_cast<int>(A.cols()));
+    d.arm_singular = numericalRank(s, tol) < std::min<int>(kArmBlockRows, static_cast<int>(A.cols()));
   }
   return d;
 }
@@ -321,7 +315,7 @@ void dimensionlessJacobian(const PoeModel& model, Eigen::Ref<Mat6X> J) {
   J.topRows(3) /= L;
 }
 
-double rankTolerance(double sigma_max, int dof) { return kRankFactor * std::max(6, dof) * kEps * sigma_max; }
+double rankTolerance(double sigma_max, int dof) { return kRankFactor * std::max(kTwistDim, dof) * kEps * sigma_max; }
 
 int numericalRank(const Eigen::Ref<const VecX>& sigma, double tolerance) { return countAbove(sigma, tolerance); }
 
@@ -331,7 +325,7 @@ JacobianRank jacobianRank(const PoeModel& model, const Eigen::Ref<const Mat6X>& 
   Mat6X Jn = J_geometric;
   dimensionlessJacobian(model, Jn);
   JacobianRank r;
-  const int m = std::min(6, model.dof());
+  const int m = std::min(kTwistDim, model.dof());
   r.singular_values = Eigen::JacobiSVD<MatX>(Jn).singularValues().head(m);
   r.tolerance = rankTolerance(m > 0 ? r.singular_values(0) : 0.0, model.dof());
   r.rank = countAbove(r.singular_values, r.tolerance);
@@ -345,13 +339,38 @@ std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const 
   return linesFromSpatial(model, data.J_spatial);
 }
 
-SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
+namespace {
+// The null-space vectors k = rank .. rank + count - 1 of a chain too long for the full V (n x n): the
+// columns rank..m-1 of the thin V, then columns m.. of the Householder Q of J_n^T = Q R, which span the
+// orthogonal complement of J_n's row space (the same construction JacobiSVD uses for its full V).
+std::vector<VecX> largeChainNullSpace(const MatX& Jn, const Eigen::JacobiSVD<MatX>& svd, int rank, int count) {
+  const int n = static_cast<int>(Jn.cols());
+  const int m = static_cast<int>(svd.matrixV().cols());
+  std::vector<VecX> out;
+  for (int k = rank; k < m && static_cast<int>(out.size()) < count; ++k) out.push_back(svd.matrixV().col(k));
+  const int rest = std::min(count - static_cast<int>(out.size()), n - std::max(m, rank));
+  if (rest <= 0) return out;
+  const int first = std::max(m, rank);
+  const Eigen::ColPivHouseholderQR<MatX> qr(Jn.transpose());
+  MatX E = MatX::Zero(n, rest);
+  for (int c = 0; c < rest; ++c) E(first + c, c) = 1.0;
+  qr.householderQ().applyThisOnTheLeft(E);
+  for (int c = 0; c < rest; ++c) out.push_back(E.col(c));
+  return out;
+}
+}  // namespace
+
+SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<const VecX>& q,
+                                     const SingularityOptions& options) {
   checkJointVector(q, model.dof());
+  LP_CHECK(options.max_null_vectors >= 0,
+           "analyzeSingularity: max_null_vectors must be >= 0, got " << options.max_null_vectors);
   const int n = model.dof();
   const double L = model.size();
   SingularityReport r;
   r.dof = n;
   r.size = L;
+  r.classes_searched = n <= kClassSearchMaxJoints;
 
   // one FK: the spatial Jacobian gives the joint lines, its geometric form the dimensionless J_n
   Data data(model);
@@ -362,8 +381,11 @@ SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<con
   dimensionlessJacobian(model, Jn);
   const Vec3 p_tool = data.T_base_tool.p;
 
-  const int m = std::min(6, n);
-  Eigen::JacobiSVD<MatX> svd(Jn, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  // a chain within the class-search limit gets the full U and V (every null vector, for `other` and C6);
+  // a longer one the thin V (n x 6): the full V alone would be n^2 numbers
+  const int m = std::min(kTwistDim, n);
+  const Eigen::JacobiSVD<MatX> svd(Jn, r.classes_searched ? Eigen::ComputeFullU | Eigen::ComputeFullV
+                                                          : Eigen::ComputeThinV);
   r.singular_values = svd.singularValues().head(m);
   const double sigma_max = m > 0 ? r.singular_values(0) : 0.0;
   r.tolerance = rankTolerance(sigma_max, n);
@@ -377,26 +399,33 @@ SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<con
     r.rank_angular = countAbove(Eigen::JacobiSVD<MatX>(Jn.bottomRows(3)).singularValues(), r.tolerance);
   }
   // every direction of joint motion that moves nothing: n - rank of them (self-motion included for n > 6)
-  for (int k = r.rank; k < n; ++k) r.null_space.push_back(svd.matrixV().col(k));
-
-  // Classes explain a rank deficiency at the tolerance that detected it (tolerances.hpp): tight on a
-  // regular pose (a class there would contradict the rank), loose on a singular one.
-  const Lines lines(r.lines, L, r.singular ? kLineToleranceSingular : kLineTolerance);
-  lineClasses(lines, r.classes);
-  const bool all_revolute = std::all_of(r.lines.begin(), r.lines.end(),
-                                        [](const JointLine& l) { return l.type == JointType::Revolute; });
-  if (all_revolute && n >= 6 && r.rank < 6) {
-    lineClassC6(svd.matrixU().rightCols(6 - r.rank), p_tool, L, n, r.classes);
+  r.nullity = n - r.rank;
+  const int kept = std::min(r.nullity, options.max_null_vectors);
+  if (r.classes_searched) {
+    for (int k = r.rank; k < r.rank + kept; ++k) r.null_space.push_back(svd.matrixV().col(k));
+  } else {
+    r.null_space = largeChainNullSpace(Jn, svd, r.rank, kept);
   }
-  if (r.singular && r.classes.empty()) {
-    JointSet dependent;
-    for (int i = 0; i < n; ++i) {
-      bool in = false;
-      for (const VecX& x : r.null_space) in = in || std::abs(x(i)) > kNullCoefficient;
-      if (in) dependent.push_back(i);
+
+  const Lines lines(r.lines, L, r.singular ? kLineToleranceSingular : kLineTolerance);
+  if (r.classes_searched) {
+    // Classes explain a rank deficiency at the tolerance that detected it (tolerances.hpp): tight on a
+    // regular pose (a class there would contradict the rank), loose on a singular one.
+    lineClasses(lines, r.classes);
+    const bool all_revolute = std::all_of(r.lines.begin(), r.lines.end(),
+                                          [](const JointLine& l) { return l.type == JointType::Revolute; });
+    if (all_revolute && n >= kTwistDim && r.rank < kTwistDim) {
+      lineClassC6(svd.matrixU().rightCols(kTwistDim - r.rank), p_tool, L, n, r.classes);
     }
-    add(r.classes, "other", dependent,
-        "the screws of joints " + jointList(dependent) + " are linearly dependent (no listed class)");
+    if (r.singular && r.classes.empty()) {
+      JointSet dependent;
+      for (int i = 0; i < n; ++i) {
+        bool in = false;
+        for (int k = r.rank; k < n; ++k) in = in || std::abs(svd.matrixV()(i, k)) > kNullCoefficient;
+        if (in) dependent.push_back(i);
+      }
+      add(r.classes, "other", dependent);
+    }
   }
   r.decoupled = decouple(lines, L, r.tolerance);
   return r;

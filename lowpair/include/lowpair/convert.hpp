@@ -13,10 +13,8 @@ namespace lowpair {
 struct ConvertOptions {
   /// Threshold on `sin(alpha)` below which an axis is treated as parallel to the current z.
   /// 0 selects the rounding-level default `kParallelPerJoint * eps * n`. A larger value snaps nearly
-  /// parallel axes (a different, non-equivalent table): the result's fk_check then shows the deviation.
+  /// parallel axes (a different, non-equivalent table): checkDhConversion then measures the deviation.
   double parallel_threshold = 0.0;
-  /// Configurations sampled by the FK check (plus the zero configuration); 0 disables it.
-  int fk_check_samples = 64;
 };
 
 /// Conditioning of one D-H row: row 0 is the base, row i is link_i (placed by joint i+1's axis, or by
@@ -26,32 +24,65 @@ struct DhRowReport {
   double axis_angle = 0.0;   ///< angle between the line before and after this row, in [0, pi/2] (rad)
   bool parallel = false;     ///< the parallel-axis branch was taken (d is a free choice, set to 0)
   bool ill_conditioned = false;  ///< |d| or |a| exceeds kIllConditioned * L
+  double abs_d = 0.0;        ///< |d| of the row (length)
+  double abs_a = 0.0;        ///< |a| of the row (length)
 };
 
-/// FK agreement of the converted table with the POE model, measured at the zero configuration and
-/// `samples` seeded random configurations (revolute in [-pi, pi], prismatic over its range or [-L, L]).
-struct FkCheck {
-  int samples = 0;
-  double max_rotation = 0.0;     ///< rad
-  double max_translation = 0.0;  ///< length
-  /// The honest bound scale `max(L, max |d|, max |a|)` of the table (design.md).
+/// Conditioning of the tool transform `Rz(theta_T) Tz(d_T)` (Lemma 4).
+struct DhToolReport {
+  double abs_d = 0.0;            ///< |d_T| (length)
+  bool ill_conditioned = false;  ///< |d_T| > kIllConditioned * L: the last axis is nearly parallel to the tool z
+};
+
+/// The accuracy bound's scale under its former name `DhConversion::fk_check.scale`, from when poeToDh ran
+/// the FK check itself. Deprecated: read DhConversion::scale (the measured errors are checkDhConversion's).
+struct DhBoundScale {
   double scale = 1.0;
 };
 
+/// The result of poeToDh: the table and, per row, the data that says how well conditioned it is. No FK
+/// check (checkDhConversion) and no sentences (the CLI words the conditioning from these fields).
 struct DhConversion {
   DhModel model;
-  double size = 1.0;  ///< robot size L
-  double parallel_threshold = 0.0;  ///< the threshold that was used
-  std::vector<DhRowReport> rows;    ///< n + 1 rows (base, link_1 .. link_n)
-  std::vector<std::string> warnings;
-  FkCheck fk_check;
+  double size = 1.0;                         ///< robot size L
+  double parallel_threshold = 0.0;           ///< the threshold on sin(alpha) that was used
+  double rounding_parallel_threshold = 0.0;  ///< the rounding-level default `kParallelPerJoint * eps * n`
+  /// The requested threshold is above rounding level: nearly parallel axes may have been snapped, so the
+  /// table is a different model whose deviation only checkDhConversion measures.
+  bool above_rounding = false;
+  std::vector<DhRowReport> rows;  ///< n + 1 rows (base, link_1 .. link_n)
+  DhToolReport tool;
+  /// The accuracy bound's scale `max(L, max |d|, max |a|, |d_T|)` of the table (conversion.md, "Accuracy").
+  double scale = 1.0;
+  DhBoundScale fk_check;  ///< deprecated: `fk_check.scale == scale`
 };
 
 /// POE -> D-H. Exact to rounding for every valid model (prismatic joints, exactly, nearly and
 /// anti-parallel axes included); canonical output: angles in (-pi, pi], -0 and sub-tolerance residues
 /// snapped to 0, `a >= 0` in every row placed by a joint axis (alpha >= 0 when a = 0), the last row
 /// from Lemma 4 with alpha in [0, pi]. Offsets are folded into theta/d with the joint's scale.
+/// Runs no FK check: call checkDhConversion where one is wanted.
+/// @throws std::invalid_argument for a model without joints or a threshold outside [0, 1)
 DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options = {});
+
+/// Seeded configurations of the FK check beyond the zero configuration: 65 forward kinematics spread every
+/// joint over its range at negligible cost next to reading the robot file.
+constexpr int kFkCheckSamples = 64;
+
+/// FK agreement of a D-H table with the POE model it was converted from, measured at the zero
+/// configuration and `samples` seeded random configurations (revolute in [-pi, pi], prismatic over its
+/// range or [-L, L], in joint-variable units of the POE model).
+struct FkCheck {
+  int samples = 0;               ///< configurations compared (samples + 1)
+  double max_rotation = 0.0;     ///< rad
+  double max_translation = 0.0;  ///< length
+  /// The honest bound scale `max(L, max |d|, max |a|, |d_T|)` of the table (conversion.md).
+  double scale = 1.0;
+};
+
+/// Compares `poe` and `dh` forward kinematics (conversion.md, "Accuracy and conditioning"). Deterministic
+/// (fixed seed). @throws std::invalid_argument when the joint counts differ or samples < 0
+FkCheck checkDhConversion(const PoeModel& poe, const DhModel& dh, int samples = kFkCheckSamples);
 
 /// D-H -> base POE (exact: twists `Ad(G_i) [0 0 1 0 0 h]`, offsets 0).
 PoeModel dhToPoe(const DhModel& model);

@@ -26,6 +26,12 @@ struct JointSpec {
 /// `Q(x) = Rz(j x) Tz(k x)` in a frame whose z is the line, with `(j, k)` = revolute `(1, 0)`, prismatic
 /// `(0, 1)`, helical `(1, pitch)`. Every algorithm (FK, Jacobians, conversions, the harness's sampling)
 /// goes through these functions; nothing else states the rule.
+/// The joint-variable map on plain numbers, `x = scale (q + offset)` (JointMotion::motion; vectorized
+/// loops call it on arrays).
+/// (`T` is double, or a SIMD vector of joint values.)
+template <class T>
+inline T motionOf(T q, double scale, double offset) { return scale * (q + offset); }
+
 struct JointMotion {
   JointType type = JointType::Revolute;
   double pitch = 0.0;   ///< length/rad; 0 unless helical
@@ -33,7 +39,7 @@ struct JointMotion {
   double offset = 0.0;  ///< `dq`, joint-variable units
 
   /// `x = scale (q + offset)`.
-  double motion(double q) const { return scale * (q + offset); }
+  double motion(double q) const { return motionOf(q, scale, offset); }
   /// The inverse map: `q = x / scale - offset`.
   double variable(double x) const { return x / scale - offset; }
   /// `j`: rad turned per unit of motion.

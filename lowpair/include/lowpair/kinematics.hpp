@@ -21,20 +21,25 @@ struct Data {
   explicit Data(const KinematicChain& chain);
 
   int dof = 0;
-  // forwardKinematics (and computeJacobians):
-  std::vector<Pose> T_base_joint;  ///< n frames, see above
+  // forwardKinematics:
   Pose T_base_tool;                ///< `g(q)` (POE) / `H(q)` (D-H)
-  // computeJacobians:
+  // computeJacobians (and forwardKinematicsWithFrames):
+  std::vector<Pose> T_base_joint;  ///< n frames, see above
   Mat6X J_spatial;                 ///< 6 x n, twist coordinates `[w; v]` in the base frame (jacobian.hpp)
-  // scratch of the chain evaluation (joint angles, their sines and cosines, slides):
-  VecX angle, sin_angle, cos_angle, slide;
+  // scratch of the chain evaluation, padded to the chain's SIMD lanes (joint values, angles, their
+  // sines and cosines, slides):
+  VecX q_padded, angle, sin_angle, cos_angle, slide;
 };
 
-/// Forward kinematics: fills `data.T_base_tool` (`g(q)` of eq. 5 for POE, `H(q)` of eq. 10 for D-H) and
-/// `data.T_base_joint`. Allocates nothing; all joint sines and cosines are computed together.
+/// Forward kinematics: fills `data.T_base_tool` (`g(q)` of eq. 5 for POE, `H(q)` of eq. 10 for D-H).
+/// Allocates nothing; all joint sines and cosines are computed together. (The joint frames
+/// `data.T_base_joint` are filled by computeJacobians, which needs them, or forwardKinematicsWithFrames.)
 /// @param q joint variables, size dof (checked only by LP_ASSERT; see checkJointVector).
 void forwardKinematics(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q);
 void forwardKinematics(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q);
+
+/// Forward kinematics that also fills `data.T_base_joint` (the frame of every joint's line).
+void forwardKinematicsWithFrames(const KinematicChain& chain, Data& data, const Eigen::Ref<const VecX>& q);
 
 /// Batch forward kinematics, structure of arrays (SIMD across configurations), same results as
 /// forwardKinematics to rounding. @param q `count x dof`: column j holds joint j of every configuration.

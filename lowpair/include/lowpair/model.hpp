@@ -14,6 +14,7 @@ namespace lowpair {
 /// One link of a KinematicChain: joint i's motion followed by the constant transform to joint i+1's axis.
 struct ChainLink {
   JointMotion motion;
+  double turn = 1.0, slide = 0.0;           ///< `(j, k)` = motion.turnRate(), motion.slideRate(), cached
   double theta = 0.0;                       ///< rad, added to the joint's turn `j x`
   double cos_alpha = 1.0, sin_alpha = 0.0;  ///< of the twist angle about the new x axis
   Vec3 p = Vec3::Zero();                    ///< translation before `Rx(alpha)` (the joint's slide `k x` adds to p.z)
@@ -30,7 +31,17 @@ struct KinematicChain {
   Pose T_base_first;            ///< frame of joint 1's line at zero motion
   std::vector<ChainLink> links;
   Pose T_last_tool;             ///< from the frame after the last link to the tool
+  /// The links' per-joint numbers again as arrays padded to a multiple of kLanes (padding: a joint that
+  /// does not move), so that the joint angles and their sines and cosines are computed in full SIMD lanes.
+  static constexpr int kLanes = 4;
+  struct Lanes {
+    std::vector<double> theta, turn, slide, z, scale, offset;  // z = p.z of the link
+  } lanes;
+  int paddedDof() const { return static_cast<int>(lanes.theta.size()); }
 };
+
+/// Fills `chain.lanes` from `chain.links`.
+void packLanes(KinematicChain& chain);
 
 /// Frames of the joint lines at zero motion (every `x_i = 0`): [i] has z along joint i's line and its
 /// origin on it (the `T_base_joint` of kinematics.hpp at `x = 0`).

@@ -28,8 +28,14 @@
 /// singular geometry, and the classes must explain the deficiency that was found. Classes use revolute
 /// joints only (h = 0; helical joints of
 /// different pitch on one line are independent screws), C7 adds a prismatic one.
+///
+/// **Long chains.** The class search compares every pair of axes with every other axis: O(n^3), O(n^4)
+/// when many axes share a plane or a point. It runs only up to kClassSearchMaxJoints joints
+/// (tolerances.hpp); a longer chain gets rank, singular values, blocks, the wrist/arm split and the null
+/// vectors asked for (SingularityOptions), with `classes_searched = false`.
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,11 +53,19 @@ struct JointLine {
   double pitch = 0.0;              ///< length/rad
 };
 
-/// One singular class found at a configuration.
+/// One singular class found at a configuration: which, the joints, and the geometry that names it (the
+/// CLI words it, e.g. "joint axes 4 and 6 are collinear").
 struct SingularClass {
-  std::string id;            ///< "C1".."C7" or "other" (design.md)
-  std::vector<int> joints;   ///< 1-based joint numbers
-  std::string description;   ///< one line, e.g. "joint axes 4 and 6 are collinear"
+  std::string id;            ///< "C1".."C7" or "other" (conventions.md)
+  std::vector<int> joints;   ///< 1-based joint numbers, ascending
+  /// C3: the point all the axes pass through; C6 (not at infinity): a point of the line every axis meets
+  /// (the one nearest the tool origin). Base frame, length.
+  Vec3 point = Vec3::Zero();
+  /// C6: the unit direction of the line every axis meets; at infinity, the unit normal every axis is
+  /// perpendicular to.
+  Vec3 direction = Vec3::Zero();
+  bool at_infinity = false;  ///< C6: the common line is at infinity (a pure couple is reciprocal to every axis)
+  int prismatic_joint = 0;   ///< C7: the prismatic joint (1-based); the other two in `joints` are the parallel axes
 };
 
 /// Paden–Sastry §5: three consecutive revolute axes meeting in one point P (a spherical wrist). With the
@@ -85,12 +99,24 @@ struct SingularityReport {
   int rank_linear = 0;          ///< rank of the 3 x n linear block (tool-origin velocities)
   int rank_angular = 0;         ///< rank of the 3 x n angular block
   std::vector<JointLine> lines; ///< the joint lines used by the classification
+  /// The classes were searched: dof <= kClassSearchMaxJoints. Otherwise `classes` is empty because the
+  /// search was skipped, not because no class holds.
+  bool classes_searched = true;
   std::vector<SingularClass> classes;
   DecoupledAnalysis decoupled;
-  /// An orthonormal basis (n - rank vectors) of the x with J_n x ~ 0: the dependent unit joint screws
-  /// (the joint velocity is `qdot_i = x_i / scale_i`, times L for prismatic joints). For n > 6 it includes
-  /// the self-motion of a regular pose.
+  int nullity = 0;  ///< dof - rank: the dimension of the null space of J_n
+  /// The first min(nullity, SingularityOptions::max_null_vectors) vectors of an orthonormal basis of the x
+  /// with J_n x ~ 0: the dependent unit joint screws (the joint velocity is `qdot_i = x_i / scale_i`, times
+  /// L for prismatic joints). The basis starts with the right singular vectors of the deficient singular
+  /// values; for n > 6 it continues with the self-motion (the complement of J_n's row space).
   std::vector<VecX> null_space;
+};
+
+/// What analyzeSingularity returns beyond the rank, the singular values and the classes.
+struct SingularityOptions {
+  /// At most this many null-space vectors (`SingularityReport::nullity` counts them all). A chain of n
+  /// joints has up to n of them, n^2 numbers: bound it for long chains.
+  int max_null_vectors = std::numeric_limits<int>::max();
 };
 
 /// In place: the geometric Jacobian (rows [v; w]) of `model` made dimensionless, `J_n = D_r J D_c`
@@ -115,11 +141,14 @@ JacobianRank jacobianRank(const PoeModel& model, const Eigen::Ref<const Mat6X>& 
 /// Joint lines of a POE model at q (from the forward-kinematics prefix frames).
 std::vector<JointLine> jointLines(const PoeModel& model, const Eigen::Ref<const VecX>& q);
 
-/// Rank, singular values, classes C1..C7 / `other` and the decoupled wrist/arm analysis at q.
+/// Rank, singular values, classes C1..C7 / `other`, the decoupled wrist/arm analysis and the null space at q.
 /// For a 6-joint robot a class is reported exactly when the rank is deficient (`other` when no listed
 /// class explains the dependency). For other joint counts `singular` means rank < min(6, dof), the line
 /// classes are still listed as degenerate axis sets, and `other` is added when singular without a class.
-/// @throws std::invalid_argument unless q has dof finite entries.
-SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<const VecX>& q);
+/// Chains of more than kClassSearchMaxJoints joints are not searched for classes (`classes_searched`
+/// false); everything else is computed in O(dof) time and memory plus the null vectors asked for.
+/// @throws std::invalid_argument unless q has dof finite entries and max_null_vectors >= 0.
+SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<const VecX>& q,
+                                     const SingularityOptions& options = {});
 
 }  // namespace lowpair

@@ -44,5 +44,21 @@ constexpr double kLineToleranceSingular = 1e-8;
 constexpr double kWrenchPitchTolerance = 1e-8;
 /// `other`: a joint takes part in a dependency when its coefficient in a unit null vector exceeds this.
 constexpr double kNullCoefficient = 1e-8;
+/// The classes are searched only for chains of at most this many joints. The search pairs every two axes
+/// with every other axis, O(n^4) when many axes share a plane or a point: measured on all-parallel coplanar
+/// axes, 0.1 s at 64 joints, 1.4 s at 128, 23 s at 256. 64 covers every arm and the hyper-redundant chains
+/// of the literature, and keeps the listing readable (at most 64 * 63 / 2 pairs for C1).
+constexpr int kClassSearchMaxJoints = 64;
+
+// --- model input (model.cpp) ----------------------------------------------------------------------------
+/// A rotation read from a robot file (`tool_pose`) must be orthonormal to this, `max |R^T R - I|`: a matrix
+/// written with 10 decimals (defect below ~3e-10) passes, a scaled or sheared one is an input error.
+constexpr double kRotationOrthonormal = 1e-9;
+/// Up to this defect the rotation is kept bit for bit (the rounding of a computed rotation); above it, and
+/// up to kRotationOrthonormal, it is replaced by the nearest rotation (polar decomposition).
+constexpr double kRotationExact = 4.0 * kEps;
+/// `PoeModel` from already normalized joints (a conversion result): |w| (prismatic |v|) must be 1 within
+/// this, a normalized twist carried through a chain of rigid transforms keeps its norm to rounding.
+constexpr double kUnitNorm = 1e3 * kEps;
 
 }  // namespace lowpair

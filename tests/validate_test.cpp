@@ -1,0 +1,274 @@
+// The validation engine's parts (harness/comparison.hpp, harness/validate.hpp) on known data: the
+// constant-memory statistics of a comparison (max, mean, p99 within the histogram's stated error,
+// non-finite samples fail), their exact merge (results independent of the thread split), the random
+// sample stream (bit for bit std::mt19937_64), the bounded plot subsample, and the worker pool when a
+// thread cannot be created.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <system_error>
+
+#include "comparison.hpp"
+#include "validate.hpp"
+
+namespace {
+
+using namespace lowpair;
+
+// The bound stated in comparison.hpp: half a bin of 100 per decade, 10^(1/200) - 1.
+const double kP99RelativeError = std::pow(10.0, 0.5 / LogHistogram::kBinsPerDecade) - 1.0;
+
+SampleErrors errors(double rotation, double translation, double euler = 0.0) {
+  SampleErrors e;
+  e.rotation = rotation;
+  e.translation = translation;
+  e.rotation_euler = euler;
+  return e;
+}
+
+// Nearest-rank p-quantile (what validate reported before the histogram: the ceil(p n)-th smallest).
+double exactQuantile(std::vector<double> v, double p) {
+  const size_t k = static_cast<size_t>(std::ceil(p * static_cast<double>(v.size()))) - 1;
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
+  return v[k];
+}
+
+TEST(ErrorStatistics, KnownValues) {
+  // rotation k * 1e-15 rad, translation k * 2e-15 (L = 0.5: translation / L = k * 4e-15), k = 1..1000
+  ErrorStatistics stats(1e-11, 1e-11, 0.5);
+  for (int k = 1; k <= 1000; ++k) stats.add(k - 1, errors(k * 1e-15, k * 2e-15, k * 1.5e-15));
+  ComparisonResult c;
+  stats.summarize(c);
+  EXPECT_EQ(stats.count(), 1000);
+  EXPECT_EQ(c.non_finite, 0);
+  EXPECT_TRUE(c.pass);
+  EXPECT_EQ(c.max_rotation, 1000 * 1e-15);
+  EXPECT_EQ(c.max_translation, 1000 * 2e-15);
+  EXPECT_EQ(c.max_rotation_euler, 1000 * 1.5e-15);
+  EXPECT_NEAR(c.mean_rotation, 500.5e-15, 1e-15 * 500.5e-15);
+  EXPECT_NEAR(c.mean_translation, 1001e-15, 1e-15 * 1001e-15);
+  // nearest rank: the 990th smallest
+  EXPECT_NEAR(c.p99_rotation, 990e-15, kP99RelativeError * 990e-15);
+  EXPECT_NEAR(c.p99_translation, 1980e-15, kP99RelativeError * 1980e-15);
+  EXPECT_LE(c.p99_rotation, c.max_rotation);
+  EXPECT_EQ(stats.worstIndex(), 999);
+  EXPECT_EQ(c.tolerance_rotation, 1e-11);
+  long long binned = 0;
+  for (long long n : c.rotation_histogram) binned += n;
+  EXPECT_EQ(binned, 1000);
+}
+
+TEST(ErrorStatistics, OutsideToleranceFails) {
+  ErrorStatistics stats(1e-12, 1e-12, 1.0);
+  stats.add(0, errors(1e-15, 1e-15));
+  stats.add(1, errors(1e-15, 3e-12));  // translation 3 tolerances
+  stats.add(2, errors(2e-12, 1e-15));  // rotation 2 tolerances
+  ComparisonResult c;
+  stats.summarize(c);
+  EXPECT_FALSE(c.pass);
+  EXPECT_EQ(stats.worstIndex(), 1) << "the worst sample is the largest error relative to its tolerance";
+}
+
+TEST(ErrorStatistics, NonFiniteSampleFailsWithItsCount) {
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    ErrorStatistics stats(1e-12, 1e-12, 1.0);
+    stats.add(0, errors(1e-15, 1e-15));
+    stats.add(1, errors(bad, 1e-15));
+    stats.add(2, errors(1e-11, 1e-15));  // larger, but finite: the worst is still the non-finite one
+    stats.add(3, errors(1e-15, bad));
+    stats.add(4, errors(1e-15, 1e-15, bad));  // the Euler-angle error counts too
+    ComparisonResult c;
+    stats.summarize(c);
+    EXPECT_FALSE(c.pass);
+    EXPECT_EQ(c.non_finite, 3);
+    EXPECT_EQ(stats.worstIndex(), 1) << "the first non-finite sample";
+    EXPECT_TRUE(std::isnan(c.max_rotation) && std::isnan(c.max_translation) && std::isnan(c.mean_rotation) &&
+                std::isnan(c.p99_rotation) && std::isnan(c.p99_translation))
+        << "statistics of what was not measured are not numbers";
+  }
+}
+
+TEST(ErrorStatistics, P99WithinStatedErrorOverManyDecades) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> exponent(-19.5, 1.5);
+  for (int trial = 0; trial < 20; ++trial) {
+    ErrorStatistics stats(1.0, 1.0, 1.0);
+    std::vector<double> v;
+    const int n = 1000 + 997 * trial;
+    for (int k = 0; k < n; ++k) {
+      v.push_back(std::pow(10.0, exponent(rng)));
+      stats.add(k, errors(v.back(), v.back()));
+    }
+    ComparisonResult c;
+    stats.summarize(c);
+    const double exact = exactQuantile(v, 0.99);
+    // (1 + 1e-9): log10 may put a value on a bin edge into the neighbouring bin
+    EXPECT_LE(std::abs(c.p99_rotation - exact), kP99RelativeError * exact * (1 + 1e-9)) << n;
+    EXPECT_LE(std::abs(c.p99_translation - exact), kP99RelativeError * exact * (1 + 1e-9)) << n;
+  }
+  // exact zeros (below the log range) and values at or above 1e2
+  ErrorStatistics zeros(1.0, 1.0, 1.0);
+  for (int k = 0; k < 100; ++k) zeros.add(k, errors(0.0, k < 99 ? 0.0 : 5.0));
+  ComparisonResult c;
+  zeros.summarize(c);
+  EXPECT_EQ(c.p99_rotation, 0.0);
+  EXPECT_EQ(c.p99_translation, 0.0);
+  EXPECT_EQ(c.max_translation, 5.0);
+  LogHistogram high;
+  for (double x : {1e3, 2e3, 5e4}) high.add(x);
+  EXPECT_EQ(high.quantile(0.99), 5e4) << "at or above 1e2: the largest value";
+}
+
+TEST(ErrorStatistics, MergeIsExactWhateverTheSplit) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> exponent(-17.0, -12.0);
+  std::vector<SampleErrors> samples;
+  for (int k = 0; k < 5000; ++k) samples.push_back(errors(std::pow(10.0, exponent(rng)), std::pow(10.0, exponent(rng))));
+  samples[1234] = samples[4321];  // a tie for the worst sample would go to the smaller index
+  auto run = [&](int threads, bool interleaved) {
+    std::vector<ErrorStatistics> parts(static_cast<size_t>(threads), ErrorStatistics(1e-12, 1e-12, 0.7));
+    for (size_t k = 0; k < samples.size(); ++k) {
+      const size_t t = interleaved ? k % static_cast<size_t>(threads) : k * static_cast<size_t>(threads) / samples.size();
+      parts[t].add(static_cast<long long>(k), samples[k]);
+    }
+    ErrorStatistics total(1e-12, 1e-12, 0.7);
+    for (auto it = parts.rbegin(); it != parts.rend(); ++it) total.merge(*it);  // any merge order
+    ComparisonResult c;
+    total.summarize(c);
+    return std::make_pair(c, total.worstIndex());
+  };
+  const auto [one, worst_one] = run(1, false);
+  for (int threads : {2, 3, 7, 64}) {
+    for (bool interleaved : {false, true}) {
+      const auto [c, worst] = run(threads, interleaved);
+      EXPECT_EQ(c.max_rotation, one.max_rotation);
+      EXPECT_EQ(c.max_translation, one.max_translation);
+      EXPECT_EQ(c.mean_rotation, one.mean_rotation) << "the sums are exact: the mean is bit-identical";
+      EXPECT_EQ(c.mean_translation, one.mean_translation);
+      EXPECT_EQ(c.p99_rotation, one.p99_rotation);
+      EXPECT_EQ(c.p99_translation, one.p99_translation);
+      EXPECT_EQ(c.rotation_histogram, one.rotation_histogram);
+      EXPECT_EQ(worst, worst_one);
+    }
+  }
+}
+
+TEST(ExactSum, IndependentOfOrder) {
+  ExactSum a, b;
+  a.add(1e16);
+  a.add(1.0);
+  a.add(1.0);
+  b.add(1.0);
+  b.add(1.0);
+  b.add(1e16);
+  EXPECT_EQ(a.value(), 1e16 + 2.0);  // 1e16 + 1 + 1 in double is 1e16
+  EXPECT_EQ(b.value(), 1e16 + 2.0);
+  ExactSum tiny;
+  for (int k = 0; k < 1000; ++k) tiny.add(std::numeric_limits<double>::denorm_min());
+  tiny.add(std::numeric_limits<double>::max());
+  tiny.add(0.0);
+  ExactSum sum;
+  sum.add(tiny);
+  sum.add(a);
+  EXPECT_EQ(sum.value(), std::numeric_limits<double>::max());
+  ExactSum big;
+  big.add(std::numeric_limits<double>::max());
+  big.add(std::numeric_limits<double>::max());
+  EXPECT_TRUE(std::isinf(big.value())) << "a sum beyond the largest double rounds to inf";
+}
+
+// The stream as it has always been defined: std::mt19937_64 seeded with splitmix64(seed * FNV + index).
+void referenceSample(unsigned long long seed, unsigned long long index, const std::vector<std::array<double, 2>>& ranges,
+                     VecX& q) {
+  unsigned long long x = seed * 0x100000001B3ULL + index;
+  x += 0x9E3779B97F4A7C15ULL;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+  std::mt19937_64 rng(x ^ (x >> 31));
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (Eigen::Index i = 0; i < q.size(); ++i) {
+    q[i] = ranges[static_cast<size_t>(i)][0] +
+           unit(rng) * (ranges[static_cast<size_t>(i)][1] - ranges[static_cast<size_t>(i)][0]);
+  }
+}
+
+TEST(RandomSample, BitForBitTheMersenneTwisterStream) {
+  for (int n : {1, 6, 7, 20, 78, 79, 155, 156, 157, 200}) {
+    std::vector<std::array<double, 2>> ranges;
+    for (int i = 0; i < n; ++i) ranges.push_back({-1.0 - i, 2.0 + 0.5 * i});
+    VecX q(n), expected(n);
+    for (unsigned long long seed : {0ULL, 1ULL, 2ULL, 123456789ULL, (1ULL << 53)}) {
+      for (unsigned long long index : {0ULL, 1ULL, 9999ULL, 123456789ULL}) {
+        randomSample(seed, index, ranges, q);
+        referenceSample(seed, index, ranges, expected);
+        for (int i = 0; i < n; ++i) ASSERT_EQ(q[i], expected[i]) << "n " << n << " seed " << seed << " index " << index;
+      }
+    }
+  }
+}
+
+TEST(PlotSamples, BoundedAndDeterministic) {
+  const PlotSamples small(10000, 1.0);
+  EXPECT_EQ(small.stride, 1);
+  EXPECT_EQ(small.rotation.size(), 10000u);
+  const PlotSamples big(10000000, 1.0);
+  EXPECT_EQ(big.stride, 500);
+  EXPECT_EQ(big.rotation.size(), 20000u);
+  const PlotSamples odd(100000007, 1.0);
+  EXPECT_LE(odd.rotation.size(), static_cast<size_t>(PlotSamples::kMaxPoints));
+  PlotSamples p(1000000, 2.0);
+  EXPECT_EQ(p.stride, 50);
+  p.record(101, errors(1.0, 1.0));  // not a multiple of the stride: not kept
+  p.record(150, errors(3e-16, 4e-16));
+  EXPECT_EQ(p.rotation[2], 0.0f);
+  EXPECT_EQ(p.rotation[3], 3e-16f);
+  EXPECT_EQ(p.translation[3], 2e-16f) << "translation / L";
+}
+
+// Items taken from a shared counter: every one is done once, whoever runs.
+struct Queue {
+  explicit Queue(int items) : done(static_cast<size_t>(items)) {}
+  void work() {
+    for (int k; (k = next.fetch_add(1)) < static_cast<int>(done.size());) done[static_cast<size_t>(k)]++;
+  }
+  std::atomic<int> next{0};
+  std::vector<std::atomic<int>> done;
+};
+
+TEST(RunWorkers, ThreadThatCannotBeCreatedFallsBackToFewerThreads) {
+  Queue queue(100000);
+  int created = 0;
+  const ThreadStarter failing = [&](std::function<void()> job) {
+    if (++created > 2) throw std::system_error(std::make_error_code(std::errc::resource_unavailable_try_again));
+    return std::thread(std::move(job));
+  };
+  const int ran = runWorkers(64, [&](int) { queue.work(); }, failing);
+  EXPECT_EQ(ran, 3) << "the calling thread and the two that were created";
+  for (const auto& d : queue.done) ASSERT_EQ(d.load(), 1);
+  // std::bad_alloc, and a starter that returns no thread, end the starting the same way
+  Queue again(1000);
+  const ThreadStarter no_memory = [](std::function<void()>) -> std::thread { throw std::bad_alloc(); };
+  EXPECT_EQ(runWorkers(8, [&](int) { again.work(); }, no_memory), 1);
+  for (const auto& d : again.done) ASSERT_EQ(d.load(), 1);
+  EXPECT_EQ(runWorkers(8, [](int) {}, [](std::function<void()>) { return std::thread(); }), 1);
+}
+
+TEST(RunWorkers, WorkerExceptionIsRethrownAfterTheJoin) {
+  std::atomic<int> finished{0};
+  EXPECT_THROW(runWorkers(4,
+                          [&](int t) {
+                            if (t == 2) throw std::runtime_error("worker 2 failed");
+                            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+                            ++finished;
+                          }),
+               std::runtime_error);
+  EXPECT_EQ(finished.load(), 3) << "every other worker ran to its end before the rethrow";
+  EXPECT_EQ(runWorkers(0, [](int) {}), 1) << "at least the calling thread";
+}
+
+}  // namespace
