@@ -199,7 +199,7 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   DhToolReport tool;
   tool.abs_d = std::abs(dh.toolD());
   tool.ill_conditioned = tool.abs_d > kIllConditioned * L;
-  const double scale = boundScale(dh, L);
+  const double scale = boundScale(dh, L);  // before dh is moved from
   return DhConversion{std::move(dh),
                       L,
                       tol.parallel,
@@ -207,8 +207,7 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
                       options.parallel_threshold > rounding_parallel,
                       std::move(reports),
                       tool,
-                      scale,
-                      DhBoundScale{scale}};
+                      scale};
 }
 
 FkCheck checkDhConversion(const PoeModel& poe, const DhModel& dh, int samples) {

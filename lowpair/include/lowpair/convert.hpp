@@ -34,12 +34,6 @@ struct DhToolReport {
   bool ill_conditioned = false;  ///< |d_T| > kIllConditioned * L: the last axis is nearly parallel to the tool z
 };
 
-/// The accuracy bound's scale under its former name `DhConversion::fk_check.scale`, from when poeToDh ran
-/// the FK check itself. Deprecated: read DhConversion::scale (the measured errors are checkDhConversion's).
-struct DhBoundScale {
-  double scale = 1.0;
-};
-
 /// The result of poeToDh: the table and, per row, the data that says how well conditioned it is. No FK
 /// check (checkDhConversion) and no sentences (the CLI words the conditioning from these fields).
 struct DhConversion {
@@ -54,7 +48,6 @@ struct DhConversion {
   DhToolReport tool;
   /// The accuracy bound's scale `max(L, max |d|, max |a|, |d_T|)` of the table (conversion.md, "Accuracy").
   double scale = 1.0;
-  DhBoundScale fk_check;  ///< deprecated: `fk_check.scale == scale`
 };
 
 /// POE -> D-H. Exact to rounding for every valid model (prismatic joints, exactly, nearly and
@@ -65,8 +58,8 @@ struct DhConversion {
 /// @throws std::invalid_argument for a model without joints or a threshold outside [0, 1)
 DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options = {});
 
-/// Seeded configurations of the FK check beyond the zero configuration: 65 forward kinematics spread every
-/// joint over its range at negligible cost next to reading the robot file.
+/// Seeded configurations of the FK check beyond the zero configuration (`poe2dh` prints the check over
+/// these 64 + 1).
 constexpr int kFkCheckSamples = 64;
 
 /// FK agreement of a D-H table with the POE model it was converted from, measured at the zero
