@@ -104,8 +104,17 @@ Scenario readScenario(const std::string& path) {
     if (const YAML::Node m = root["singularity_map"]) {
       in.allowOnly(m, "singularity_map", {"joints", "fixed"});
       if (m["joints"]) {
-        for (double j : numbers(in, m["joints"], "singularity_map.joints")) s.map_joints.push_back(static_cast<int>(j));
-        if (s.map_joints.size() != 2) yamlError(path, m["joints"], "singularity_map.joints must name two joints (1-based)");
+        const YAML::Node joints = m["joints"];
+        if (!joints.IsSequence() || joints.size() != 2) {
+          yamlError(path, joints, "singularity_map.joints must name two joints (1-based)");
+        }
+        // whole numbers in range before any conversion to int (a cast of 1e300 is undefined behaviour);
+        // the upper bound only keeps the value an int: runScenario checks it against the joint count
+        constexpr long long kLargestJointNumber = 1LL << 30;
+        for (size_t k = 0; k < 2; ++k) {
+          s.map_joints.push_back(
+              static_cast<int>(in.integer(joints[k], "singularity_map.joints[]", 1, kLargestJointNumber)));
+        }
       }
       if (m["fixed"]) s.map_fixed = numbers(in, m["fixed"], "singularity_map.fixed");
     }

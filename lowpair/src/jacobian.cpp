@@ -15,10 +15,16 @@ void fillSpatial(Data& data, const KinematicChain& chain) {
   for (int i = 0; i < data.dof; ++i) {
     const ChainLink& link = chain.links[static_cast<size_t>(i)];
     const Pose& F = data.T_base_joint[static_cast<size_t>(i)];
-    const Vec3 z = F.R.col(2);
     const double j = link.motion.scale * link.turn, k = link.motion.scale * link.slide;
-    data.J_spatial.col(i).head<3>() = j * z;
-    data.J_spatial.col(i).tail<3>() = j * F.p.cross(z) + k * z;
+    const double z0 = F.R(0, 2), z1 = F.R(1, 2), z2 = F.R(2, 2);
+    const double o0 = F.p[0], o1 = F.p[1], o2 = F.p[2];
+    double* c = data.J_spatial.col(i).data();  // [j z; j o x z + k z]
+    c[0] = j * z0;
+    c[1] = j * z1;
+    c[2] = j * z2;
+    c[3] = j * (o1 * z2 - o2 * z1) + k * z0;
+    c[4] = j * (o2 * z0 - o0 * z2) + k * z1;
+    c[5] = j * (o0 * z1 - o1 * z0) + k * z2;
   }
 }
 
@@ -44,12 +50,19 @@ void bodyToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_bod
 void spatialToGeometric(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_spatial,
                         Eigen::Ref<Mat6X> J_geometric) {
   LP_ASSERT(J_spatial.cols() == J_geometric.cols());
+  // velocity of the body point at the tool origin: v + w x p_tool (eq. 3.13 up to the axis point); each
+  // column is read whole before it is written, so J_geometric may alias J_spatial
+  const double px = T_base_tool.p[0], py = T_base_tool.p[1], pz = T_base_tool.p[2];
   for (Eigen::Index i = 0; i < J_spatial.cols(); ++i) {
-    const Vec3 w = J_spatial.col(i).head<3>();
-    const Vec3 v = J_spatial.col(i).tail<3>();
-    // velocity of the body point at the tool origin: v + w x p_tool (eq. 3.13 up to the axis point)
-    J_geometric.col(i).head<3>() = v + w.cross(T_base_tool.p);
-    J_geometric.col(i).tail<3>() = w;
+    const double* s = J_spatial.col(i).data();
+    const double w0 = s[0], w1 = s[1], w2 = s[2], v0 = s[3], v1 = s[4], v2 = s[5];
+    double* g = J_geometric.col(i).data();
+    g[0] = v0 + (w1 * pz - w2 * py);
+    g[1] = v1 + (w2 * px - w0 * pz);
+    g[2] = v2 + (w0 * py - w1 * px);
+    g[3] = w0;
+    g[4] = w1;
+    g[5] = w2;
   }
 }
 
