@@ -14,7 +14,7 @@
 #include "helper_thread.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
-#include "lowpair/se3_variants.hpp"
+#include "se3_variants.hpp"
 #include "robots_lowpair.hpp"
 #include "lowpair/jacobian.hpp"
 

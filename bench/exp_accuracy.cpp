@@ -5,7 +5,7 @@
 
 #include "exp_accuracy.hpp"
 #include "lowpair/se3.hpp"
-#include "lowpair/se3_variants.hpp"
+#include "se3_variants.hpp"
 
 int main() {
   using namespace lowpair;

@@ -5,9 +5,9 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
-#include "../bench/exp_accuracy.hpp"
+#include "exp_accuracy.hpp"
 #include "lowpair/se3.hpp"
-#include "lowpair/se3_variants.hpp"
+#include "se3_variants.hpp"
 
 using namespace lowpair;
 using lowpair_bench::ExpError;

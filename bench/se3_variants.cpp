@@ -1,4 +1,4 @@
-#include "lowpair/se3_variants.hpp"
+#include "se3_variants.hpp"
 
 #include <cmath>
 
