@@ -145,4 +145,45 @@ TEST(HostileInput, HugeSingularityMapJointIsRejected) {
   expectRejected("validate " + shellQuote(scenario), "singularity_map.joints[] must be a whole number", scenario);
 }
 
+bool hasNull(const nlohmann::json& j, const std::string& key = "") {
+  if (j.is_null()) return key != "condition";
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (hasNull(it.value(), it.key())) return true;
+    }
+  }
+  if (j.is_array()) {
+    for (const auto& e : j) {
+      if (hasNull(e, key)) return true;
+    }
+  }
+  return false;
+}
+
+// Finding 6 (and 13's |w| = 1e-308): accepted input gave non-finite output (a twist entry of 1e200 made
+// |w| overflow, 1e308 made L infinite). Scaled norms now; every accepted model evaluates to finite
+// numbers, and what cannot be represented is rejected naming the joint.
+TEST(HostileInput, ExtremeTwistsGiveFiniteOutputOrOneLineErrors) {
+  const char* twists[] = {"[0, 0, 1e200, 0, 0, 0]", "[0, 0, 1e308, 1e308, 0, 0]", "[0, 0, 1e-159, 1, 0, 0]",
+                          "[1e-308, 0, 0, 0, 1, 0]", "[0, 0, 1, 1e308, 1e308, 0]", "[1e-300, 0, 0, 0, 1e300, 0]"};
+  int k = 0;
+  for (const char* twist : twists) {
+    const std::string robot = writeScratchFile(
+        "extreme" + std::to_string(k++) + ".yaml",
+        std::string("name: t\nlength_unit: m\npoe:\n  joints:\n    - {twist: ") + twist +
+            "}\n  tool: [0, 0, 0, 1, 0, 0]\n");
+    for (const std::string command : {"fk", "jacobian", "singular"}) {
+      const CliRun r = runCli(command + " " + shellQuote(robot) + " --q 0.3 --json");
+      if (r.status == 2) {
+        EXPECT_EQ(r.err.rfind("error: " + robot + ": ", 0), 0u) << twist << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        continue;
+      }
+      ASSERT_EQ(r.status, 0) << command << " " << twist << ": " << r.err;
+      // nlohmann writes NaN and inf as null; only singular's "condition" may be null (documented: infinite)
+      EXPECT_FALSE(hasNull(nlohmann::json::parse(r.out))) << command << " " << twist << ":\n" << r.out;
+    }
+  }
+}
+
 }  // namespace

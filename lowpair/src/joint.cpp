@@ -30,8 +30,9 @@ Joint normalizeJoint(const JointSpec& spec, int index) {
   j.range = spec.range;
   const Vec3 w = spec.twist.head<3>();
   const Vec3 v = spec.twist.tail<3>();
-  const double w_norm = w.norm();
-  const double v_norm = v.norm();
+  // scaled norms: |w| of entries near 1e200 (or 1e-200) neither overflows nor underflows
+  const double w_norm = w.stableNorm();
+  const double v_norm = v.stableNorm();
   if (w_norm == 0.0) {
     LP_CHECK(v_norm > 0.0, label << ": twist is zero");
     LP_CHECK(!spec.type || *spec.type == JointType::Prismatic,
@@ -62,6 +63,10 @@ Joint normalizeJoint(const JointSpec& spec, int index) {
   }
   j.type = type;
   j.twist << w_unit, v_unit;
+  // a twist whose |v| / |w| (or pitch) does not fit in a double cannot be evaluated: say so here
+  LP_CHECK(j.twist.allFinite() && std::isfinite(j.pitch) && std::isfinite(j.scale),
+           label << ": twist cannot be normalized in double precision (|w| = " << w_norm << ", |v| = " << v_norm
+                 << ")");
   return j;
 }
 

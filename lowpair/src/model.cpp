@@ -122,6 +122,17 @@ KinematicChain dhChain(const DhParams& base, const std::vector<DhJoint>& joints,
   return chain;
 }
 
+// Every constant of a compiled chain is finite, or the model is rejected (never a NaN pose later).
+void checkChain(const KinematicChain& chain) {
+  bool finite = chain.T_base_first.R.allFinite() && chain.T_base_first.p.allFinite() &&
+                chain.T_last_tool.R.allFinite() && chain.T_last_tool.p.allFinite();
+  for (const ChainLink& l : chain.links) {
+    finite = finite && std::isfinite(l.theta) && std::isfinite(l.cos_alpha) && std::isfinite(l.sin_alpha) &&
+             l.p.allFinite() && std::isfinite(l.turn) && std::isfinite(l.slide);
+  }
+  LP_CHECK(finite, "the model's link frames overflow double precision (lengths near 1e308)");
+}
+
 }  // namespace
 
 void packLanes(KinematicChain& chain) {
@@ -175,12 +186,12 @@ DhParams movedRow(const DhParams& row, const JointMotion& motion, double x) {
 }
 
 double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose) {
-  double size = tool_pose.p.norm();
+  double size = tool_pose.p.stableNorm();
   for (const Joint& j : joints) {
     if (j.type == JointType::Prismatic) {
       if (j.range) size = std::max({size, std::abs((*j.range)[0]), std::abs((*j.range)[1])});
     } else {
-      size = std::max(size, j.axis().cross(j.moment()).norm());
+      size = std::max(size, j.axis().cross(j.moment()).stableNorm());
     }
   }
   return size > 0.0 ? size : 1.0;
@@ -223,7 +234,10 @@ PoeModel PoeModel::fromToolTwist(const std::vector<JointSpec>& joints, const Vec
 
 void PoeModel::finish() {
   size_ = robotSize(joints_, tool_pose_);
+  LP_CHECK(std::isfinite(size_), "robot size L overflows (a joint axis or the tool is about 1e308 or more from "
+                                 "the base origin)");
   chain_ = poeChain(joints_, tool_pose_);
+  checkChain(chain_);
 }
 
 Pose dhTransform(const DhParams& row) {
@@ -268,6 +282,7 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
     }
   }
   chain_ = dhChain(base_, joints_, tool_theta_, tool_d_);
+  checkChain(chain_);
   // L of the equivalent POE model: its joint lines are the chain's frames at zero motion
   const std::vector<Pose> frames = restFrames(chain_);
   std::vector<Joint> lines;
