@@ -15,6 +15,14 @@ std::string jointLabel(int index, const std::string& name) {
   return out.str();
 }
 
+double safeNorm(const Vec3& u) {
+  // |u| by the plain sum of squares where no square can overflow or underflow (its rounding is what
+  // every other computation sees: a unit axis keeps |w| = 1 exactly), by Eigen's scaled norm otherwise
+  constexpr double kPlainNormMin = 1e-150, kPlainNormMax = 1e150;  // squares stay normal doubles
+  const double plain = u.norm();
+  return plain > kPlainNormMin && plain < kPlainNormMax ? plain : u.stableNorm();
+}
+
 Joint normalizeJoint(const JointSpec& spec, int index) {
   const std::string label = jointLabel(index, spec.name);
   LP_CHECK(spec.twist.allFinite(), label << ": twist has a non-finite entry");
@@ -30,9 +38,8 @@ Joint normalizeJoint(const JointSpec& spec, int index) {
   j.range = spec.range;
   const Vec3 w = spec.twist.head<3>();
   const Vec3 v = spec.twist.tail<3>();
-  // scaled norms: |w| of entries near 1e200 (or 1e-200) neither overflows nor underflows
-  const double w_norm = w.stableNorm();
-  const double v_norm = v.stableNorm();
+  const double w_norm = safeNorm(w);
+  const double v_norm = safeNorm(v);
   if (w_norm == 0.0) {
     LP_CHECK(v_norm > 0.0, label << ": twist is zero");
     LP_CHECK(!spec.type || *spec.type == JointType::Prismatic,

@@ -186,12 +186,12 @@ DhParams movedRow(const DhParams& row, const JointMotion& motion, double x) {
 }
 
 double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose) {
-  double size = tool_pose.p.stableNorm();
+  double size = safeNorm(tool_pose.p);
   for (const Joint& j : joints) {
     if (j.type == JointType::Prismatic) {
       if (j.range) size = std::max({size, std::abs((*j.range)[0]), std::abs((*j.range)[1])});
     } else {
-      size = std::max(size, j.axis().cross(j.moment()).stableNorm());
+      size = std::max(size, safeNorm(j.axis().cross(j.moment())));
     }
   }
   return size > 0.0 ? size : 1.0;

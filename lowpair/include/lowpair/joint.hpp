@@ -61,6 +61,10 @@ struct Joint : JointMotion {
   Vec3 moment() const { return twist.tail<3>(); }  ///< `v`
 };
 
+/// `|u|` without overflow or underflow (entries up to 1e308, down to subnormal); equal to `u.norm()`
+/// wherever that is exact to rounding.
+double safeNorm(const Vec3& u);
+
 /// Normalizes a joint twist (Wu et al. eq. 1) and infers or checks its type: prismatic if `w = 0`;
 /// revolute if `|w.v| <= kPitchZero eps |w| |v|` (then the rounding-level pitch is removed); helical
 /// otherwise. @param index 0-based joint index, used in messages.
