@@ -1,6 +1,7 @@
 #include "robot_file.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -19,6 +20,9 @@ double RobotFile::angleFactor() const { return angle_unit == "deg" ? M_PI / 180.
 PoeModel RobotFile::poeModel() const { return poe ? *poe : dhToPoe(*dh); }
 
 YAML::Node loadYamlFile(const std::string& path) {
+  // a directory opens as a stream on Linux and fails inside yaml-cpp with a raw ios message (and a leak)
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
   if (!std::ifstream(path)) throw RobotFileError(path + ": cannot open file");
   try {
     return YAML::LoadFile(path);

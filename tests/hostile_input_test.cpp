@@ -186,4 +186,12 @@ TEST(HostileInput, ExtremeTwistsGiveFiniteOutputOrOneLineErrors) {
   }
 }
 
+// Finding 11: a directory as ROBOT gave a raw ios_failure message without the file.
+TEST(HostileInput, DirectoryAsRobotIsOneLineError) {
+  const std::string dir = scratch() + "/a_directory.yaml";
+  fs::create_directories(dir);
+  expectRejected("fk " + shellQuote(dir) + " --q 0", "is a directory", dir);
+  expectRejected("validate " + shellQuote(dir), "is a directory", dir);
+}
+
 }  // namespace
