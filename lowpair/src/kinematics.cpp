@@ -15,6 +15,7 @@
 #endif
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(LOWPAIR_NO_DISPATCH)
 #define LP_DISPATCH __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define LP_HAVE_AVX512_BATCH 1
 #else
 #define LP_DISPATCH
 #endif
@@ -146,48 +147,56 @@ LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, c
   }
 }
 
-// Lanes of one batch block: four configurations in one GNU vector (detail::Vec4d), so the whole state of
-// a block (rotation columns X, Y, Z and position P, three rows each) stays in registers.
-constexpr int kBlock = 4;
+// One batch block: the configurations of one GNU vector V (4 lanes: AVX2 / SSE2 pairs; 8 lanes: AVX-512),
+// so the whole state of a block (rotation columns X, Y, Z and position P, three rows each) stays in
+// registers. U is the matching unsigned vector (the sine kernel's bit operations).
 using detail::Vec4d;
+using detail::Vec4u;
+using detail::Vec8d;
+using detail::Vec8u;
 
-inline Vec4d broadcast(double v) { return Vec4d{v, v, v, v}; }
+template <class V>
+constexpr int lanesOf() { return static_cast<int>(sizeof(V) / sizeof(double)); }
+
+template <class V>
+inline V broadcast(double v) { return V{} + v; }
 
 // kFull: all lanes are configurations; otherwise the last, partial block (unused lanes hold q = 0).
-template <bool kFull>
+template <bool kFull, class V, class U>
 LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
                                            Eigen::Ref<MatX> poses, Eigen::Index first, int partial_lanes,
                                            bool use_libm) {
-  const int lanes = kFull ? kBlock : partial_lanes;
+  constexpr int N = lanesOf<V>();
+  const int lanes = kFull ? N : partial_lanes;
   const size_t bytes = sizeof(double) * static_cast<size_t>(lanes);
-  Vec4d X[3], Y[3], Z[3], P[3];
+  V X[3], Y[3], Z[3], P[3];
   const Pose& Bs = chain.T_base_first;
   for (int k = 0; k < 3; ++k) {
-    X[k] = broadcast(Bs.R(k, 0));
-    Y[k] = broadcast(Bs.R(k, 1));
-    Z[k] = broadcast(Bs.R(k, 2));
-    P[k] = broadcast(Bs.p[k]);
+    X[k] = broadcast<V>(Bs.R(k, 0));
+    Y[k] = broadcast<V>(Bs.R(k, 1));
+    Z[k] = broadcast<V>(Bs.R(k, 2));
+    P[k] = broadcast<V>(Bs.p[k]);
   }
   for (size_t i = 0; i < chain.links.size(); ++i) {
     const ChainLink& link = chain.links[i];
-    Vec4d qv = broadcast(0.0);
+    V qv = broadcast<V>(0.0);
     std::memcpy(&qv, q.col(static_cast<Eigen::Index>(i)).data() + first, bytes);
-    const Vec4d x = motionOf(qv, link.motion.scale, link.motion.offset);
-    const Vec4d angle = link.theta + link.turn * x;
-    const Vec4d slide = link.p[2] + link.slide * x;
-    Vec4d st, ct;
-    detail::sinCos4(angle, st, ct);
+    const V x = motionOf(qv, link.motion.scale, link.motion.offset);
+    const V angle = link.theta + link.turn * x;
+    const V slide = link.p[2] + link.slide * x;
+    V st, ct;
+    detail::sinCosT<V, U>(angle, st, ct);
     if (use_libm) {
-      for (int l = 0; l < kBlock; ++l) {
+      for (int l = 0; l < N; ++l) {
         st[l] = std::sin(angle[l]);
         ct[l] = std::cos(angle[l]);
       }
     }
     const double px = link.p[0], py = link.p[1], ca = link.cos_alpha, sa = link.sin_alpha;
     for (int k = 0; k < 3; ++k) {
-      const Vec4d xk = ct * X[k] + st * Y[k];
-      const Vec4d yk = ct * Y[k] - st * X[k];
-      const Vec4d zk = Z[k];
+      const V xk = ct * X[k] + st * Y[k];
+      const V yk = ct * Y[k] - st * X[k];
+      const V zk = Z[k];
       P[k] += (px * xk + py * yk) + slide * zk;
       X[k] = xk;
       Y[k] = ca * yk + sa * zk;
@@ -198,20 +207,25 @@ LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Ei
   const Pose& E = chain.T_last_tool;
   for (int k = 0; k < 3; ++k) {
     for (int m = 0; m < 3; ++m) {
-      const Vec4d r = (X[k] * E.R(0, m) + Y[k] * E.R(1, m)) + Z[k] * E.R(2, m);
+      const V r = (X[k] * E.R(0, m) + Y[k] * E.R(1, m)) + Z[k] * E.R(2, m);
       std::memcpy(poses.col(3 * k + m).data() + first, &r, bytes);
     }
-    const Vec4d p = ((X[k] * E.p[0] + Y[k] * E.p[1]) + Z[k] * E.p[2]) + P[k];
+    const V p = ((X[k] * E.p[0] + Y[k] * E.p[1]) + Z[k] * E.p[2]) + P[k];
     std::memcpy(poses.col(9 + k).data() + first, &p, bytes);
   }
 }
 
-LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
-                                           Eigen::Ref<MatX> poses) {
+void checkBatchSizes(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, const Eigen::Ref<MatX>& poses) {
   LP_CHECK(q.cols() == static_cast<Eigen::Index>(chain.links.size()),
            "forwardKinematicsBatch: q has " << q.cols() << " columns for " << chain.links.size() << " joints");
   LP_CHECK(poses.rows() == q.rows() && poses.cols() == 12,
            "forwardKinematicsBatch: poses must be " << q.rows() << " x 12, got " << poses.rows() << " x " << poses.cols());
+}
+
+template <class V, class U>
+LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
+                                           Eigen::Ref<MatX> poses) {
+  constexpr int N = lanesOf<V>();
   // one pass over the input decides whether an angle is beyond the sine kernel's range (then libm is used
   // for the whole call): no per-lane test inside the blocks
   int out_of_range = 0;
@@ -224,9 +238,9 @@ LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Ei
   }
   const bool use_libm = out_of_range != 0;
   Eigen::Index first = 0;
-  for (; first + kBlock <= q.rows(); first += kBlock) evaluateBlock<true>(chain, q, poses, first, kBlock, use_libm);
+  for (; first + N <= q.rows(); first += N) evaluateBlock<true, V, U>(chain, q, poses, first, N, use_libm);
   if (first < q.rows()) {
-    evaluateBlock<false>(chain, q, poses, first, static_cast<int>(q.rows() - first), use_libm);
+    evaluateBlock<false, V, U>(chain, q, poses, first, static_cast<int>(q.rows() - first), use_libm);
   }
 }
 
@@ -240,7 +254,32 @@ namespace detail {
 LP_DISPATCH void chainTool(const KinematicChain& chain, Data& data, const double* q) { evaluate<false>(chain, data, q); }
 LP_DISPATCH void chainFrames(const KinematicChain& chain, Data& data, const double* q) { evaluate<true>(chain, data, q); }
 LP_DISPATCH void chainBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
-  evaluateBatch(chain, q, poses);
+  evaluateBatch<Vec4d, Vec4u>(chain, q, poses);
+}
+
+#if defined(LP_HAVE_AVX512_BATCH)
+// Eight lanes per block with AVX-512 (32 registers hold a block's state): chosen at run time when the
+// processor has it (valgrind's emulated CPU does not, so instruction counts measure the AVX2 path).
+__attribute__((target("arch=x86-64-v4"))) void chainBatch8(const KinematicChain& chain,
+                                                           const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+  evaluateBatch<Vec8d, Vec8u>(chain, q, poses);
+}
+bool hasAvx512() {
+  static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+                          __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw");
+  return has;
+}
+#endif
+
+void batch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+  checkBatchSizes(chain, q, poses);
+#if defined(LP_HAVE_AVX512_BATCH)
+  if (hasAvx512()) {
+    chainBatch8(chain, q, poses);
+    return;
+  }
+#endif
+  chainBatch(chain, q, poses);
 }
 
 }  // namespace detail
@@ -261,11 +300,11 @@ void forwardKinematicsWithFrames(const KinematicChain& chain, Data& data, const 
 }
 
 void forwardKinematicsBatch(const PoeModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
-  detail::chainBatch(model.chain(), q, poses);
+  detail::batch(model.chain(), q, poses);
 }
 
 void forwardKinematicsBatch(const DhModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
-  detail::chainBatch(model.chain(), q, poses);
+  detail::batch(model.chain(), q, poses);
 }
 
 Pose poeForwardKinematics(const PoeModel& model, const Eigen::Ref<const VecX>& q) {

@@ -37,6 +37,11 @@ typedef double Vec4d __attribute__((vector_size(32)));
 typedef std::uint64_t Vec4u __attribute__((vector_size(32)));
 inline Vec4u bitsOf(Vec4d x) { return (Vec4u)x; }  // vector casts reinterpret the bits
 inline Vec4d fromBits(Vec4u b) { return (Vec4d)b; }
+// Eight lanes (AVX-512 registers where the batch is compiled for x86-64-v4).
+typedef double Vec8d __attribute__((vector_size(64)));
+typedef std::uint64_t Vec8u __attribute__((vector_size(64)));
+inline Vec8u bitsOf(Vec8d x) { return (Vec8u)x; }
+inline Vec8d fromBits(Vec8u b) { return (Vec8d)b; }
 
 // The kernel for one lane (D = double, U = uint64_t) or four (Vec4d, Vec4u); no branches, no calls.
 template <class D, class U>
