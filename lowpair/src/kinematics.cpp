@@ -77,6 +77,29 @@ LP_ALWAYS_INLINE inline void sinCosAll(const double* __restrict angle, int n, do
   }
 }
 
+// One row k of T <- T Rz(angle) Trans(p_x, p_y, slide) Rx(alpha) on the rotation columns X, Y, Z and the
+// position P, given cos/sin of the angle; T is a double or a vector of lanes (the batch).
+template <class T>
+LP_ALWAYS_INLINE inline void linkStep(const ChainLink& link, T c, T s, T slide, T& X, T& Y, T& Z, T& P) {
+  const T x = c * X + s * Y;
+  const T y = c * Y - s * X;
+  const T z = Z;
+  P += (link.p[0] * x + link.p[1] * y) + slide * z;
+  X = x;
+  Y = link.cos_alpha * y + link.sin_alpha * z;
+  Z = link.cos_alpha * z - link.sin_alpha * y;
+}
+
+// Row k of (T * T_last_tool): rotation entry m and the position, from T's row k (X, Y, Z, P).
+template <class T>
+LP_ALWAYS_INLINE inline T toolRotation(const Pose& E, int m, T X, T Y, T Z) {
+  return (X * E.R(0, m) + Y * E.R(1, m)) + Z * E.R(2, m);
+}
+template <class T>
+LP_ALWAYS_INLINE inline T toolPosition(const Pose& E, T X, T Y, T Z, T P) {
+  return ((X * E.p[0] + Y * E.p[1]) + Z * E.p[2]) + P;
+}
+
 // The chain product of model.hpp's KinematicChain. Columns X, Y, Z of the rotation and the position P
 // are updated in place by T <- T Rz(angle) Trans(p + slide e_z) Rx(alpha); kFrames stores the frame
 // before each link (joint i's line) in data.T_base_joint.
@@ -127,23 +150,13 @@ LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, c
         F.p[k] = P[k];
       }
     }
-    const double px = link.p[0], py = link.p[1], pz = slide[i];
-    const double ca = link.cos_alpha, sa = link.sin_alpha;
-    for (int k = 0; k < 3; ++k) {
-      const double x = ct[i] * X[k] + st[i] * Y[k];
-      const double y = ct[i] * Y[k] - st[i] * X[k];
-      const double z = Z[k];
-      P[k] += (px * x + py * y) + pz * z;
-      X[k] = x;
-      Y[k] = ca * y + sa * z;
-      Z[k] = ca * z - sa * y;
-    }
+    for (int k = 0; k < 3; ++k) linkStep(link, ct[i], st[i], slide[i], X[k], Y[k], Z[k], P[k]);
   }
   const Pose& E = chain.T_last_tool;
   Pose& T = data.T_base_tool;
   for (int k = 0; k < 3; ++k) {
-    for (int m = 0; m < 3; ++m) T.R(k, m) = (X[k] * E.R(0, m) + Y[k] * E.R(1, m)) + Z[k] * E.R(2, m);
-    T.p[k] = ((X[k] * E.p[0] + Y[k] * E.p[1]) + Z[k] * E.p[2]) + P[k];
+    for (int m = 0; m < 3; ++m) T.R(k, m) = toolRotation(E, m, X[k], Y[k], Z[k]);
+    T.p[k] = toolPosition(E, X[k], Y[k], Z[k], P[k]);
   }
 }
 
@@ -192,25 +205,16 @@ LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Ei
         ct[l] = std::cos(angle[l]);
       }
     }
-    const double px = link.p[0], py = link.p[1], ca = link.cos_alpha, sa = link.sin_alpha;
-    for (int k = 0; k < 3; ++k) {
-      const V xk = ct * X[k] + st * Y[k];
-      const V yk = ct * Y[k] - st * X[k];
-      const V zk = Z[k];
-      P[k] += (px * xk + py * yk) + slide * zk;
-      X[k] = xk;
-      Y[k] = ca * yk + sa * zk;
-      Z[k] = ca * zk - sa * yk;
-    }
+    for (int k = 0; k < 3; ++k) linkStep(link, ct, st, slide, X[k], Y[k], Z[k], P[k]);
   }
   // T * T_last_tool, written to the output columns
   const Pose& E = chain.T_last_tool;
   for (int k = 0; k < 3; ++k) {
     for (int m = 0; m < 3; ++m) {
-      const V r = (X[k] * E.R(0, m) + Y[k] * E.R(1, m)) + Z[k] * E.R(2, m);
+      const V r = toolRotation(E, m, X[k], Y[k], Z[k]);
       std::memcpy(poses.col(3 * k + m).data() + first, &r, bytes);
     }
-    const V p = ((X[k] * E.p[0] + Y[k] * E.p[1]) + Z[k] * E.p[2]) + P[k];
+    const V p = toolPosition(E, X[k], Y[k], Z[k], P[k]);
     std::memcpy(poses.col(9 + k).data() + first, &p, bytes);
   }
 }
