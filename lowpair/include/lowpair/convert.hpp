@@ -80,7 +80,7 @@ FkCheck checkDhConversion(const PoeModel& poe, const DhModel& dh, int samples = 
 /// D-H -> base POE (exact: twists `Ad(G_i) [0 0 1 0 0 h]`, offsets 0).
 PoeModel dhToPoe(const DhModel& model);
 
-/// Modified (Craig) D-H regrouping of a standard D-H chain (design.md):
+/// Modified (Craig) D-H regrouping of a standard D-H chain (docs/conventions.md):
 /// `H = Rz(theta_B) Tz(d_B) prod_i [Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + j x_i) Tz(d_i + k x_i)]
 ///  Rx(alpha_n) Tx(a_n) Rz(theta_T) Tz(d_T)`.
 struct ModifiedDhJoint : JointMotion {

@@ -1,6 +1,6 @@
 #pragma once
 /// @file jacobian.hpp
-/// Manipulator Jacobians of the base POE model and of the D-H chain (design.md "Geometric Jacobian").
+/// Manipulator Jacobians of the base POE model and of the D-H chain (docs/conventions.md, Jacobians).
 ///
 /// Three Jacobians, each named by the frame and coordinates it uses:
 /// - spatial `J_spatial`: twist coordinates `[w; v]` in the base frame, `V_s = (dg/dt) g^-1`

@@ -14,7 +14,7 @@ namespace lowpair {
 /// configuration, an optional declared type, an offset and an optional range.
 struct JointSpec {
   std::string name;                          ///< optional; used in messages and output
-  std::optional<JointType> type;             ///< inferred when empty (design.md)
+  std::optional<JointType> type;             ///< inferred when empty (docs/conventions.md)
   Vec6 twist = Vec6::Zero();                 ///< `[w; v]`, unnormalized allowed: `xi = xi_bar * q_bar`
   double offset = 0.0;                       ///< `dq`, joint-variable units
   std::optional<std::array<double, 2>> range;  ///< joint-variable limits `[lo, hi]`, when known

@@ -68,7 +68,7 @@ class PoeModel {
   const Joint& joint(int i) const { return joints_[static_cast<size_t>(i)]; }
   const Pose& toolPose() const { return tool_pose_; }
   const std::string& name() const { return name_; }
-  /// Robot size `L` (design.md): the largest of the tool position, each revolute/helical axis'
+  /// Robot size `L` (docs/conventions.md): the largest of the tool position, each revolute/helical axis'
   /// distance from the base origin and each prismatic joint's largest `|q|` in its range; 1 if all 0.
   double size() const { return size_; }
   /// The compiled chain that forwardKinematics evaluates.
@@ -137,7 +137,7 @@ Pose dhTransform(const DhParams& row);
 /// `Rz(theta) Tz(d)`.
 Pose dhToolTransform(double theta, double d);
 
-/// Robot size `L` from normalized joints and the tool pose (design.md).
+/// Robot size `L` from normalized joints and the tool pose (docs/conventions.md).
 double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose);
 
 }  // namespace lowpair

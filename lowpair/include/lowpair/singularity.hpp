@@ -1,7 +1,7 @@
 #pragma once
 /// @file singularity.hpp
 /// Singular configurations (Paden & Sastry 1984): numerical rank of the geometric Jacobian, the
-/// geometric classes C1..C7 of design.md read off the joint lines, and the wrist/arm decoupling of §5.
+/// geometric classes C1..C7 of docs/conventions.md read off the joint lines, and the wrist/arm decoupling of §5.
 ///
 /// **Dimensionless Jacobian.** The analysis uses `J_n = D_r J_geometric D_c` with
 /// `D_r = diag(I/L, I)` (linear rows divided by the robot size L) and `D_c = diag(1/scale_i)` for
@@ -17,7 +17,7 @@
 /// closed-form joint values, a few eps per joint times ||J_n||; by Weyl's inequality its smallest singular
 /// value is then below `c n eps sigma_max` with c of order 10. kRankFactor = 1000 leaves two orders of
 /// margin above that, and stays six orders below the sigma_min ~ 1e-6 of a pose rounded to 1e-3 degrees
-/// (robots.md §7), which is therefore regular.
+/// (docs/robots.md §7), which is therefore regular.
 ///
 /// **Line classes.** Each joint is a line (unit direction z_i, point o_i nearest the base origin) at the
 /// configuration. Two directions are parallel when `|z_i x z_j| <= tol` (rad); a point is on a line or

@@ -1,7 +1,7 @@
 #pragma once
 /// @file tolerances.hpp
 /// Every geometric threshold of lowpair, in one header. Thresholds are relative: a length threshold is
-/// multiplied by the robot size `L` (design.md), an angle threshold is in radians.
+/// multiplied by the robot size `L` (docs/conventions.md), an angle threshold is in radians.
 
 #include <limits>
 
