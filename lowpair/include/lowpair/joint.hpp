@@ -21,7 +21,7 @@ struct JointSpec {
 };
 
 /// How a joint moves: the one definition of the joint-motion rule and of the joint-variable map
-/// (design.md, Wu et al. eqs. 5 and 10). The joint variable `q` becomes the motion `x = scale (q + offset)`;
+/// (docs/conventions.md, Wu et al. eqs. 5 and 10). The joint variable `q` becomes the motion `x = scale (q + offset)`;
 /// motion `x` turns by `j x` (rad) about and slides by `k x` (length) along the joint's line, i.e.
 /// `Q(x) = Rz(j x) Tz(k x)` in a frame whose z is the line, with `(j, k)` = revolute `(1, 0)`, prismatic
 /// `(0, 1)`, helical `(1, pitch)`. Every algorithm (FK, Jacobians, conversions, the harness's sampling)

@@ -45,7 +45,7 @@ Vec6 logSE3(const Pose& T);
 /// Logarithm of a rotation: angle vector with angle in `[0, pi]`.
 Vec3 logSO3(const Mat3& R);
 
-/// Rotation angle of R in [0, pi] as `atan2(|vee(R - R^T)|/2, (tr R - 1)/2)` (design.md; never acos).
+/// Rotation angle of R in [0, pi] as `atan2(|vee(R - R^T)|/2, (tr R - 1)/2)` (docs/conventions.md; never acos).
 double rotationAngle(const Mat3& R);
 
 /// 6x6 adjoint `Ad(T)` acting on `[w; v]` (Wu et al. eq. 4): `[R 0; hat(p) R  R]`.
