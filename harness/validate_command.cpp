@@ -53,7 +53,9 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
   v->add_option("--robot", o->robots, "model mode: robot file(s) to cross-check against the model");
   v->add_option("--samples", o->samples, "random samples per scenario (default: the scenario's, else 10000)")
       ->check(CLI::Range(0, kMaxSamples));
-  v->add_option("--seed", o->seed, "seed (default: the scenario's)")->check(CLI::NonNegativeNumber);
+  // seeds are whole numbers in [0, 2^53], as in scenario files (a larger value used to be clamped silently)
+  v->add_option("--seed", o->seed, "seed in [0, 2^53] (default: the scenario's)")
+      ->check(CLI::Range(0LL, 1LL << 53));
   v->add_option("--threads", o->threads, "threads (default: all cores; results do not depend on it)")
       ->check(CLI::NonNegativeNumber);
   v->add_option("--shard", o->shard, "K/N: run the K-th of N disjoint slices of the sample stream");

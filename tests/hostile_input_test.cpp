@@ -194,4 +194,17 @@ TEST(HostileInput, DirectoryAsRobotIsOneLineError) {
   expectRejected("validate " + shellQuote(dir), "is a directory", dir);
 }
 
+// Finding 13: a seed above 2^63 was clamped silently.
+TEST(HostileInput, OutOfRangeSeedIsRejected) {
+  const std::string scenario = std::string(LOWPAIR_SCENARIOS) + "/elbow_mls.yaml";
+  for (const char* seed : {"99999999999999999999", "9007199254740993", "-1"}) {
+    const CliRun r = runCli("validate " + shellQuote(scenario) + " --samples 10 --seed " + seed);
+    EXPECT_EQ(r.status, 2) << seed << ": " << r.err;
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  EXPECT_EQ(runCli("validate " + shellQuote(scenario) + " --samples 10 --seed 9007199254740992").status, 0);
+}
+
 }  // namespace
