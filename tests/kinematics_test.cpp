@@ -37,13 +37,6 @@ Pose productOfExponentials(const PoeModel& model, const VecX& q, std::vector<Pos
 // worst below is printed as a property).
 double bound(int n) { return 64.0 * std::max(n, 1) * std::numeric_limits<double>::epsilon(); }
 
-// max(L, |d|, |a|) over the rows of a D-H table: the scale of its rounding errors.
-double tableScale(const DhModel& dh) {
-  double scale = std::max({dh.size(), std::abs(dh.base().d), std::abs(dh.base().a), std::abs(dh.toolD())});
-  for (const DhJoint& j : dh.joints()) scale = std::max({scale, std::abs(j.link.d), std::abs(j.link.a)});
-  return scale;
-}
-
 }  // namespace
 
 TEST(ForwardKinematics, EqualsProductOfExponentialsOnRandomRobots) {
@@ -131,7 +124,8 @@ TEST(ForwardKinematics, BatchEqualsSingleCalls) {
   std::mt19937_64 rng(84);
   for (int r = 0; r < 300; ++r) {
     const PoeModel model = lowpair_test::randomRobot(rng).model;
-    const DhModel dh = poeToDh(model).model;
+    const DhConversion conversion = poeToDh(model);
+    const DhModel& dh = conversion.model;
     const int count = 1 + r % 29;  // full and partial blocks
     MatX q(count, model.dof());
     for (int k = 0; k < count; ++k) q.row(k) = lowpair_test::randomConfiguration(model, rng).transpose();
@@ -151,7 +145,7 @@ TEST(ForwardKinematics, BatchEqualsSingleCalls) {
         EXPECT_LE(std::abs(poses(k, 9 + a) - data.T_base_tool.p[a]), bound(model.dof()) * model.size());
         // the D-H table's own scale max(L, |d|, |a|) (docs/conversion.md): near parallel axes |d| can be
         // 1e10 L, and single and batch forms round the cancelling terms differently
-        EXPECT_LE(std::abs(poses_dh(k, 9 + a) - data_dh.T_base_tool.p[a]), bound(model.dof()) * tableScale(dh));
+        EXPECT_LE(std::abs(poses_dh(k, 9 + a) - data_dh.T_base_tool.p[a]), bound(model.dof()) * conversion.scale);
       }
     }
   }

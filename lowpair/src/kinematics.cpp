@@ -77,6 +77,13 @@ LP_ALWAYS_INLINE inline void sinCosAll(const double* __restrict angle, int n, do
   }
 }
 
+// The motion rule on a link's constants (JointMotion's (j, k)): joint motion x turns the link by
+// theta + j x and slides it by p_z + k x; T is a double or a vector of lanes.
+template <class T>
+LP_ALWAYS_INLINE inline T linkAngle(double theta, double turn, T x) { return theta + turn * x; }
+template <class T>
+LP_ALWAYS_INLINE inline T linkSlide(double z, double slide, T x) { return z + slide * x; }
+
 // One row k of T <- T Rz(angle) Trans(p_x, p_y, slide) Rx(alpha) on the rotation columns X, Y, Z and the
 // position P, given cos/sin of the angle; T is a double or a vector of lanes (the batch).
 template <class T>
@@ -122,8 +129,8 @@ LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, c
   for (int b = 0; b < padded; b += L) {
     for (int i = b; i < b + L; ++i) {  // fixed trip count: one SIMD vector
       const double x = motionOf(qp[i], scale[i], offset[i]);
-      angle[i] = theta[i] + turn[i] * x;
-      slide[i] = z0[i] + slide_rate[i] * x;
+      angle[i] = linkAngle(theta[i], turn[i], x);
+      slide[i] = linkSlide(z0[i], slide_rate[i], x);
     }
   }
   double* __restrict sin_angle = data.sin_angle.data();
@@ -195,8 +202,8 @@ LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Ei
     V qv = broadcast<V>(0.0);
     std::memcpy(&qv, q.col(static_cast<Eigen::Index>(i)).data() + first, bytes);
     const V x = motionOf(qv, link.motion.scale, link.motion.offset);
-    const V angle = link.theta + link.turn * x;
-    const V slide = link.p[2] + link.slide * x;
+    const V angle = linkAngle(link.theta, link.turn, x);
+    const V slide = linkSlide(link.p[2], link.slide, x);
     V st, ct;
     detail::sinCosT<V, U>(angle, st, ct);
     if (use_libm) {
@@ -237,7 +244,7 @@ LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Ei
     const ChainLink& link = chain.links[i];
     const double* qi = q.col(static_cast<Eigen::Index>(i)).data();
     for (Eigen::Index k = 0; k < q.rows(); ++k) {
-      out_of_range |= outOfRange(link.theta + link.turn * motionOf(qi[k], link.motion.scale, link.motion.offset));
+      out_of_range |= outOfRange(linkAngle(link.theta, link.turn, motionOf(qi[k], link.motion.scale, link.motion.offset)));
     }
   }
   const bool use_libm = out_of_range != 0;
