@@ -49,5 +49,7 @@ RobotFile loadRobot(const RobotSource& source);
 void addConvertCommands(CLI::App& app, Commands& out);   // poe2dh, dh2poe, fk (convert_commands.cpp)
 void addJacobianCommands(CLI::App& app, Commands& out);  // jacobian, singular (jacobian_commands.cpp)
 void addValidateCommand(CLI::App& app, Commands& out);   // validate (validate_command.cpp)
+void addSimulateCommand(CLI::App& app, Commands& out);   // simulate (simulate_command.cpp)
+void addCalibrateCommands(CLI::App& app, Commands& out);  // identifiability, calibrate (calibrate_commands.cpp)
 
 }  // namespace lowpair

@@ -69,6 +69,8 @@ int main(int argc, char** argv) {
   addConvertCommands(app, commands);
   addJacobianCommands(app, commands);
   addValidateCommand(app, commands);
+  addSimulateCommand(app, commands);
+  addCalibrateCommands(app, commands);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,0 +1,210 @@
+#pragma once
+/// @file calibration.hpp
+/// Identifiability and calibration of POE models (Wu, Crawford, Roberts §V-VI; docs/calibration.md).
+///
+/// Error model (type preserving): joint i's unit twist moves as `xi <- Ad(exp(eta)) xi` (this keeps |w|,
+/// w.v and w = 0, i.e. the joint type and pitch), a helical joint (or any revolute/helical joint with
+/// free pitch) gets a pitch increment `v <- v + dh w`, every joint a scale increment `scale <- scale + ds`,
+/// and the tool `T <- exp(eta_T) T`. Joint offsets are not parameters: they are absorbed (§V).
+///
+/// The identification parameters are local coordinates of that error model at a model, one per
+/// identifiable direction (so the parameter count is the paper's `5h + 4r + 2t + n + 6`):
+/// - revolute/helical joint with unit axis `w` through `c` (the line's point nearest the base origin) and
+///   unit vectors `u1, u2` perpendicular to `w` (`u1 = w x e`, `e` the base axis least aligned with w):
+///   `tilt1, tilt2` (rad) turn the line about `c + s u_k` (`eta = [u_k; c x u_k]`), `shift1, shift2`
+///   (length) move it along `u_k` (`eta = [0; u_k]`); `pitch` (length/rad) when helical or freed;
+/// - prismatic joint with unit direction `v`: `tilt1, tilt2` (rad) turn it about `u_k` (`eta = [u_k; 0]`);
+/// - every joint: `scale` (dimensionless, absolute increment of `scale`);
+/// - tool: `rx, ry, rz` (rad) turn it about base-parallel axes through the tool point, `x, y, z` (length)
+///   translate it (`eta_T = [r; p_T x r + t]`).
+/// Measurement rows per pose: `[dtheta (3, rad, base frame); dp (3, length)]` for full poses, `dp` for
+/// position-only measurements, where a model change moving the tool by the spatial twist `[dw; dv]` gives
+/// `dtheta = dw` and `dp = dv + dw x p_tool`.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lowpair/convert.hpp"
+#include "lowpair/model.hpp"
+
+namespace lowpair {
+
+/// What a measurement observes of the tool.
+enum class Measure { Pose, Position };
+
+/// "pose" / "position".
+const char* measureName(Measure measure);
+
+/// One measurement: joint variables of the model and the tool frame in the base frame (for position-only
+/// measurements only `T_base_tool.p` is used).
+struct Measurement {
+  VecX q;
+  Pose T_base_tool;
+};
+
+/// The paper's count `5h + 4r + 2t + n + tool` (§V) with its breakdown.
+struct ParameterCount {
+  int helical = 0, revolute = 0, prismatic = 0;  ///< joints of each type (revolute with free pitch: helical)
+  int scales = 0;                                ///< n, one scale per joint
+  int tool = 6;                                  ///< 6 (full pose) or 3 (position only)
+  int total() const { return 5 * helical + 4 * revolute + 2 * prismatic + scales + tool; }
+};
+
+/// @param free_pitch revolute joints get a pitch parameter (counted as helical)
+ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool free_pitch = false);
+
+enum class ParameterKind { Tilt, Shift, Pitch, Scale, ToolRotation, ToolTranslation };
+
+/// One identification parameter (a column of the identification Jacobian).
+struct Parameter {
+  ParameterKind kind = ParameterKind::Tilt;
+  int joint = -1;      ///< 0-based joint, -1 for the tool
+  int component = 0;   ///< 0/1 for tilt and shift, 0..2 (x, y, z) for the tool
+  std::string name;    ///< "j3.tilt1", "j3.shift2", "j3.pitch", "j3.scale", "tool.rx", "tool.z" (1-based joints)
+  std::string unit;    ///< "rad", "length", "length/rad", "1"
+};
+
+/// The error model's local coordinates at one model (see the file comment).
+class ErrorModel {
+ public:
+  /// @param free_pitch give revolute joints a pitch parameter as well
+  explicit ErrorModel(const PoeModel& model, bool free_pitch = false);
+
+  const PoeModel& model() const { return model_; }
+  bool freePitch() const { return free_pitch_; }
+  const std::vector<Parameter>& parameters() const { return parameters_; }
+  int size() const { return static_cast<int>(parameters_.size()); }
+  /// The model moved by `delta` (one entry per parameter): `Ad(exp(eta))` per joint, pitch and scale
+  /// increments, `exp(eta_T)` on the tool. Joint names, offsets and ranges are kept; with free pitch a
+  /// joint's type is inferred from its new twist (revolute when the pitch is at rounding level).
+  /// @throws std::invalid_argument when a scale would become <= 0 or a number non-finite
+  PoeModel apply(const Eigen::Ref<const VecX>& delta) const;
+  /// Identification Jacobian at `q`: d(measured quantity)/d(parameters), 6 rows `[dtheta; dp]` (Pose) or
+  /// 3 rows `dp` (Position), `size()` columns; units: rad and length per parameter unit. Also returns
+  /// the model's `T_base_tool(q)`.
+  Pose jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows) const;
+
+ private:
+  PoeModel model_;
+  bool free_pitch_ = false;
+  std::vector<Parameter> parameters_;
+  std::vector<std::array<Vec6, 4>> basis_;  // per joint: eta of tilt1, tilt2, shift1, shift2 (prismatic: 2)
+};
+
+/// The error model without local reduction: per joint the 6 coordinates of `eta` (base frame), the pitch
+/// (helical or freed), the scale and the offset; the tool's 6 coordinates of `eta_T`. Its columns are
+/// redundant by construction (2 per revolute/helical joint, 4 per prismatic joint, every offset); its rank
+/// is the number of identifiable parameters (what identifiability compares with the count).
+/// @return `6n + pitches + 2n + 6` columns, rows as ErrorModel::jacobian
+MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch);
+
+/// The D-H parameterization of the same robot (poeToDh of the model): base `theta, d, alpha, a`, per
+/// joint `theta, d, alpha, a` (+ `pitch` when helical or freed) + `scale`, tool `theta, d`; analytic
+/// columns. @param names receives the column names ("base.theta", "j2.a", "tool.d", ...)
+MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
+                              std::vector<std::string>* names = nullptr);
+
+/// Rank rule for the identification Jacobians: rows made dimensionless (position rows / L), columns
+/// scaled to unit norm (a zero column stays zero), then `rank = #{sigma_i > max(rows, cols) eps sigma_1}`.
+struct RankAnalysis {
+  int rank = 0;
+  int columns = 0;
+  VecX singular_values;  ///< of the scaled matrix, descending
+  double tolerance = 0.0;  ///< on the singular values, as above
+  double condition = 0.0;  ///< sigma_1 / sigma_min over all columns; +inf when rank < columns
+  /// Sun & Hollerbach's observability indices of the scaled matrix (m = columns, P poses):
+  /// O1 = (prod sigma)^(1/m) / sqrt(P), O2 = sigma_min / sigma_1, O3 = sigma_min, O4 = sigma_min^2 / sigma_1,
+  /// O5 = 1 / sum(1 / sigma_i); all 0 when rank < columns.
+  std::array<double, 5> observability{};
+  /// The undetermined directions (right null vectors in scaled coordinates, unit norm): per direction the
+  /// columns whose coefficient exceeds 0.1 in magnitude, with their coefficients.
+  std::vector<std::vector<std::pair<int, double>>> undetermined;
+};
+
+/// @param L the length scale dividing position rows; @param poses P (for O1)
+RankAnalysis analyzeRank(const MatX& jacobian, Measure measure, double L, int poses);
+
+/// Identifiability of a model over a set of poses (docs/calibration.md): the count, the rank of the
+/// identification Jacobian (minimal parameters) and of the full error model (the "at most"), and the
+/// same for the D-H parameterization.
+struct Identifiability {
+  Measure measure = Measure::Pose;
+  bool free_pitch = false;
+  ParameterCount expected;
+  std::vector<Parameter> parameters;
+  RankAnalysis poe;                 ///< minimal parameters (ErrorModel)
+  int full_model_rank = 0, full_model_columns = 0;  ///< fullErrorModelJacobian
+  std::vector<std::string> dh_parameters;
+  RankAnalysis dh;                  ///< dhIdentificationJacobian of poeToDh(model)
+};
+
+Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
+                                       bool free_pitch = false);
+
+/// Residual statistics of a model against measurements: position error `|p_meas - p_model|` (length) and
+/// rotation error `rotationAngle(R_model^T R_meas)` (rad; 0 for position measurements).
+struct ResidualStatistics {
+  int count = 0;
+  double rms_position = 0.0, max_position = 0.0;
+  double rms_rotation = 0.0, max_rotation = 0.0;
+};
+
+ResidualStatistics residualStatistics(const PoeModel& model, const std::vector<Measurement>& measurements,
+                                      Measure measure);
+
+struct CalibrationOptions {
+  Measure measure = Measure::Pose;
+  bool free_pitch = false;
+  /// Measurement noise (standard deviation per coordinate): weights the residuals (position / sigma_position,
+  /// rotation / sigma_rotation). Unset: sigma_rotation = sigma_position / L when one is given; when neither
+  /// is, the ratio L and an a posteriori noise level (variance factor) are used for the covariance.
+  std::optional<double> sigma_position;  ///< length
+  std::optional<double> sigma_rotation;  ///< rad
+  int max_iterations = 100;
+};
+
+struct CalibrationResult {
+  PoeModel model;                    ///< calibrated
+  ErrorModel error_model;            ///< the local coordinates at the calibrated model
+  ParameterCount expected;
+  RankAnalysis rank;                 ///< of the weighted identification Jacobian at the result
+  ResidualStatistics before, after;  ///< on the measurements
+  int iterations = 0;
+  bool converged = false;
+  double sigma_position = 0.0, sigma_rotation = 0.0;  ///< the weights used
+  bool noise_stated = false;  ///< false: covariance scaled by the a posteriori variance factor
+  double variance_factor = 1.0;  ///< `cost / (rows - rank)` (1 expected when the stated noise is right)
+  /// Covariance of the parameters (local coordinates at `model`), pseudo-inverse on the determined
+  /// subspace; an undetermined parameter has standard deviation +inf.
+  MatX covariance;
+  VecX standard_deviation;
+  /// The covariance's principal axes as one-standard-deviation perturbations (columns, parameter units):
+  /// `covariance = principal_axes * principal_axes^T`.
+  MatX principal_axes;
+  /// Parameter directions the measurements do not determine (columns, parameter units; empty at full rank).
+  MatX undetermined_directions;
+};
+
+/// Levenberg–Marquardt in the error model's local coordinates, re-centred every iteration, on the
+/// determined subspace (truncated SVD of the weighted, column-scaled Jacobian, rank rule of analyzeRank);
+/// undetermined directions are left at the nominal. @throws std::invalid_argument for measurements whose
+/// joint count differs from the model's or with non-finite numbers, or for no measurement.
+CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
+                            const CalibrationOptions& options = {});
+
+/// Standard deviations of the calibrated D-H table: the parameter covariance propagated through poeToDh by
+/// central differences of one standard deviation along the covariance's principal axes (angle differences
+/// wrapped). A D-H number that moves along an undetermined direction is +inf (not determined).
+struct DhUncertainty {
+  DhConversion conversion;              ///< of the calibrated model
+  DhParams base;                        ///< standard deviations
+  std::vector<DhParams> links;          ///< per joint
+  std::vector<double> pitch, scale;     ///< per joint (pitch 0 for non-helical)
+  double tool_theta = 0.0, tool_d = 0.0;
+};
+
+DhUncertainty dhUncertainty(const CalibrationResult& result);
+
+}  // namespace lowpair
