@@ -1,5 +1,6 @@
 #include "robot_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -156,6 +157,44 @@ RobotFile readRobotFile(const std::string& path) {
     throw RobotFileError(path + ": " + e.what());
   }
   return file;
+}
+
+std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
+                               const std::string& description, const std::vector<std::string>& comments) {
+  const double k = like.angleFactor();
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  for (std::string c : comments) {
+    std::replace_if(c.begin(), c.end(), [](char ch) { return ch == '\n' || ch == '\r'; }, ' ');
+    out << YAML::Comment(c) << YAML::Newline;
+  }
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << name;
+  if (!description.empty()) out << YAML::Key << "description" << YAML::Value << description;
+  if (!like.length_unit.empty()) out << YAML::Key << "length_unit" << YAML::Value << like.length_unit;
+  out << YAML::Key << "angle_unit" << YAML::Value << like.angle_unit;
+  out << YAML::Key << "poe" << YAML::Value << YAML::BeginMap << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
+  for (const Joint& j : model.joints()) {
+    const double unit = j.type == JointType::Prismatic ? 1.0 : k;  // joint-variable unit of offset and range
+    const Vec6 xi = j.twist * j.scale;
+    out << YAML::Flow << YAML::BeginMap;
+    if (!j.name.empty()) out << YAML::Key << "name" << YAML::Value << j.name;
+    out << YAML::Key << "type" << YAML::Value << jointTypeName(j.type);
+    out << YAML::Key << "twist" << YAML::Value << YAML::Flow
+        << std::vector<double>(xi.data(), xi.data() + 6);
+    if (j.offset != 0.0) out << YAML::Key << "offset" << YAML::Value << j.offset / unit;
+    if (j.range) {
+      out << YAML::Key << "range" << YAML::Value << YAML::Flow
+          << std::vector<double>{(*j.range)[0] / unit, (*j.range)[1] / unit};
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "tool_pose" << YAML::Value << YAML::BeginSeq;
+  const Mat4 T = model.toolPose().matrix();
+  for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{T(r, 0), T(r, 1), T(r, 2), T(r, 3)};
+  out << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
 }
 
 }  // namespace lowpair

@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "lowpair/model.hpp"
 
@@ -33,5 +34,12 @@ struct RobotFile {
 
 /// @throws RobotFileError
 RobotFile readRobotFile(const std::string& path);
+
+/// A POE robot file holding `model` (readRobotFile reads it back to rounding: twists `scale * unit twist`
+/// with 17 significant digits, the tool as `tool_pose`), with `like`'s length and angle units (offsets and
+/// revolute ranges converted to its angle_unit), `name`, `description` and `comments` as leading `#` lines.
+/// Strings are emitted by yaml-cpp (quoted and escaped as needed).
+std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
+                               const std::string& description, const std::vector<std::string>& comments);
 
 }  // namespace lowpair

@@ -21,6 +21,9 @@ struct SingularPose {
   std::vector<std::string> classes;
 };
 
+/// Seeds are whole numbers in [0, kMaxSeed] (exact in a double, so YAML and the CLI read the same value).
+constexpr long long kMaxSeed = 1LL << 53;
+
 /// Upper bound on `samples` (a scenario or --samples).
 constexpr int kMaxSamples = 100000000;
 

@@ -112,6 +112,20 @@ void drawSample(Engine& rng, const std::vector<std::array<double, 2>>& ranges, E
 
 }  // namespace
 
+std::vector<std::array<double, 2>> samplingRanges(const PoeModel& model) {
+  std::vector<std::array<double, 2>> ranges;
+  for (const Joint& j : model.joints()) {
+    if (j.range) {
+      ranges.push_back(*j.range);
+    } else if (j.type == JointType::Prismatic) {
+      ranges.push_back({-model.size(), model.size()});
+    } else {
+      ranges.push_back({-M_PI, M_PI});
+    }
+  }
+  return ranges;
+}
+
 void randomSample(unsigned long long seed, unsigned long long index, const std::vector<std::array<double, 2>>& ranges,
                   Eigen::Ref<VecX> q) {
   const unsigned long long s = mix(seed * 0x100000001B3ULL + index);

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "comparison.hpp"
+#include "lowpair/model.hpp"
 #include "lowpair/types.hpp"
 #include "scenario.hpp"
 
@@ -91,6 +92,10 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options);
 /// so results do not depend on threads or shards.
 void randomSample(unsigned long long seed, unsigned long long index, const std::vector<std::array<double, 2>>& ranges,
                   Eigen::Ref<VecX> q);
+
+/// Sampling ranges of a model's joint variables when none are given: each joint's range when the model has
+/// one, else revolute/helical [-pi, pi] and prismatic [-L, L] (L = model.size()).
+std::vector<std::array<double, 2>> samplingRanges(const PoeModel& model);
 
 /// Starts one worker thread (replaceable in tests to inject a failure).
 using ThreadStarter = std::function<std::thread(std::function<void()>)>;

@@ -206,8 +206,8 @@ PoeModel ErrorModel::apply(const Eigen::Ref<const VecX>& delta) const {
       const Vec3 v_line = v - w.dot(v) * w;  // the moment p x w without pitch
       double pitch = j.type == JointType::Helical ? j.pitch : 0.0;
       if (hasPitch(j, free_pitch_)) pitch += delta[k++];
-      if (free_pitch_) {  // the type follows the pitch, with normalizeJoint's rounding rule
-        const bool rounding = std::abs(pitch) <= kPitchZero * kEps * std::max(v_line.norm(), std::abs(pitch));
+      if (free_pitch_) {  // the type follows the pitch: revolute when the pitch is rounding relative to L
+        const bool rounding = std::abs(pitch) <= kPitchZero * kEps * model_.size();
         j.type = rounding ? JointType::Revolute : JointType::Helical;
         if (rounding) pitch = 0.0;
       }
@@ -578,6 +578,22 @@ VecX dhNumbers(const DhModel& dh, std::vector<bool>* angle = nullptr) {
   return out;
 }
 
+// Puts the rows of the D-H numbers `x` on the sign branch of `center`: the canonical table keeps a >= 0, so a
+// row whose a crosses 0 comes back as (theta + pi, d, -alpha, -a) with pi added to the next row's theta
+// (A(theta + pi, d, -alpha, -a) = A(theta, d, alpha, a) Rz(pi)). Undone here, so that a length a that is 0
+// within its uncertainty shows as a +- sd instead of a jump of theta by pi.
+void alignBranches(VecX& x, const VecX& center, int dof) {
+  auto row = [](int r) { return r == 0 ? 0 : 4 + 6 * (r - 1); };
+  for (int r = 0; r <= dof; ++r) {
+    const int k = row(r);
+    if (std::abs(wrapAngle(x[k] - center[k])) <= M_PI / 2) continue;
+    x[k] -= M_PI;
+    x[k + 2] = -x[k + 2];
+    x[k + 3] = -x[k + 3];
+    x[r < dof ? row(r + 1) : 4 + 6 * dof] += M_PI;
+  }
+}
+
 VecX dhDifference(const VecX& a, const VecX& b, const std::vector<bool>& angle) {
   VecX d = a - b;
   for (Eigen::Index k = 0; k < d.size(); ++k) {
@@ -593,11 +609,15 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
   DhUncertainty out{poeToDh(result.model), {}, {}, {}, {}, 0.0, 0.0};
   std::vector<bool> angle;
   const VecX center = dhNumbers(out.conversion.model, &angle);
+  const int n = result.model.dof();
   VecX variance = VecX::Zero(center.size());
   auto spread = [&](const VecX& direction) -> VecX {  // half the D-H difference between +direction and -direction
     try {
-      return 0.5 * dhDifference(dhNumbers(poeToDh(em.apply(direction)).model),
-                                dhNumbers(poeToDh(em.apply(-direction)).model), angle);
+      VecX plus = dhNumbers(poeToDh(em.apply(direction)).model);
+      VecX minus = dhNumbers(poeToDh(em.apply(-direction)).model);
+      alignBranches(plus, center, n);
+      alignBranches(minus, center, n);
+      return 0.5 * dhDifference(plus, minus, angle);
     } catch (const std::invalid_argument&) {  // a one-sigma step through a non-positive scale
       return VecX::Constant(center.size(), kInf);
     }
@@ -624,7 +644,6 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
     r.a = sd[k++];
   };
   row(out.base);
-  const int n = result.model.dof();
   out.links.resize(static_cast<size_t>(n));
   out.pitch.resize(static_cast<size_t>(n));
   out.scale.resize(static_cast<size_t>(n));

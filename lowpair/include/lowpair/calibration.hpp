@@ -78,7 +78,7 @@ class ErrorModel {
   int size() const { return static_cast<int>(parameters_.size()); }
   /// The model moved by `delta` (one entry per parameter): `Ad(exp(eta))` per joint, pitch and scale
   /// increments, `exp(eta_T)` on the tool. Joint names, offsets and ranges are kept; with free pitch a
-  /// joint's type is inferred from its new twist (revolute when the pitch is at rounding level).
+  /// joint's type follows its new pitch (revolute when |pitch| <= kPitchZero eps L, the pitch then 0).
   /// @throws std::invalid_argument when a scale would become <= 0 or a number non-finite
   PoeModel apply(const Eigen::Ref<const VecX>& delta) const;
   /// Identification Jacobian at `q`: d(measured quantity)/d(parameters), 6 rows `[dtheta; dp]` (Pose) or
@@ -196,7 +196,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
 
 /// Standard deviations of the calibrated D-H table: the parameter covariance propagated through poeToDh by
 /// central differences of one standard deviation along the covariance's principal axes (angle differences
-/// wrapped). A D-H number that moves along an undetermined direction is +inf (not determined).
+/// wrapped; a row whose `a` changes sign is compared on the central table's branch, `(theta - pi, d, -alpha,
+/// -a)` with pi moved to the next theta). A D-H number that moves along an undetermined direction is +inf.
 struct DhUncertainty {
   DhConversion conversion;              ///< of the calibrated model
   DhParams base;                        ///< standard deviations

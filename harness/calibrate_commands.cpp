@@ -1,0 +1,132 @@
+// identifiability, calibrate (docs/calibration.md).
+#include <chrono>
+#include <optional>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "calibration_output.hpp"
+#include "commands.hpp"
+#include "lowpair/calibration.hpp"
+#include "lowpair/convert.hpp"
+#include "measurements.hpp"
+#include "output.hpp"
+#include "scenario.hpp"
+#include "validate.hpp"
+
+namespace lowpair {
+
+using nlohmann::json;
+
+namespace {
+
+Measure parseMeasure(const std::string& text) { return text == "position" ? Measure::Position : Measure::Pose; }
+
+}  // namespace
+
+void addCalibrateCommands(CLI::App& app, Commands& commands) {
+  struct Options {
+    RobotSource robot;
+    std::string measure = "pose", measurements, validation, out;
+    int poses = 50;
+    long long seed = 1;
+    bool as_json = false, free_pitch = false;
+    std::optional<double> noise_position, noise_rotation;
+  };
+  auto o = std::make_shared<Options>();
+
+  auto* ident = app.add_subcommand("identifiability",
+                                   "rank of the identification Jacobian vs 5h+4r+2t+n+6, POE and D-H (Wu et al. §V)");
+  addRobotArgument(*ident, o->robot);
+  ident->add_option("--measure", o->measure, "pose (default) or position measurements of the tool")
+      ->check(CLI::IsMember({"pose", "position"}));
+  ident->add_option("--poses", o->poses, "random poses (default 50)")->check(CLI::Range(1, kMaxIdentifiabilityPoses));
+  ident->add_option("--seed", o->seed, "seed of the random poses (default 1)")->check(CLI::Range(0LL, kMaxSeed));
+  ident->add_flag("--free-pitch", o->free_pitch, "give revolute joints a pitch parameter");
+  ident->add_flag("--json", o->as_json, "print JSON");
+  commands.emplace_back(ident, [o] {
+    const RobotFile file = loadRobot(o->robot);
+    const PoeModel model = file.poeModel();
+    const Measure measure = parseMeasure(o->measure);
+    const auto ranges = samplingRanges(model);
+    std::vector<VecX> q(static_cast<size_t>(o->poses), VecX(model.dof()));
+    for (int i = 0; i < o->poses; ++i) randomSample(static_cast<unsigned long long>(o->seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
+    const Identifiability id = analyzeIdentifiability(model, q, measure, o->free_pitch);
+    if (o->as_json) {
+      json j = identifiabilityJson(file, id);
+      j["poses"] = o->poses;
+      j["seed"] = o->seed;
+      std::cout << j.dump(1) << "\n";
+    } else {
+      std::cout << "identifiability of " << robotLabel(file) << " from " << o->poses << " random "
+                << measureName(measure) << " measurements (seed " << o->seed << ")\n";
+      printIdentifiability(std::cout, file, id);
+    }
+    return 0;
+  });
+
+  auto* cal = app.add_subcommand("calibrate", "identify a POE model from measurements; calibrated D-H table with "
+                                              "standard deviations");
+  cal->add_option("NOMINAL", o->robot.path, "nominal robot file (.yaml)")->required();
+  cal->add_option("--measurements", o->measurements, "measurement CSV (lowpair simulate, docs/file_formats.md)")
+      ->required();
+  cal->add_option("--validation", o->validation, "held-out measurement CSV: residuals before and after");
+  cal->add_option("--noise-position", o->noise_position, "measurement noise, standard deviation per coordinate (length)");
+  cal->add_option("--noise-rotation", o->noise_rotation, "measurement noise, standard deviation per axis (rad)");
+  cal->add_flag("--free-pitch", o->free_pitch, "identify a pitch on revolute joints too (they may come out helical)");
+  cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml)");
+  cal->add_flag("--json", o->as_json, "print JSON");
+  commands.emplace_back(cal, [o] {
+    const RobotFile file = loadRobot(o->robot);
+    const PoeModel nominal = file.poeModel();
+    const MeasurementFile fit = readMeasurements(o->measurements);
+    auto check_dof = [&](const MeasurementFile& m) {
+      if (m.dof != nominal.dof()) {
+        throw RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + file.path + " has " +
+                             std::to_string(nominal.dof()) + " joints");
+      }
+    };
+    check_dof(fit);
+    std::optional<MeasurementFile> validation;
+    if (!o->validation.empty()) {
+      validation = readMeasurements(o->validation);
+      check_dof(*validation);
+    }
+    for (const auto& [value, flag] : {std::pair{o->noise_position, "--noise-position"},
+                                      std::pair{o->noise_rotation, "--noise-rotation"}}) {
+      if (value && !(*value > 0.0 && std::isfinite(*value))) {
+        throw UsageError(flag, "must be a positive finite number, got " + std::to_string(*value));
+      }
+    }
+    CalibrationOptions options;
+    options.measure = fit.measure;
+    options.free_pitch = o->free_pitch;
+    options.sigma_position = o->noise_position;
+    options.sigma_rotation = o->noise_rotation;
+    const auto start = std::chrono::steady_clock::now();
+    const CalibrationResult result = calibrate(nominal, fit.measurements, options);
+    const DhUncertainty dh = dhUncertainty(result);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    CalibrationReport report{file, fit, validation, result, dh, seconds};
+    if (!o->out.empty()) {
+      const std::string name = (file.name.empty() ? std::filesystem::path(file.path).stem().string() : file.name) +
+                               "-calibrated";
+      writeFileAtomically(o->out, formatPoeRobotFile(result.model, file, name,
+                                                     "calibrated by lowpair calibrate from " + fit.path,
+                                                     calibrationProvenance(report)));
+    }
+    if (o->as_json) {
+      std::cout << calibrationJson(report).dump(1) << "\n";
+    } else {
+      printCalibration(std::cout, report);
+    }
+    return 0;
+  });
+}
+
+}  // namespace lowpair

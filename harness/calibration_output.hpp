@@ -1,0 +1,52 @@
+#pragma once
+/// @file calibration_output.hpp
+/// Text and JSON of `lowpair identifiability` and `lowpair calibrate` (README, docs/calibration.md), also
+/// used by the calibration section of a scenario report.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "lowpair/calibration.hpp"
+#include "measurements.hpp"
+#include "robot_file.hpp"
+
+namespace lowpair {
+
+/// Upper bound on `identifiability --poses` (the Jacobian has 6 rows per pose).
+constexpr int kMaxIdentifiabilityPoses = 10000;
+
+/// Everything `calibrate` prints.
+struct CalibrationReport {
+  const RobotFile& nominal;
+  const MeasurementFile& fit;
+  const std::optional<MeasurementFile>& validation;
+  const CalibrationResult& result;
+  const DhUncertainty& dh;
+  double seconds = 0.0;  ///< calibrate + dhUncertainty
+};
+
+nlohmann::json identifiabilityJson(const RobotFile& file, const Identifiability& id);
+void printIdentifiability(std::ostream& out, const RobotFile& file, const Identifiability& id);
+
+/// Residuals of the validation set before (nominal) and after (calibrated), with its own measure.
+struct ValidationResiduals {
+  ResidualStatistics before, after;
+};
+ValidationResiduals validationResiduals(const CalibrationReport& report);
+
+/// The warnings of a calibration in sentences: rank below the count (with the undetermined directions),
+/// no convergence, residuals inconsistent with the stated noise, the D-H conversion's conditioning.
+std::vector<std::string> calibrationWarnings(const CalibrationReport& report);
+
+nlohmann::json calibrationJson(const CalibrationReport& report);
+void printCalibration(std::ostream& out, const CalibrationReport& report);
+/// The `#` lines of a calibrated robot file: where it came from and how well it fits.
+std::vector<std::string> calibrationProvenance(const CalibrationReport& report);
+
+/// "0.71 j6.scale - 0.50 j5.tilt1 + ..." (the largest coefficients first, at most six terms).
+std::string directionText(const std::vector<std::pair<int, double>>& direction, const std::vector<std::string>& names);
+
+}  // namespace lowpair
