@@ -54,6 +54,16 @@ json validationJson(const std::vector<ScenarioResult>& results, const RunOptions
                                        {"sigma_min", sp.sigma_min}, {"pass", sp.pass}});
       }
     }
+    if (!r.calibrations.empty()) {
+      s["calibrations"] = json::array();
+      for (const auto& c : r.calibrations) {
+        json j = c.json;
+        j["name"] = c.config.name;
+        j["pass"] = c.pass;
+        j["failures"] = c.failures;
+        s["calibrations"].push_back(j);
+      }
+    }
     pass = pass && r.pass;
     doc["scenarios"].push_back(s);
   }
@@ -96,6 +106,26 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
       out << line;
     }
   }
+  header = false;
+  for (const auto& r : results) {
+    for (const auto& c : r.calibrations) {
+      if (!header) {
+        std::snprintf(line, sizeof line, "\n%-28s %-20s %9s %12s %12s %12s %9s %5s\n", "scenario", "calibration",
+                      "rank", "val before", "val after", "tolerance", "improve", "iter");
+        out << line;
+        header = true;
+      }
+      const std::string rank = std::to_string(c.rank) + "/" + std::to_string(c.expected);
+      std::snprintf(line, sizeof line, "%-28s %-20s %9s %12.3e %12.3e %12.3e %8.3gx %5d  %s\n", r.scenario.name.c_str(),
+                    c.config.name.c_str(), rank.c_str(), c.validation_before.rms_position,
+                    c.validation_after.rms_position, c.config.tolerance_position,
+                    c.validation_before.rms_position / c.validation_after.rms_position, c.iterations,
+                    c.pass ? "pass" : "FAIL");
+      out << line;
+      for (const auto& f : c.failures) out << "  " << f << "\n";
+    }
+  }
+  if (header) out << "(calibration: validation RMS position error before and after, length unit of the nominal)\n";
   out << (pass ? "all comparisons within tolerance" : "FAILED: a comparison is outside its tolerance (marked FAIL)")
       << "  (rotation in rad; translation relative to the robot size L; Jacobian rows: angular block as 'rot', "
          "linear as 'tr')\n";
@@ -286,6 +316,32 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
        << "set cbrange [-8:0]\nset cblabel 'log10 sigma_min'\nset xrange [*:*] noextend\nset yrange [*:*] noextend\n"
        << "splot " << gpString(map_name) << " using 1:2:3 with pm3d notitle\n";
   }
+  for (size_t k = 0; k < r.calibrations.size(); ++k) {
+    // Wu et al. Fig. 4: the position error of every validation pose before and after calibration
+    const CalibrationCaseResult& c = r.calibrations[k];
+    const std::string name = base + "_calibration_" + std::to_string(k + 1);
+    {
+      std::ofstream out(dir / (name + ".dat"));
+      out << "# validation pose, position error before, after (length unit of the nominal)\n";
+      for (size_t i = 0; i < c.validation_position_before.size(); ++i) {
+        // log axis: an exact 0 is drawn at 1e-18
+        out << i + 1 << " " << std::max(1e-18, c.validation_position_before[i]) << " "
+            << std::max(1e-18, c.validation_position_after[i]) << "\n";
+      }
+    }
+    gp << "reset\nset terminal pngcairo noenhanced size 1000,500 font ',10'\n"
+       << "set output " << gpString(name + ".png") << "\n"
+       << "set title " << gpString(r.scenario.name + ", calibration '" + c.config.name +
+                                   "': position error on the noise-free validation poses") << "\n"
+       << "set logscale y\nset format y '10^{%L}'\nset grid\nset key top right\n"
+       << "set xlabel 'validation pose'\nset ylabel 'position error (length unit of the nominal)'\n"
+       << "plot " << gpString(name + ".dat") << " using 1:2 with linespoints pt 7 ps 0.4 title 'nominal (before)', "
+       << gpString(name + ".dat") << " using 1:3 with linespoints pt 7 ps 0.4 title 'calibrated (after)'";
+    if (c.config.tolerance_position > 0) {
+      gp << ", " << c.config.tolerance_position << " with lines dt 2 lc 'black' title 'tolerance'";
+    }
+    gp << "\n";
+  }
   const std::string script = base + ".gnuplot";
   std::ofstream(dir / script) << gp.str();
   const fs::path log = dir / (base + ".gnuplot.log");
@@ -337,6 +393,17 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
          << plotted(r) << "; the histogram and the table, every sample.\n\n"
          << "![errors](" << base << "_errors.png)\n\n![histogram](" << base << "_histogram.png)\n\n";
       if (r.map_size > 0) md << "![singularity map](" << base << "_singularity_map.png)\n\n";
+      for (size_t k = 0; k < r.calibrations.size(); ++k) {
+        const CalibrationCaseResult& c = r.calibrations[k];
+        md << "### Calibration '" << c.config.name << "': " << (c.pass ? "pass" : "**FAIL**") << "\n\n"
+           << c.config.poses << " measurements of the MuJoCo model (noise: position " << c.config.noise_position
+           << ", rotation " << c.config.noise_rotation << " rad), " << c.config.validation_poses
+           << " noise-free validation poses; acceptance: validation RMS position <= " << c.config.tolerance_position;
+        if (c.config.min_improvement) md << ", at least " << *c.config.min_improvement << "x below the nominal's";
+        md << ".\n\n";
+        for (const auto& f : c.failures) md << "- failed: " << f << "\n";
+        md << "![calibration](" << base << "_calibration_" << k + 1 << ".png)\n\n```\n" << c.text << "```\n\n";
+      }
     }
     std::ofstream(tmp / "summary.md") << md.str();
     fs::create_directories(target);

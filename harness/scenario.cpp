@@ -26,6 +26,51 @@ std::vector<double> numbers(const YamlReader& in, const YAML::Node& node, const 
   for (size_t i = 0; i < node.size(); ++i) out.push_back(in.number(node[i], what + "[" + std::to_string(i) + "]"));
   return out;
 }
+CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node, size_t index) {
+  const std::string& path = in.path();
+  in.allowOnly(node, "a calibration case",
+               {"name", "nominal", "poses", "validation_poses", "seed", "measure", "free_pitch", "noise",
+                "tolerance"});
+  CalibrationCase c;
+  c.name = node["name"] ? in.string(node["name"], "calibration name") : "calibration" + std::to_string(index + 1);
+  const std::string where = "calibration '" + c.name + "'";
+  if (!node["nominal"]) yamlError(path, node, where + ": missing 'nominal' (the robot file to calibrate)");
+  c.nominal = relative(path, in.string(node["nominal"], where + ".nominal"));
+  if (node["poses"]) c.poses = static_cast<int>(in.integer(node["poses"], where + ".poses", 1, kMaxCalibrationPoses));
+  if (node["validation_poses"]) {
+    c.validation_poses =
+        static_cast<int>(in.integer(node["validation_poses"], where + ".validation_poses", 1, kMaxCalibrationPoses));
+  }
+  if (node["seed"]) c.seed = static_cast<unsigned long long>(in.integer(node["seed"], where + ".seed", 0, kMaxSeed));
+  if (node["measure"]) {
+    const std::string m = in.string(node["measure"], where + ".measure");
+    if (m != "pose" && m != "position") yamlError(path, node["measure"], where + ".measure must be pose or position");
+    c.position_only = m == "position";
+  }
+  if (node["free_pitch"]) {
+    const std::string b = in.string(node["free_pitch"], where + ".free_pitch");
+    if (b != "true" && b != "false") yamlError(path, node["free_pitch"], where + ".free_pitch must be true or false");
+    c.free_pitch = b == "true";
+  }
+  if (const YAML::Node noise = node["noise"]) {
+    in.allowOnly(noise, where + ".noise", {"position", "rotation"});
+    c.noise_position = in.numberOr(noise, "position", 0.0, where + ".noise");
+    c.noise_rotation = in.numberOr(noise, "rotation", 0.0, where + ".noise");
+    if (c.noise_position < 0 || c.noise_rotation < 0) yamlError(path, noise, where + ".noise must be >= 0");
+  }
+  const YAML::Node t = node["tolerance"];
+  if (!t) yamlError(path, node, where + ": missing 'tolerance' (at least position: validation RMS after, length)");
+  in.allowOnly(t, where + ".tolerance", {"position", "rotation", "improvement"});
+  if (!t["position"]) yamlError(path, t, where + ".tolerance: missing 'position'");
+  c.tolerance_position = in.number(t["position"], where + ".tolerance.position");
+  if (t["rotation"]) c.tolerance_rotation = in.number(t["rotation"], where + ".tolerance.rotation");
+  if (t["improvement"]) c.min_improvement = in.number(t["improvement"], where + ".tolerance.improvement");
+  for (const double v : {c.tolerance_position, c.tolerance_rotation.value_or(1.0), c.min_improvement.value_or(1.0)}) {
+    if (!(v > 0)) yamlError(path, t, where + ".tolerance values must be positive");
+  }
+  return c;
+}
+
 }  // namespace
 
 Scenario readScenario(const std::string& path) {
@@ -36,7 +81,7 @@ Scenario readScenario(const std::string& path) {
   try {
     in.allowOnly(root, "the scenario", {"name", "description", "model", "tip", "base", "joint_variables",
                                         "robot_files", "samples", "seed", "ranges", "tolerance", "poses",
-                                        "singular_poses", "singularity_map"});
+                                        "singular_poses", "singularity_map", "calibration"});
     s.name = root["name"] ? in.string(root["name"], "name") : fs::path(path).stem().string();
     if (!root["model"]) yamlError(path, root, "missing 'model' (an MJCF or URDF file)");
     if (!root["tip"]) yamlError(path, root, "missing 'tip' (a site or body name)");
@@ -117,6 +162,10 @@ Scenario readScenario(const std::string& path) {
         }
       }
       if (m["fixed"]) s.map_fixed = numbers(in, m["fixed"], "singularity_map.fixed");
+    }
+    if (const YAML::Node cases = root["calibration"]) {
+      if (!cases.IsSequence() || cases.size() == 0) yamlError(path, cases, "calibration must be a non-empty list of cases");
+      for (const auto& c : cases) s.calibrations.push_back(readCalibrationCase(in, c, s.calibrations.size()));
     }
   } catch (const YAML::Exception& e) {
     throw RobotFileError(path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);

@@ -4,6 +4,7 @@
 /// samples, with which tolerances, and the singular poses it checks.
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,27 @@ constexpr long long kMaxSeed = 1LL << 53;
 /// Upper bound on `samples` (a scenario or --samples).
 constexpr int kMaxSamples = 100000000;
 
+/// A calibration in the loop (docs/calibration.md): the nominal robot file is calibrated from `poses`
+/// measurements of the scenario's MuJoCo model (the "actual" robot; q is the scenario's joint variable),
+/// then checked on `validation_poses` noise-free measurements of it.
+struct CalibrationCase {
+  std::string name;
+  std::string nominal;            ///< robot file
+  int poses = 50;                 ///< fitting measurements: samples 0 .. poses-1 of the calibration stream
+  int validation_poses = 200;     ///< samples poses .. poses+validation_poses-1 of the same stream, noise-free
+  unsigned long long seed = 1;
+  bool position_only = false;     ///< `measure: position`
+  bool free_pitch = false;
+  double noise_position = 0.0;    ///< length (the nominal's unit), per coordinate
+  double noise_rotation = 0.0;    ///< rad
+  double tolerance_position = 0.0;  ///< acceptance: validation RMS position after calibration (length)
+  std::optional<double> tolerance_rotation;  ///< acceptance: validation RMS rotation after (rad), pose only
+  std::optional<double> min_improvement;     ///< acceptance: validation RMS position before / after
+};
+
+/// Upper bound on a calibration case's poses and validation poses.
+constexpr int kMaxCalibrationPoses = 100000;
+
 struct Scenario {
   std::string path;  ///< the scenario file ("" for a model given on the command line)
   std::string name;
@@ -47,6 +69,7 @@ struct Scenario {
   /// the other joints at map_fixed (default: 0.4 rad / mid-range). Empty map_joints: joints 2 and 3.
   std::vector<int> map_joints;
   std::vector<double> map_fixed;
+  std::vector<CalibrationCase> calibrations;
 };
 
 /// @throws RobotFileError ("FILE: line N: what")

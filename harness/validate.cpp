@@ -14,6 +14,7 @@
 #include "lowpair/convert.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
+#include "lowpair/se3.hpp"
 #include "lowpair/singularity.hpp"
 #include "mujoco_robot.hpp"
 #include "robot_file.hpp"
@@ -111,6 +112,19 @@ void drawSample(Engine& rng, const std::vector<std::array<double, 2>>& ranges, E
 }
 
 }  // namespace
+
+void addMeasurementNoise(unsigned long long seed, unsigned long long index, double sd_position, double sd_rotation,
+                         Pose& T) {
+  if (sd_position == 0.0 && sd_rotation == 0.0) return;
+  constexpr unsigned long long kNoiseStream = 0x6E6F6973652D7374ULL;  // "noise-st"
+  std::mt19937_64 rng(mix(mix(seed ^ kNoiseStream) + index));
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Vec3 dp, n;
+  for (int k = 0; k < 3; ++k) dp[k] = sd_position * normal(rng);
+  for (int k = 0; k < 3; ++k) n[k] = sd_rotation * normal(rng);
+  T.p += dp;
+  T.R = expSO3(n) * T.R;
+}
 
 std::vector<std::array<double, 2>> samplingRanges(const PoeModel& model) {
   std::vector<std::array<double, 2>> ranges;
@@ -447,6 +461,12 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
     result.pass = result.pass && result.singular_poses.back().pass;
   }
   if (options.singularity_map && n >= 3) singularityMap(scenario, setup, result);
+  if (options.shard == 1) {
+    for (const CalibrationCase& c : scenario.calibrations) {
+      result.calibrations.push_back(runCalibrationCase(scenario, c, *setup.robot, setup.variables, setup.ranges));
+      result.pass = result.pass && result.calibrations.back().pass;
+    }
+  }
   return result;
 }
 

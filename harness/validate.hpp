@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "calibration_scenario.hpp"
 #include "comparison.hpp"
 #include "lowpair/model.hpp"
 #include "lowpair/types.hpp"
@@ -82,6 +83,7 @@ struct ScenarioResult {
   std::array<double, 2> map_range_x{}, map_range_y{};
   int map_size = 0;
   std::vector<double> map_log_sigma;
+  std::vector<CalibrationCaseResult> calibrations;  ///< the scenario's calibration cases (first shard only)
 };
 
 /// @throws RobotFileError for a model or robot file that cannot be used
@@ -92,6 +94,13 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options);
 /// so results do not depend on threads or shards.
 void randomSample(unsigned long long seed, unsigned long long index, const std::vector<std::array<double, 2>>& ranges,
                   Eigen::Ref<VecX> q);
+
+/// Measurement noise of measurement `index` of the stream `seed` (`lowpair simulate`, calibration scenarios):
+/// `T.p += N(0, sd_position^2)` per coordinate, then `T.R <- expSO3(n) T.R` with `n ~ N(0, sd_rotation^2 I3)`,
+/// from a std::mt19937_64 seeded with splitmix64(splitmix64(seed ^ "noise-st") + index): independent of
+/// randomSample's q stream, and a measurement's noise depends only on (seed, index).
+void addMeasurementNoise(unsigned long long seed, unsigned long long index, double sd_position, double sd_rotation,
+                         Pose& T);
 
 /// Sampling ranges of a model's joint variables when none are given: each joint's range when the model has
 /// one, else revolute/helical [-pi, pi] and prismatic [-L, L] (L = model.size()).

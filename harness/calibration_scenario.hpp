@@ -1,0 +1,39 @@
+#pragma once
+/// @file calibration_scenario.hpp
+/// Calibration in the loop (a scenario's `calibration:` cases, docs/calibration.md): measurements of MuJoCo's
+/// "actual" robot, the nominal robot file calibrated from them, the result checked on held-out noise-free
+/// measurements against the case's acceptance.
+
+#include <array>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "lowpair/calibration.hpp"
+#include "mujoco_robot.hpp"
+#include "scenario.hpp"
+
+namespace lowpair {
+
+struct CalibrationCaseResult {
+  CalibrationCase config;
+  int rank = 0, expected = 0, iterations = 0;
+  bool converged = false;
+  double seconds = 0.0;  ///< calibrate + D-H standard deviations
+  ResidualStatistics fit_before, fit_after, validation_before, validation_after;
+  /// Position error (length) of every validation pose before and after, for the report's picture.
+  std::vector<double> validation_position_before, validation_position_after;
+  std::string text;       ///< what `lowpair calibrate` prints for the same data
+  nlohmann::json json;    ///< what `lowpair calibrate --json` prints
+  bool pass = true;
+  std::vector<std::string> failures;  ///< the acceptance criteria that failed, in words
+};
+
+/// @param variables the sampled joint variable's map to MuJoCo's motion (x_i = variables[i].motion(q_i))
+/// @param ranges sampling ranges of q (validate's)
+/// @throws RobotFileError for a nominal robot file that cannot be read or does not match the chain
+CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const CalibrationCase& config,
+                                         const MujocoRobot& robot, const std::vector<JointMotion>& variables,
+                                         const std::vector<std::array<double, 2>>& ranges);
+
+}  // namespace lowpair
