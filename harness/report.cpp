@@ -333,12 +333,12 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
        << "set output " << gpString(name + ".png") << "\n"
        << "set title " << gpString(r.scenario.name + ", calibration '" + c.config.name +
                                    "': position error on the noise-free validation poses") << "\n"
-       << "set logscale y\nset format y '10^{%L}'\nset grid\nset key top right\n"
+       << "set logscale y\nset format y '1e%L'\nset grid\nset key outside right top\n"
        << "set xlabel 'validation pose'\nset ylabel 'position error (length unit of the nominal)'\n"
        << "plot " << gpString(name + ".dat") << " using 1:2 with linespoints pt 7 ps 0.4 title 'nominal (before)', "
        << gpString(name + ".dat") << " using 1:3 with linespoints pt 7 ps 0.4 title 'calibrated (after)'";
     if (c.config.tolerance_position > 0) {
-      gp << ", " << c.config.tolerance_position << " with lines dt 2 lc 'black' title 'tolerance'";
+      gp << ", " << c.config.tolerance_position << " with lines dt 2 lc 'black' title 'tolerance (RMS)'";
     }
     gp << "\n";
   }

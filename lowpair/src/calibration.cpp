@@ -39,20 +39,31 @@ Vec6 twist(const Vec3& w, const Vec3& v) {
   return xi;
 }
 
-// A tool-point velocity `dv + dw x p` at or below this many ulp of `|dv| + |dw| |p|` is a cancellation to
-// zero (e.g. a rotation about a line through the tool point): it is set to exactly 0, so that the column
-// scaling of the rank analysis cannot blow rounding noise up into an identifiable-looking column.
+// A tool-point velocity `dv + dw x p` at or below `kCancellation (n + 1)` ulp of `|dv| + |dw| |p|` (n joints:
+// the frames carry the rounding of up to n + 1 products) is a cancellation to zero (e.g. a rotation about a
+// line through the tool point): it is set to exactly 0, so that the column scaling of the rank analysis
+// cannot blow rounding noise up into an identifiable-looking column.
 constexpr double kCancellation = 16.0;
+
+double cancellationLevel(int dof) { return kCancellation * (dof + 1) * kEps; }
+
+// `a - b` for two spatial twists whose difference cancels to zero exactly in exact arithmetic for some
+// parameters (e.g. Ad(P) eta - Ad(P exp(xi x)) eta for eta commuting with xi): a difference at rounding level
+// of its terms is set to exactly 0, for the same reason as kCancellation.
+Vec6 twistDifference(const Vec6& a, const Vec6& b, int dof) {
+  const Vec6 d = a - b;
+  return d.norm() <= cancellationLevel(dof) * (a.norm() + b.norm()) ? Vec6::Zero() : d;
+}
 
 // Rows of one measurement from spatial twist columns S (6 x m) of the tool frame at position p:
 // [dtheta; dp] = [dw; dv + dw x p], or dp alone.
-void measurementRows(const Mat6X& S, const Vec3& p, Measure measure, Eigen::Ref<MatX> rows) {
+void measurementRows(const Mat6X& S, const Vec3& p, Measure measure, int dof, Eigen::Ref<MatX> rows) {
   const Eigen::Index m = S.cols();
   MatX dp(3, m);
   for (Eigen::Index c = 0; c < m; ++c) {
     const Vec3 dw = S.col(c).head<3>(), dv = S.col(c).tail<3>();
     dp.col(c) = dv + dw.cross(p);
-    if (dp.col(c).norm() <= kCancellation * kEps * (dv.norm() + dw.norm() * p.norm())) dp.col(c).setZero();
+    if (dp.col(c).norm() <= cancellationLevel(dof) * (dv.norm() + dw.norm() * p.norm())) dp.col(c).setZero();
   }
   if (measure == Measure::Pose) {
     rows.topRows<3>() = S.topRows<3>();
@@ -237,7 +248,7 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
     const int directions = j.type == JointType::Prismatic ? 2 : 4;
     for (int b = 0; b < directions; ++b) {  // (Ad(P_i) - Ad(P_{i+1})) eta
       const Vec6& eta = basis_[static_cast<size_t>(i)][static_cast<size_t>(b)];
-      S.col(c++) = adjointApply(P, eta) - adjointApply(next, eta);
+      S.col(c++) = twistDifference(adjointApply(P, eta), adjointApply(next, eta), model_.dof());
     }
     if (hasPitch(j, free_pitch_)) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), j.axis())) * j.motion(q[i]);
     S.col(c++) = adjointApply(P, j.twist) * (q[i] + j.offset);
@@ -247,7 +258,7 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
   const Vec3 p_tool = model_.toolPose().p;
   for (int k = 0; k < 3; ++k) S.col(c++) = adjointApply(P, twist(Vec3::Unit(k), p_tool.cross(Vec3::Unit(k))));
   for (int k = 0; k < 3; ++k) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), Vec3::Unit(k)));
-  measurementRows(S, T.p, measure, rows);
+  measurementRows(S, T.p, measure, model_.dof(), rows);
   return T;
 }
 
@@ -266,7 +277,7 @@ MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, M
       const double qi = q[m][i];
       jointExp(j, qi, E);
       const Pose next = P * E;
-      for (int k = 0; k < 6; ++k) S.col(c++) = adjointApply(P, Vec6::Unit(k)) - adjointApply(next, Vec6::Unit(k));
+      for (int k = 0; k < 6; ++k) S.col(c++) = twistDifference(adjointApply(P, Vec6::Unit(k)), adjointApply(next, Vec6::Unit(k)), model.dof());
       if (hasPitch(j, free_pitch)) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), j.axis())) * j.motion(qi);
       S.col(c++) = adjointApply(P, j.twist) * (qi + j.offset);  // scale
       S.col(c++) = adjointApply(P, j.twist) * j.scale;           // offset
@@ -274,7 +285,7 @@ MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, M
     }
     for (int k = 0; k < 6; ++k) S.col(c++) = adjointApply(P, Vec6::Unit(k));
     const Pose T = P * model.toolPose();
-    measurementRows(S, T.p, measure, J.middleRows(per * static_cast<Eigen::Index>(m), per));
+    measurementRows(S, T.p, measure, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
   }
   return J;
 }
@@ -322,7 +333,7 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
     S.col(c++) = twist(F.R.col(2), F.p.cross(F.R.col(2)));
     S.col(c++) = twist(Vec3::Zero(), F.R.col(2));
     const Pose T = F * dhToolTransform(model.toolTheta(), model.toolD());
-    measurementRows(S, T.p, measure, J.middleRows(per * static_cast<Eigen::Index>(m), per));
+    measurementRows(S, T.p, measure, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
   }
   if (names) *names = std::move(columns);
   return J;
