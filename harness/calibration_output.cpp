@@ -139,8 +139,8 @@ void printIdentifiability(std::ostream& out, const RobotFile& file, const Identi
   out << "observability (POE):      O1 " << deviation(id.poe.observability[0]) << "  O2 "
       << deviation(id.poe.observability[1]) << "  O3 " << deviation(id.poe.observability[2]) << "  O4 "
       << deviation(id.poe.observability[3]) << "  O5 " << deviation(id.poe.observability[4]) << "\n";
-  out << "rank rule: singular values of the column-scaled Jacobian (position rows / L) above max(rows, cols) eps "
-         "sigma_1 (POE: "
+  out << "rank rule: singular values of the column-scaled Jacobian (position rows / L) above 1000 cols eps sigma_1 "
+         "(POE: "
       << deviation(id.poe.tolerance) << "); smallest POE " << deviation(id.poe.singular_values.minCoeff())
       << ", D-H " << deviation(id.dh.singular_values.minCoeff()) << "\n";
   printUndetermined(out, "POE", id.poe, names);

@@ -81,12 +81,12 @@ void checkPoses(const std::vector<VecX>& q, int dof) {
 }
 
 // The SVD-based analysis of a matrix whose rows are already dimensionless: columns scaled to unit norm,
-// rank by max(rows, cols) eps sigma_1. `column_scale` receives the factors (1 / norm, 1 for a zero column)
+// rank by kRankFactor cols eps sigma_1. `column_scale` receives the factors (1 / norm, 1 for a zero column)
 // and `V` the full right singular vectors of the scaled matrix; `singular` the singular values (cols of
 // them, zero-padded), `Ub` U^T b for a right-hand side b when given.
 RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale = nullptr, MatX* V = nullptr,
                                   const VecX* b = nullptr, VecX* Ub = nullptr) {
-  const Eigen::Index rows = A.rows(), cols = A.cols();
+  const Eigen::Index cols = A.cols();
   VecX scale = VecX::Ones(cols);
   for (Eigen::Index c = 0; c < cols; ++c) {
     const double norm = A.col(c).norm();
@@ -99,7 +99,7 @@ RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale =
   out.singular_values = VecX::Zero(cols);
   out.singular_values.head(svd.singularValues().size()) = svd.singularValues();
   const double s1 = cols > 0 ? out.singular_values[0] : 0.0;
-  out.tolerance = static_cast<double>(std::max(rows, cols)) * kEps * s1;
+  out.tolerance = kRankFactor * static_cast<double>(cols) * kEps * s1;
   out.rank = 0;
   while (out.rank < cols && out.singular_values[out.rank] > out.tolerance) ++out.rank;
   if (out.rank == cols && cols > 0) {
