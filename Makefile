@@ -2,7 +2,7 @@
 # and build into build/, then run. `make bench` builds in Release and runs the benchmarks.
 PACKAGES := cmake g++ make libeigen3-dev libmujoco-dev libqhull-dev liburdfdom-dev libyaml-cpp-dev \
             googletest libgtest-dev libbenchmark-dev liborocos-kdl-dev libcli11-dev nlohmann-json3-dev gnuplot-nox python3 \
-            valgrind bc libsleef-dev clang
+            valgrind bc libsleef-dev clang libtinyxml2-dev
 BUILD ?= build
 JOBS ?= $(shell nproc)
 

@@ -51,5 +51,6 @@ void addJacobianCommands(CLI::App& app, Commands& out);  // jacobian, singular (
 void addValidateCommand(CLI::App& app, Commands& out);   // validate (validate_command.cpp)
 void addSimulateCommand(CLI::App& app, Commands& out);   // simulate (simulate_command.cpp)
 void addCalibrateCommands(CLI::App& app, Commands& out);  // identifiability, calibrate (calibrate_commands.cpp)
+void addExportCommand(CLI::App& app, Commands& out);      // export (export_command.cpp)
 
 }  // namespace lowpair

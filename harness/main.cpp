@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
   addValidateCommand(app, commands);
   addSimulateCommand(app, commands);
   addCalibrateCommands(app, commands);
+  addExportCommand(app, commands);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,0 +1,5 @@
+// placeholder: being written
+#include "commands.hpp"
+namespace lowpair {
+void addExportCommand(CLI::App&, Commands&) {}
+}  // namespace lowpair

@@ -1,0 +1,245 @@
+// lowpair simulate ROBOT --poses N [--seed S] [--measure pose|position] [--noise-position S] [--noise-rotation S]
+//                  [--joint-variables FILE.yaml] [--out FILE.csv]
+// Measurements of the tool frame (measurements.hpp) at N random joint vectors: from the library's FK of a
+// robot file, or from MuJoCo (the ground truth) for a model file's chain; with optional Gaussian noise.
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <random>
+#include <sstream>
+
+#include "atomic_file.hpp"
+#include "commands.hpp"
+#include "lowpair/kinematics.hpp"
+#include "lowpair/se3.hpp"
+#include "measurements.hpp"
+#include "mujoco_robot.hpp"
+#include "output.hpp"
+#include "validate.hpp"
+
+namespace lowpair {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kMaxPoses = 1000000;
+// Mixed into the noise generator's seed: the noise stream of a seed is not its q stream.
+constexpr unsigned long long kNoiseStream = 0x6E6F6973652D7374ULL;  // "noise-st"
+
+struct SimulateOptions {
+  RobotSource robot;
+  int poses = 0;
+  long long seed = 1;
+  std::string measure = "pose";
+  double noise_position = 0.0, noise_rotation = 0.0;
+  std::string joint_variables, out;
+};
+
+// What is measured: the tool pose at the sampled joint variable q, the ranges q is drawn from, and the
+// comment lines that say so.
+struct Truth {
+  std::function<Pose(const VecX& q)> tipPose;
+  std::vector<std::array<double, 2>> ranges;  // per joint, in q
+  std::string source;       // where the tool frame comes from
+  std::string variable;     // whose joint variable q is
+  std::string length_unit;  // "" when unknown
+};
+
+// The shortest text that reads back as x ("0.01", "nan").
+std::string shortest(double x) {
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, x).ptr);
+}
+
+// Sampling range of a joint nothing else gives one for: a turn (revolute, helical) or [-L, L] (prismatic).
+std::array<double, 2> defaultRange(JointType type, double L) {
+  if (type == JointType::Prismatic) return {-L, L};
+  return {-M_PI, M_PI};
+}
+
+Truth robotFileTruth(const SimulateOptions& o) {
+  const RobotFile file = loadRobot(o.robot);
+  auto model = std::make_shared<const PoeModel>(file.poeModel());
+  auto data = std::make_shared<Data>(*model);
+  Truth truth;
+  truth.tipPose = [model, data](const VecX& q) {
+    forwardKinematics(*model, *data, q);
+    return data->T_base_tool;
+  };
+  for (int i = 0; i < model->dof(); ++i) {
+    const Joint& j = model->joint(i);
+    truth.ranges.push_back(j.range ? *j.range : defaultRange(j.type, model->size()));
+  }
+  truth.source = "the library's POE forward kinematics of " + file.path + " (" + robotLabel(file) +
+                 (file.dh ? ", converted from its D-H table)" : ")");
+  truth.variable = file.path;
+  truth.length_unit = file.length_unit;
+  return truth;
+}
+
+// The --joint-variables robot file as a POE model, checked to describe the MuJoCo chain: joint count and
+// types (as validate checks its cross-checked robot files).
+PoeModel matchingModel(const RobotFile& file, const MujocoRobot& robot, const SimulateOptions& o) {
+  const PoeModel m = file.poeModel();
+  if (m.dof() != robot.dof()) {
+    throw RobotFileError(file.path + ": has " + std::to_string(m.dof()) + " joints but the chain to '" + o.robot.tip +
+                         "' in " + o.robot.path + " has " + std::to_string(robot.dof()));
+  }
+  for (int i = 0; i < m.dof(); ++i) {
+    const MujocoJoint& j = robot.joints()[static_cast<size_t>(i)];
+    if (m.joint(i).type != j.type) {
+      throw RobotFileError(file.path + ": joint " + std::to_string(i + 1) + " is " + jointTypeName(m.joint(i).type) +
+                           " but MuJoCo joint '" + j.name + "' is " + jointTypeName(j.type));
+    }
+  }
+  return m;
+}
+
+// MuJoCo's tip pose at the motion x_i = variables[i].motion(q_i); q is the --joint-variables file's
+// variable, else MuJoCo's own (qpos - qpos0).
+Truth modelTruth(const SimulateOptions& o) {
+  if (o.robot.tip.empty()) throw UsageError(o.robot.path, "--tip NAME is required with a model file");
+  auto robot = std::make_shared<const MujocoRobot>(o.robot.path, o.robot.tip, o.robot.base);
+  const int n = robot->dof();
+  const double L = robot->poeModel().size();
+  std::optional<PoeModel> variable_model;
+  std::vector<JointMotion> variables(static_cast<size_t>(n));
+  Truth truth;
+  truth.variable = "MuJoCo's qpos - qpos0 of " + o.robot.path;
+  if (!o.joint_variables.empty()) {
+    const RobotFile file = readRobotFile(o.joint_variables);
+    variable_model = matchingModel(file, *robot, o);
+    for (int i = 0; i < n; ++i) variables[static_cast<size_t>(i)] = variable_model->joint(i);
+    truth.variable = file.path + " (motion x = scale (q + offset))";
+    truth.length_unit = file.length_unit;
+  }
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<size_t>(i);
+    const MujocoJoint& j = robot->joints()[k];
+    if (variable_model && variable_model->joint(i).range) {
+      truth.ranges.push_back(*variable_model->joint(i).range);
+    } else if (j.range) {
+      truth.ranges.push_back({variables[k].variable((*j.range)[0]), variables[k].variable((*j.range)[1])});
+    } else {
+      truth.ranges.push_back(defaultRange(j.type, L));
+    }
+  }
+  auto evaluator = std::make_shared<MujocoRobot::Evaluator>(*robot);
+  truth.tipPose = [robot, evaluator, variables, x = VecX(n)](const VecX& q) mutable {
+    for (Eigen::Index i = 0; i < q.size(); ++i) x[i] = variables[static_cast<size_t>(i)].motion(q[i]);
+    return evaluator->tipPose(x);
+  };
+  truth.source = "MuJoCo's pose of '" + o.robot.tip + "'" +
+                 (o.robot.base.empty() ? "" : " relative to '" + o.robot.base + "'") + " in " + o.robot.path;
+  return truth;
+}
+
+// splitmix64 (Steele, Lea, Flood 2014): a well-mixed 64-bit value from a counter.
+unsigned long long splitmix64(unsigned long long x) {
+  x += 0x9E3779B97F4A7C15ULL;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+  return x ^ (x >> 31);
+}
+
+// Measurement noise of pose `index`: position += N(0, sd_position^2) per coordinate, then R <- expSO3(n) R
+// with n ~ N(0, sd_rotation^2 I3). Its own engine per (seed, index), seeded with
+// splitmix64(splitmix64(seed ^ kNoiseStream) + index), unlike randomSample's splitmix64(seed * prime + index):
+// the noise is independent of q, and a pose's noise does not depend on --poses or on the other noise level.
+void addNoise(unsigned long long seed, unsigned long long index, double sd_position, double sd_rotation, Pose& T) {
+  if (sd_position == 0.0 && sd_rotation == 0.0) return;
+  std::mt19937_64 rng(splitmix64(splitmix64(seed ^ kNoiseStream) + index));
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Vec3 dp, n;
+  for (int k = 0; k < 3; ++k) dp[k] = sd_position * normal(rng);
+  for (int k = 0; k < 3; ++k) n[k] = sd_rotation * normal(rng);
+  T.p += dp;
+  T.R = expSO3(n) * T.R;
+}
+
+void checkNoise(const char* option, double sd) {
+  if (!std::isfinite(sd) || sd < 0) throw UsageError(option, "expected a finite number >= 0, got " + shortest(sd));
+}
+
+std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth) {
+  std::ostringstream command, noise, ranges;
+  command << "lowpair simulate " << o.robot.path;
+  if (!o.robot.tip.empty()) command << " --tip " << o.robot.tip;
+  if (!o.robot.base.empty()) command << " --base " << o.robot.base;
+  if (!o.joint_variables.empty()) command << " --joint-variables " << o.joint_variables;
+  command << " --poses " << o.poses << " --seed " << o.seed << " --measure " << o.measure << " --noise-position "
+          << shortest(o.noise_position) << " --noise-rotation " << shortest(o.noise_rotation);
+  const std::string unit = truth.length_unit.empty() ? "length" : truth.length_unit;
+  noise << "noise: position sd " << shortest(o.noise_position) << " " << unit << " per coordinate";
+  if (o.measure == "pose") {
+    noise << ", rotation R <- exp(n) R with n ~ N(0, s^2 I3), s = " << shortest(o.noise_rotation) << " rad";
+  }
+  ranges << "q: the joint variable of " << truth.variable << ", uniform in";
+  for (const auto& r : truth.ranges) ranges << " [" << shortest(r[0]) << ", " << shortest(r[1]) << "]";
+  return {command.str(),
+          "tool frame: " + truth.source,
+          std::to_string(o.poses) + " " + o.measure + " measurements, seed " + std::to_string(o.seed),
+          noise.str(),
+          ranges.str(),
+          "x,y,z: tool position in the base frame (" + unit + ")" +
+              (o.measure == "pose" ? "; qw,qx,qy,qz: its rotation, unit quaternion" : "")};
+}
+
+int simulate(const SimulateOptions& o) {
+  checkNoise("--noise-position", o.noise_position);
+  checkNoise("--noise-rotation", o.noise_rotation);
+  const std::string ext = fs::path(o.robot.path).extension().string();
+  const bool model_file = ext == ".xml" || ext == ".urdf";
+  if (!model_file && !o.joint_variables.empty()) {
+    throw UsageError(o.robot.path, "--joint-variables goes with a model file (.xml or .urdf), not a robot file");
+  }
+  const Truth truth = model_file ? modelTruth(o) : robotFileTruth(o);
+  const Measure measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
+  const auto seed = static_cast<unsigned long long>(o.seed);
+
+  std::vector<Measurement> measurements(static_cast<size_t>(o.poses));
+  for (size_t k = 0; k < measurements.size(); ++k) {
+    Measurement& m = measurements[k];
+    m.q.resize(static_cast<Eigen::Index>(truth.ranges.size()));
+    randomSample(seed, k, truth.ranges, m.q);
+    m.T_base_tool = truth.tipPose(m.q);
+    addNoise(seed, k, o.noise_position, o.noise_rotation, m.T_base_tool);
+  }
+  const std::string text = formatMeasurements(measure, measurements, describe(o, truth));
+  if (o.out.empty()) {
+    std::cout << text;
+  } else {
+    writeFileAtomically(o.out, text);  // all or nothing
+    std::cout << measurements.size() << " " << o.measure << " measurements written to " << o.out << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addSimulateCommand(CLI::App& app, Commands& commands) {
+  auto o = std::make_shared<SimulateOptions>();
+  auto* sub = app.add_subcommand("simulate", "measurements of the tool frame at random joint vectors (CSV)");
+  addRobotArgument(*sub, o->robot);
+  sub->add_option("--poses", o->poses, "number of measurements, 1 to 1000000")
+      ->required()
+      ->check(CLI::Range(1, kMaxPoses));
+  // seeds are whole numbers in [0, 2^53], as for validate
+  sub->add_option("--seed", o->seed, "seed in [0, 2^53] (default 1); the same seed gives the same file")
+      ->check(CLI::Range(0LL, 1LL << 53));
+  sub->add_option("--measure", o->measure, "pose (position and rotation, default) or position")
+      ->check(CLI::IsMember({"pose", "position"}));
+  sub->add_option("--noise-position", o->noise_position, "standard deviation per coordinate (length unit, default 0)");
+  sub->add_option("--noise-rotation", o->noise_rotation, "standard deviation per axis of exp(n) (rad, default 0)");
+  sub->add_option("--joint-variables", o->joint_variables,
+                  "model file: a robot file of the same chain whose joint variable (scale, offset, ranges) is sampled");
+  sub->add_option("--out", o->out, "write the CSV here (all or nothing) instead of standard output");
+  commands.emplace_back(sub, [o] { return simulate(*o); });
+}
+
+}  // namespace lowpair

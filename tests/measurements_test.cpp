@@ -1,0 +1,349 @@
+// The measurement CSV (harness/measurements.hpp) and all-or-nothing file writing (harness/atomic_file.hpp).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "atomic_file.hpp"
+#include "lowpair/se3.hpp"
+#include "measurements.hpp"
+#include "robot_file.hpp"
+
+namespace {
+
+using namespace lowpair;
+namespace fs = std::filesystem;
+
+// A folder of this process, removed at exit.
+const std::string& scratch() {
+  struct Dir {
+    std::string path;
+    Dir() {
+      std::string pattern = (fs::temp_directory_path() / "lowpair_measurements_XXXXXX").string();
+      if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a scratch folder");
+      path = pattern;
+    }
+    ~Dir() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  };
+  static const Dir dir;
+  return dir.path;
+}
+
+std::string writeText(const std::string& name, const std::string& text) {
+  const std::string path = scratch() + "/" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// The RobotFileError message reading `path`, or "" when it reads.
+std::string readError(const std::string& path) {
+  try {
+    readMeasurements(path);
+  } catch (const RobotFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string writeError(const std::string& path, const std::string& content) {
+  try {
+    writeFileAtomically(path, content);
+  } catch (const RobotFileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Names in `dir` starting with '.' (the temporaries writeFileAtomically creates).
+int hiddenFiles(const std::string& dir) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) count += entry.path().filename().string()[0] == '.';
+  return count;
+}
+
+bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+std::vector<Measurement> randomMeasurements(int count, int dof, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Measurement> out;
+  for (int k = 0; k < count; ++k) {
+    Measurement m;
+    m.q.resize(dof);
+    // magnitudes from subnormal to huge, and a negative zero: all must come back bit for bit
+    for (int i = 0; i < dof; ++i) m.q[i] = unit(rng) * std::pow(10.0, 40 * unit(rng));
+    m.q[0] = k == 0 ? -0.0 : k == 1 ? 4.9406564584124654e-324 : m.q[0];
+    m.T_base_tool.p = Vec3(unit(rng), unit(rng), unit(rng)) * 1e3;
+    m.T_base_tool.R = expSO3(Vec3(unit(rng), unit(rng), unit(rng)) * 3.0);
+    out.push_back(m);
+  }
+  return out;
+}
+
+void expectRoundTrip(Measure measure) {
+  const auto measurements = randomMeasurements(50, 7, 42);
+  const std::string path = writeText("round_trip.csv", formatMeasurements(measure, measurements, {"a comment"}));
+  const MeasurementFile file = readMeasurements(path);
+  EXPECT_EQ(file.path, path);
+  EXPECT_EQ(file.measure, measure);
+  EXPECT_EQ(file.dof, 7);
+  ASSERT_EQ(file.measurements.size(), measurements.size());
+  for (size_t k = 0; k < measurements.size(); ++k) {
+    const Measurement& a = measurements[k];
+    const Measurement& b = file.measurements[k];
+    for (int i = 0; i < 7; ++i) EXPECT_TRUE(sameBits(a.q[i], b.q[i])) << a.q[i] << " read as " << b.q[i];
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(sameBits(a.T_base_tool.p[i], b.T_base_tool.p[i]));
+    if (measure == Measure::Pose) {
+      EXPECT_LT((a.T_base_tool.R - b.T_base_tool.R).cwiseAbs().maxCoeff(), 1e-14);  // through a quaternion
+    } else {
+      EXPECT_EQ(b.T_base_tool.R, Mat3::Identity());
+    }
+  }
+}
+
+}  // namespace
+
+TEST(AtomicFile, WritesAndReplacesLeavingNoTemporary) {
+  const std::string dir = scratch() + "/atomic";
+  fs::create_directories(dir);
+  const std::string path = dir + "/out.csv";
+  writeFileAtomically(path, "first\n");
+  EXPECT_EQ(readText(path), "first\n");
+  writeFileAtomically(path, "second");
+  EXPECT_EQ(readText(path), "second");
+  writeFileAtomically(path, "");
+  EXPECT_TRUE(fs::exists(path));
+  EXPECT_EQ(fs::file_size(path), 0u);
+  EXPECT_EQ(hiddenFiles(dir), 0);
+}
+
+TEST(AtomicFile, RelativePathInTheCurrentFolder) {
+  const fs::path previous = fs::current_path();
+  fs::create_directories(scratch() + "/cwd");
+  fs::current_path(scratch() + "/cwd");
+  writeFileAtomically("here.txt", "x");
+  fs::current_path(previous);
+  EXPECT_EQ(readText(scratch() + "/cwd/here.txt"), "x");
+}
+
+TEST(AtomicFile, MissingFolderThrowsAndCreatesNothing) {
+  const std::string path = scratch() + "/no/such/folder/out.csv";
+  EXPECT_EQ(writeError(path, "text"), path + ": cannot write: No such file or directory");
+  EXPECT_FALSE(fs::exists(scratch() + "/no"));
+}
+
+TEST(AtomicFile, DirectoryTargetThrowsAndKeepsIt) {
+  const std::string dir = scratch() + "/target_dir";
+  fs::create_directories(dir + "/inside");
+  EXPECT_EQ(writeError(dir, "text"), dir + ": cannot write: is a directory");
+  EXPECT_EQ(writeError(dir + "/", "text"), dir + "/: cannot write: not a file name");
+  EXPECT_TRUE(fs::is_directory(dir + "/inside"));
+  EXPECT_EQ(hiddenFiles(scratch()), 0);
+}
+
+TEST(AtomicFile, UnwritableFolderThrows) {
+  if (geteuid() == 0) GTEST_SKIP() << "root writes into read-only folders";
+  const std::string dir = scratch() + "/read_only";
+  fs::create_directories(dir);
+  fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
+  EXPECT_EQ(writeError(dir + "/out.csv", "text"), dir + "/out.csv: cannot write: Permission denied");
+  fs::permissions(dir, fs::perms::owner_all);
+  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// A full disk, simulated by a file size limit (EFBIG after a partial write): the write fails, the old
+// file is untouched and the temporary is gone. In a child process, which alone gets the limit.
+TEST(AtomicFile, FailedWriteKeepsTheOldFile) {
+  const std::string dir = scratch() + "/full";
+  fs::create_directories(dir);
+  const std::string path = dir + "/out.csv";
+  writeFileAtomically(path, "old content\n");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    signal(SIGXFSZ, SIG_IGN);
+    struct rlimit limit;
+    getrlimit(RLIMIT_FSIZE, &limit);
+    limit.rlim_cur = 4096;
+    setrlimit(RLIMIT_FSIZE, &limit);
+    const std::string message = writeError(path, std::string(1 << 20, 'x'));
+    _exit(message == path + ": cannot write: File too large" ? 0 : 1);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the child's write did not fail as expected";
+  EXPECT_EQ(readText(path), "old content\n");
+  EXPECT_EQ(hiddenFiles(dir), 0);
+}
+
+TEST(MeasurementCsv, PoseRoundTripIsBitExactInQAndPosition) { expectRoundTrip(Measure::Pose); }
+
+TEST(MeasurementCsv, PositionRoundTripIsBitExact) { expectRoundTrip(Measure::Position); }
+
+TEST(MeasurementCsv, WriterFormat) {
+  Measurement m;
+  m.q = Eigen::Vector2d(0.1, -2.0);
+  m.T_base_tool.p = Vec3(1.0, 2.5, -3.0);
+  EXPECT_EQ(formatMeasurements(Measure::Position, {m}, {"made by a test", "two\nlines", ""}),
+            "# made by a test\n# two\n# lines\n#\nq1,q2,x,y,z\n0.10000000000000001,-2,1,2.5,-3\n");
+  m.T_base_tool.R = expSO3(Vec3(0.0, 0.0, -M_PI / 2));
+  EXPECT_EQ(formatMeasurements(Measure::Pose, {m}, {}),
+            "q1,q2,x,y,z,qw,qx,qy,qz\n0.10000000000000001,-2,1,2.5,-3,0.70710678118654757,0,0,-0.70710678118654746\n");
+  const Measurement different_size{Eigen::Vector3d::Zero(), Pose{}};
+  EXPECT_THROW(formatMeasurements(Measure::Pose, {m, different_size}, {}), std::invalid_argument);
+  EXPECT_THROW(formatMeasurements(Measure::Pose, {}, {}), std::invalid_argument);
+}
+
+// q and -q are the same rotation: the writer picks qw >= 0 (rotations near pi take Eigen's branch that
+// can give qw < 0).
+TEST(MeasurementCsv, QuaternionScalarIsNonNegative) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Measurement> measurements;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 axis = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+    measurements.push_back({Eigen::Matrix<double, 1, 1>(0.0), Pose{expSO3(axis * (M_PI - 0.5 * std::abs(unit(rng)))), Vec3::Zero()}});
+  }
+  std::istringstream text(formatMeasurements(Measure::Pose, measurements, {}));
+  std::string line;
+  std::getline(text, line);  // header
+  int lines = 0;
+  while (std::getline(text, line)) {
+    const std::string qw = line.substr(line.find(',', line.find(',', line.find(',', line.find(',') + 1) + 1) + 1) + 1);
+    EXPECT_NE(qw[0], '-') << line;
+    ++lines;
+  }
+  EXPECT_EQ(lines, 200);
+}
+
+TEST(MeasurementCsv, CommentsBlankLinesCrlfAndByteOrderMark) {
+  const std::string path = writeText("comments.csv",
+                                     "\xEF\xBB\xBF# produced by hand\r\n"
+                                     "\r\n"
+                                     "   # indented comment\r\n"
+                                     " q1 , q2 ,x, y ,z\t\r\n"
+                                     "\t\r\n"
+                                     "1, 2,3 ,4,5\r\n"
+                                     "# between\r\n"
+                                     "  -1.5e-3,0x1p-2,+7,0,-0\r\n"
+                                     "#\r\n"
+                                     "6,7,8,9,10");  // no line end at the end
+  const MeasurementFile file = readMeasurements(path);
+  EXPECT_EQ(file.measure, Measure::Position);
+  EXPECT_EQ(file.dof, 2);
+  ASSERT_EQ(file.measurements.size(), 3u);
+  EXPECT_EQ(file.measurements[0].q, Eigen::Vector2d(1, 2));
+  EXPECT_EQ(file.measurements[0].T_base_tool.p, Vec3(3, 4, 5));
+  EXPECT_EQ(file.measurements[1].q, Eigen::Vector2d(-1.5e-3, 0.25));
+  EXPECT_EQ(file.measurements[2].T_base_tool.p, Vec3(8, 9, 10));
+}
+
+TEST(MeasurementCsv, QuaternionIsNormalized) {
+  // norm 1 + 4e-7: within 1e-6 of 1
+  const std::string path = writeText("quaternion.csv", "q1,x,y,z,qw,qx,qy,qz\n0,1,2,3,0.60000024,0,0.80000032,0\n");
+  const Mat3 R = readMeasurements(path).measurements[0].T_base_tool.R;
+  EXPECT_LT((R.transpose() * R - Mat3::Identity()).norm(), 1e-15);
+  EXPECT_NEAR(R(0, 0), 0.6 * 0.6 - 0.8 * 0.8, 1e-15);  // a turn about y: cos = qw^2 - qy^2
+  EXPECT_NEAR(R(0, 2), 2 * 0.6 * 0.8, 1e-15);
+}
+
+TEST(MeasurementCsv, ErrorsNameFileAndLine) {
+  const std::string header = "q1,q2,q3,q4,q5,q6,x,y,z,qw,qx,qy,qz\n";
+  const std::string good = "0,0,0,0,0,0,1,2,3,1,0,0,0\n";
+  struct Case {
+    std::string text, error;
+  };
+  const Case cases[] = {
+      {"# c\n\n" + header + good + good + good + "0,0,0,0,0,0,1,2,3,1,0,0\n", ":7: expected 13 numbers, got 12"},
+      {header + "0,0,0,0,0,0,1,2,3,1,0,0,0,0\n", ":2: expected 13 numbers, got 14"},
+      {header + good + "\n", ""},
+      {"q1,foo,x,y,z\n", ":1: unexpected column 'foo' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"x,y,z\n", ":1: unexpected column 'x' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"q1,q3,x,y,z\n", ":1: unexpected column 'q3' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"q1,x,y\n", ":1: missing column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"q1,x,y,z,qw,qx,qy\n", ":1: missing column 'qz' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"q1,x,y,z,qw,qx,qy,qz,extra\n", ":1: unexpected column 'extra' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"q1,x,z,y\n", ":1: unexpected column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {header + good + "\n\n0,0,abc,0,0,0,1,2,3,1,0,0,0\n", ":5: 'abc' is not a number"},
+      {header + "0,0,,0,0,0,1,2,3,1,0,0,0\n", ":2: '' is not a number"},
+      {header + "0,0,1.5x,0,0,0,1,2,3,1,0,0,0\n", ":2: '1.5x' is not a number"},
+      {header + "0,0,1 2,0,0,0,1,2,3,1,0,0,0\n", ":2: '1 2' is not a number"},
+      {header + "0,0,nan,0,0,0,1,2,3,1,0,0,0\n", ":2: 'nan' is not a finite number"},
+      {header + "0,0,0,0,0,0,inf,2,3,1,0,0,0\n", ":2: 'inf' is not a finite number"},
+      {header + "0,0,0,0,0,0,1,-Infinity,3,1,0,0,0\n", ":2: '-Infinity' is not a finite number"},
+      {header + "0,0,0,0,0,0,1,2,1e999,1,0,0,0\n", ":2: '1e999' is not a finite number"},
+      {header + good + good + "0,0,0,0,0,0,1,2,3,0.5,0,0,0\n", ":4: qw..qz is not a unit quaternion (norm 0.5)"},
+      {header + "0,0,0,0,0,0,1,2,3,1.00001,0,0,0\n", ":2: qw..qz is not a unit quaternion (norm 1.00001)"},
+      {header + "0,0,0,0,0,0,1,2,3,0,0,0,0\n", ":2: qw..qz is not a unit quaternion (norm 0)"},
+      {"# only a header\n" + header, ": no measurements"},
+      {"", ": no header line (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"# comments\n\n", ": no header line (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = writeText("m.csv", c.text);
+    EXPECT_EQ(readError(path), c.error.empty() ? "" : path + c.error) << c.text;
+  }
+}
+
+TEST(MeasurementCsv, FileErrors) {
+  const std::string missing = scratch() + "/missing.csv";
+  EXPECT_EQ(readError(missing), missing + ": cannot open file");
+  EXPECT_EQ(readError(scratch()), scratch() + ": is a directory, not a file");
+}
+
+TEST(MeasurementCsv, LongLinesAreRejectedWithTheirLine) {
+  const std::string at_limit = "#" + std::string(kMaxMeasurementLineBytes - 1, 'c');
+  EXPECT_EQ(readError(writeText("long.csv", at_limit + "\r\nq1,x,y,z\n1,2,3,4\n")), "");
+  const std::string path = writeText("long.csv", "q1,x,y,z\n1,2,3,4\n" + at_limit + "c\n");
+  EXPECT_EQ(readError(path), path + ":3: line longer than 65536 bytes");
+  const std::string no_line_end = writeText("long.csv", std::string(10 << 20, '7'));
+  EXPECT_EQ(readError(no_line_end), no_line_end + ":1: line longer than 65536 bytes");
+}
+
+TEST(MeasurementCsv, BinaryJunkGivesOneShortPrintableLine) {
+  std::string junk;
+  for (int i = 0; i < 4096; ++i) junk += static_cast<char>((i * 37 + 11) % 256);
+  junk.insert(0, "\x7f" "ELF\x01\x02\n\0\0", 9);
+  for (const std::string& text : {junk, "q1,x,y,z\n" + junk, std::string("\xff\xfe" "q\0" "1,x,y,z\n", 11)}) {
+    const std::string message = readError(writeText("junk.csv", text));
+    ASSERT_FALSE(message.empty());
+    EXPECT_LT(message.size(), scratch().size() + 140) << message;
+    for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "raw byte " << int(static_cast<unsigned char>(c));
+  }
+  const std::string path = writeText("junk.csv", "q1,x,y,z\n1,2,3,\xc3\x28" + std::string(100, 'a') + "\n");
+  EXPECT_EQ(readError(path), path + ":2: '?(" + std::string(38, 'a') + "...' is not a number");
+}
+
+TEST(MeasurementCsv, JointAndMeasurementLimits) {
+  std::string header;
+  for (int i = 1; i <= kMaxMeasurementJoints + 1; ++i) header += "q" + std::to_string(i) + ",";
+  const std::string wide = writeText("wide.csv", header + "x,y,z\n");
+  EXPECT_EQ(readError(wide), wide + ":1: more than 1000 joint columns");
+
+  std::string many = "q1,x,y,z\n";
+  many.reserve(9 + 8 * (kMaxMeasurements + 1));
+  for (int k = 0; k < kMaxMeasurements; ++k) many += "0,0,0,0\n";
+  // the error on line 1000002 means the 1000000 measurements before it were read
+  const std::string beyond = writeText("many.csv", many + "0,0,0,0\n");
+  EXPECT_EQ(readError(beyond), beyond + ":1000002: more than 1000000 measurements");
+}
