@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -195,6 +196,34 @@ int runGnuplot(const fs::path& dir, const std::string& script, const std::string
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// Writes `text` to `path` and checks it reached the file (a full disk, a file-size limit, a vanished
+// folder): a report is complete or not written at all.
+void writeChecked(const fs::path& path, const std::string& text) {
+  errno = 0;
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) {
+    const int error = errno;
+    throw std::runtime_error(path.filename().string() + ": cannot write" +
+                             (error ? std::string(" (") + std::strerror(error) + ")" : std::string()));
+  }
+}
+
+// A PNG ends with its IEND chunk; a picture cut short by a full disk does not.
+void requireCompletePng(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+  std::string tail(8, '\0');
+  if (size >= 8) {
+    in.seekg(size - 8);
+    in.read(tail.data(), 8);
+  }
+  if (size < 8 || !in || tail.compare(0, 4, "IEND") != 0) {
+    throw std::runtime_error(path.filename().string() + ": gnuplot did not write a complete picture");
+  }
+}
+
 // "1 sample in 500 (20000 of 10000000)" when the picture shows a subsample (ComparisonResult::plot_stride)
 std::string plotted(const ScenarioResult& r) {
   const long long stride = r.comparisons.empty() ? 1 : r.comparisons.front().plot_stride;
@@ -209,7 +238,7 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
   const fs::path data = dir / (base + "_errors.dat");
   {
     // the bounded subsample of every comparison (the same samples for all: one stride per run)
-    std::ofstream out(data);
+    std::ostringstream out;
     out << "# sample";
     for (const auto& c : r.comparisons) out << " " << safe(c.name) << ":rotation " << safe(c.name) << ":translation/L";
     out << "\n";
@@ -223,6 +252,7 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
       }
       out << "\n";
     }
+    writeChecked(data, out.str());
   }
   // the histogram of every sample (ComparisonResult's LogHistogram counts) in tenths of a decade, from -18
   // (everything below 1e-18, exact zeros included) to -9 (everything above 1e-9)
@@ -247,13 +277,14 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
         rows[static_cast<size_t>(tenth(static_cast<int>(b)) - kFirst)][2 * c + 1] += cmp.translation_histogram[b];
       }
     }
-    std::ofstream out(histogram);
+    std::ostringstream out;
     out << "# log10(error) lower edge; per comparison: samples (rotation) samples (translation/L)\n";
     for (size_t k = 0; k < rows.size(); ++k) {
       out << (kFirst + static_cast<int>(k)) / 10.0;
       for (long long v : rows[k]) out << " " << v;
       out << "\n";
     }
+    writeChecked(histogram, out.str());
   }
   // gnuplot runs in `dir`: the script names files by their (sanitized) names; titles go through gpString
   const std::string data_name = gpString(data.filename().string());
@@ -296,7 +327,7 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
   if (r.map_size > 0) {
     const std::string map_name = base + "_singularity_map.dat";
     {
-      std::ofstream out(dir / map_name);
+      std::ostringstream out;
       for (int a = 0; a < r.map_size; ++a) {
         const double y = r.map_range_y[0] + (r.map_range_y[1] - r.map_range_y[0]) * a / (r.map_size - 1);
         for (int b = 0; b < r.map_size; ++b) {
@@ -305,6 +336,7 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
         }
         out << "\n";
       }
+      writeChecked(dir / map_name, out.str());
     }
     const std::string jx = std::to_string(r.map_joints[0]), jy = std::to_string(r.map_joints[1]);
     gp << "reset\nset terminal pngcairo noenhanced size 900,760 font ',10'\n"
@@ -321,13 +353,14 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
     const CalibrationCaseResult& c = r.calibrations[k];
     const std::string name = base + "_calibration_" + std::to_string(k + 1);
     {
-      std::ofstream out(dir / (name + ".dat"));
+      std::ostringstream out;
       out << "# validation pose, position error before, after (length unit of the nominal)\n";
       for (size_t i = 0; i < c.validation_position_before.size(); ++i) {
         // log axis: an exact 0 is drawn at 1e-18
         out << i + 1 << " " << std::max(1e-18, c.validation_position_before[i]) << " "
             << std::max(1e-18, c.validation_position_after[i]) << "\n";
       }
+      writeChecked(dir / (name + ".dat"), out.str());
     }
     gp << "reset\nset terminal pngcairo noenhanced size 1000,500 font ',10'\n"
        << "set output " << gpString(name + ".png") << "\n"
@@ -343,7 +376,7 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
     gp << "\n";
   }
   const std::string script = base + ".gnuplot";
-  std::ofstream(dir / script) << gp.str();
+  writeChecked(dir / script, gp.str());
   const fs::path log = dir / (base + ".gnuplot.log");
   const int status = runGnuplot(dir, script, log.string());
   if (status != 0) {
@@ -351,9 +384,14 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
     std::string text((std::istreambuf_iterator<char>(in)), {});
     std::replace(text.begin(), text.end(), '\n', ' ');
     if (status == 127 && text.empty()) text = "gnuplot could not be started (is gnuplot-nox installed?)";
-    throw std::runtime_error("report: gnuplot failed on " + script + ": " + text.substr(0, 300));
+    throw std::runtime_error("gnuplot failed on " + script + ": " + text.substr(0, 300));
   }
   fs::remove(log);
+  // gnuplot exits 0 on some write failures (a full disk): every picture must be a complete PNG
+  std::vector<std::string> pictures = {base + "_errors.png", base + "_histogram.png"};
+  if (r.map_size > 0) pictures.push_back(base + "_singularity_map.png");
+  for (size_t k = 0; k < r.calibrations.size(); ++k) pictures.push_back(base + "_calibration_" + std::to_string(k + 1) + ".png");
+  for (const auto& picture : pictures) requireCompletePng(dir / picture);
 }
 
 }  // namespace
@@ -367,7 +405,7 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
   fs::remove_all(tmp);
   fs::create_directories(tmp);
   try {
-    std::ofstream(tmp / "report.json") << validationJson(results, options).dump(1) << "\n";
+    writeChecked(tmp / "report.json", validationJson(results, options).dump(1) + "\n");
     std::ostringstream md;
     md << "# lowpair validation report\n\nEvery comparison: MuJoCo's tip pose (or Jacobian) against the library.\n"
        << "Rotation errors are geodesic angles (rad, atan2 form); translation errors are distances divided by the "
@@ -405,15 +443,16 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
         md << "![calibration](" << base << "_calibration_" << k + 1 << ".png)\n\n```\n" << c.text << "```\n\n";
       }
     }
-    std::ofstream(tmp / "summary.md") << md.str();
+    writeChecked(tmp / "summary.md", md.str());
     fs::create_directories(target);
     for (const auto& entry : fs::directory_iterator(tmp)) {
       fs::rename(entry.path(), target / entry.path().filename());
     }
     fs::remove_all(tmp);
-  } catch (...) {
-    fs::remove_all(tmp);
-    throw;
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    fs::remove_all(tmp, ignored);
+    throw std::runtime_error(dir + ": report not written: " + e.what());
   }
 }
 

@@ -98,6 +98,28 @@ TEST(HostileInput, ThreadThatCannotBeCreatedDoesNotAbort) {
   EXPECT_EQ(std::count(err_text.begin(), err_text.end(), '\n'), 1) << err_text;
 }
 
+// Finding 7: on a full disk the report's writes failed silently and validate exited 0 with empty files.
+// A file-size limit (ulimit -f, SIGXFSZ ignored so the write returns EFBIG) stands in for the full disk:
+// the report's data files exceed 64 KB. Exit 2, one line naming the folder, no folder, no leftovers.
+TEST(HostileInput, ReportThatCannotBeWrittenIsNotWritten) {
+  const std::string dir = scratch() + "/full_disk";
+  fs::create_directories(dir);
+  const std::string scenario = std::string(LOWPAIR_SCENARIOS) + "/elbow_mls.yaml";
+  const std::string err = scratch() + "/full_disk_stderr.txt";
+  const std::string cmd = "cd " + shellQuote(dir) + " && trap '' XFSZ && ulimit -f 64 && exec " +
+                          std::string(LOWPAIR_CLI) + " validate " + shellQuote(scenario) +
+                          " --samples 2000 --report report 2>" + shellQuote(err);
+  const int status = std::system(cmd.c_str());
+  std::ifstream err_in(err);
+  const std::string err_text((std::istreambuf_iterator<char>(err_in)), {});
+  ASSERT_TRUE(WIFEXITED(status)) << err_text;
+  EXPECT_EQ(WEXITSTATUS(status), 2) << err_text;
+  EXPECT_EQ(err_text.rfind("error: report: report not written: ", 0), 0u) << err_text;
+  EXPECT_NE(err_text.find("cannot write"), std::string::npos) << err_text;
+  EXPECT_EQ(std::count(err_text.begin(), err_text.end(), '\n'), 1) << err_text;
+  EXPECT_TRUE(fs::is_empty(dir)) << "a partial report or a temporary folder was left behind";
+}
+
 // Finding 11: MuJoCo's load errors spanned several lines (this one was two). Finding 10 (warnings on
 // stdout, MUJOCO_LOG.TXT in the working directory) is handled by the handlers mujoco_robot.cpp installs;
 // the log check below is a guard only: no input that makes MuJoCo 2.2 warn during loading is known here.
