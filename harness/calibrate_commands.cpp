@@ -61,7 +61,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
       json j = identifiabilityJson(file, id);
       j["poses"] = o->poses;
       j["seed"] = o->seed;
-      std::cout << j.dump(1) << "\n";
+      std::cout << jsonText(j) << "\n";
     } else {
       std::cout << "identifiability of " << robotLabel(file) << " from " << o->poses << " random "
                 << measureName(measure) << " measurements (seed " << o->seed << ")\n";
@@ -121,7 +121,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
                                                      calibrationProvenance(report)));
     }
     if (o->as_json) {
-      std::cout << calibrationJson(report).dump(1) << "\n";
+      std::cout << jsonText(calibrationJson(report)) << "\n";
     } else {
       printCalibration(std::cout, report);
     }

@@ -35,7 +35,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     const DhConversion c = poeToDh(poe, options);
     const FkCheck check = checkDhConversion(poe, c.model);
     if (o->as_json) {
-      std::cout << (o->modified ? modifiedDhJson(file, c, check) : dhJson(file, c, check)).dump(1) << "\n";
+      std::cout << jsonText(o->modified ? modifiedDhJson(file, c, check) : dhJson(file, c, check)) << "\n";
     } else if (o->modified) {
       printModifiedDh(std::cout, file, c, check);
     } else {
@@ -51,7 +51,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     const RobotFile file = loadRobot(o->robot);
     const PoeModel m = file.poeModel();
     if (o->as_json) {
-      std::cout << poeJson(file, m).dump(1) << "\n";
+      std::cout << jsonText(poeJson(file, m)) << "\n";
     } else {
       printPoe(std::cout, file, m);
     }
@@ -73,7 +73,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     if (o->as_json) {
       json j = {{"name", file.name}, {"source", file.path}, {"model", kind}, {"length_unit", file.length_unit},
                 {"q", toVector(q)}, {"T_base_tool", poseJson(T)}};
-      std::cout << j.dump(1) << "\n";
+      std::cout << jsonText(j) << "\n";
     } else {
       std::cout << "T_base_tool (" << kind << " model of " << robotLabel(file) << "):\n";
       printPose(std::cout, T, file.length_unit.empty() ? "length" : file.length_unit);

@@ -188,7 +188,7 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
                 {"length_unit", file.length_unit},
                 {"q", toVector(q)},
                 {"jacobian", rows}};
-      std::cout << j.dump(1) << "\n";
+      std::cout << jsonText(j) << "\n";
     } else {
       std::cout << o->frame << " Jacobian of " << robotLabel(file) << " (rows "
                 << (geometric ? "[v; w]" : "[w; v]") << ", angular in rad, linear in "
@@ -218,7 +218,7 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
     options.max_null_vectors = kPrintedNullVectors;
     const SingularityReport r = analyzeSingularity(file.poeModel(), q, options);
     if (o->as_json) {
-      std::cout << singularJson(file, q, r).dump(1) << "\n";
+      std::cout << jsonText(singularJson(file, q, r)) << "\n";
     } else {
       printSingular(std::cout, file, r);
     }

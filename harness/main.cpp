@@ -92,6 +92,11 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
   } catch (const UsageError& e) {
     std::cerr << "error: " << e.subject() << ": " << e.what() << "\n";
+  } catch (const std::filesystem::filesystem_error& e) {  // "FILE: what", the path std::filesystem names
+    std::cerr << "error: " << (e.path1().empty() ? std::string("filesystem") : e.path1().string()) << ": "
+              << e.code().message() << "\n";
+  } catch (const std::bad_alloc&) {  // the subcommand's input is the subject: it asked for the memory
+    std::cerr << "error: " << (argc > 2 ? argv[2] : argv[1]) << ": out of memory\n";
   } catch (const std::exception& e) {  // std::invalid_argument from the library, a report that failed
     std::cerr << "error: " << e.what() << "\n";
   }

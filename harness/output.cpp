@@ -60,6 +60,8 @@ std::string fixed(double x, int decimals) {
   return s;
 }
 
+std::string jsonText(const json& j) { return j.dump(1, ' ', false, json::error_handler_t::replace); }
+
 json poseJson(const Pose& T) {
   json rows = json::array();
   const Mat4 M = T.matrix();

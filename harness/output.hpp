@@ -12,6 +12,10 @@
 
 namespace lowpair {
 
+/// `j` as indented JSON text (one space). Strings that are not valid UTF-8 (a name read from a file) are
+/// written with U+FFFD in place of the invalid bytes instead of failing the command.
+std::string jsonText(const nlohmann::json& j);
+
 nlohmann::json poseJson(const Pose& T);
 /// The table with its conditioning, the FK check `check` of it and the warnings (conversionWarnings).
 nlohmann::json dhJson(const RobotFile& file, const DhConversion& conversion, const FkCheck& check);

@@ -1,5 +1,7 @@
 #include "report.hpp"
 
+#include "output.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -405,7 +407,7 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
   fs::remove_all(tmp);
   fs::create_directories(tmp);
   try {
-    writeChecked(tmp / "report.json", validationJson(results, options).dump(1) + "\n");
+    writeChecked(tmp / "report.json", jsonText(validationJson(results, options)) + "\n");
     std::ostringstream md;
     md << "# lowpair validation report\n\nEvery comparison: MuJoCo's tip pose (or Jacobian) against the library.\n"
        << "Rotation errors are geodesic angles (rad, atan2 form); translation errors are distances divided by the "

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "output.hpp"
 #include "report.hpp"
 #include "validate.hpp"
 
@@ -119,7 +120,7 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
     // the report first: if it cannot be written, the run fails with nothing printed
     if (!o->report.empty()) writeReport(o->report, results, options);
     if (o->as_json) {
-      std::cout << validationJson(results, options).dump(1) << "\n";
+      std::cout << jsonText(validationJson(results, options)) << "\n";
     } else {
       printValidationTable(std::cout, results);
       for (const auto& r : results) {

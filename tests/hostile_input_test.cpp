@@ -230,3 +230,38 @@ TEST(HostileInput, OutOfRangeSeedIsRejected) {
 }
 
 }  // namespace
+
+// Finding 11 (rest): a name that is not valid UTF-8 made --json fail with the JSON library's raw message.
+// Names are labels: the JSON carries U+FFFD for the invalid bytes and the command succeeds.
+TEST(HostileInput, InvalidUtf8NameStillGivesValidJson) {
+  const std::string robot = writeScratchFile(
+      "bad_utf8.yaml", "name: \"bad\xff\xfe name\"\npoe:\n  joints:\n    - {twist: [0, 0, 1, 0, 0, 0]}\n  tool: [0, 0, 0, 1, 0, 0]\n");
+  const CliRun r = runCli("poe2dh " + shellQuote(robot) + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);  // throws on invalid UTF-8
+  EXPECT_EQ(j["name"], "bad\xEF\xBF\xBD\xEF\xBF\xBD name");
+}
+
+// Finding 11 (rest): filesystem errors printed std::filesystem's own sentence and bad_alloc a bare
+// "std::bad_alloc": now one line naming the path, and the command's input.
+TEST(HostileInput, FilesystemErrorNamesThePath) {
+  const std::string scenario = std::string(LOWPAIR_SCENARIOS) + "/elbow_mls.yaml";
+  expectRejected("validate " + shellQuote(scenario) + " --samples 10 --report /proc/lowpair/report", "",
+                 "/proc/lowpair");
+}
+
+// (Not under sanitizers: ASan reserves terabytes of address space, so no ulimit -v lets it start.)
+TEST(HostileInput, OutOfMemoryIsOneLine) {
+  const std::string robot = std::string(LOWPAIR_MODELS) + "/puma560_okamura_nominal.yaml";
+  const std::string err = scratch() + "/oom_stderr.txt";
+  // 10,000 poses need a 60,000 x 36 Jacobian (17 MB) and its SVD: more than 60 MB of address space allows
+  const std::string cmd = "ulimit -v 60000 && exec " + std::string(LOWPAIR_CLI) + " identifiability " +
+                          shellQuote(robot) + " --poses 10000 >/dev/null 2>" + shellQuote(err);
+  const int status = std::system(cmd.c_str());
+  std::ifstream err_in(err);
+  const std::string err_text((std::istreambuf_iterator<char>(err_in)), {});
+  ASSERT_TRUE(WIFEXITED(status)) << err_text;
+  if (WEXITSTATUS(status) == 0) GTEST_SKIP() << "the allocation did not fail under this limit";
+  EXPECT_EQ(WEXITSTATUS(status), 2) << err_text;
+  EXPECT_EQ(err_text, "error: " + robot + ": out of memory\n");
+}
