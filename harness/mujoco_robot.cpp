@@ -2,19 +2,18 @@
 
 #include <mujoco/mujoco.h>
 
+#include <tinyxml2.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <cstdlib>
-#include <mutex>
-#include <fstream>
 #include <map>
-#include <sstream>
-
-#include <unistd.h>
+#include <mutex>
+#include <set>
 
 #include "lowpair/se3.hpp"
+#include "model_copy.hpp"
 #include "robot_file.hpp"
 
 namespace lowpair {
@@ -30,30 +29,6 @@ Pose poseFrom(const mjtNum* pos, const mjtNum* mat) {
     for (int c = 0; c < 3; ++c) T.R(r, c) = mat[3 * r + c];
   }
   return T;
-}
-
-// MuJoCo 2.2 reads URDF but fuses links attached by fixed joints and rejects massless links; there is
-// no API for either, so load a temporary copy carrying <mujoco><compiler .../></mujoco>.
-std::string urdfCopy(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) fail(path, "cannot open file");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
-  const auto robot = s.find("<robot");
-  if (robot == std::string::npos) fail(path, "no <robot> element: not a URDF");
-  const auto close = s.find('>', robot);
-  // the copy lives in the temp folder: relative mesh paths resolve against the original's folder
-  const std::string folder = std::filesystem::absolute(path).parent_path().string();
-  s.insert(close + 1, "\n<mujoco><compiler fusestatic=\"false\" discardvisual=\"true\" boundmass=\"1e-6\" "
-                      "boundinertia=\"1e-9\" strippath=\"false\" meshdir=\"" + folder + "\"/></mujoco>\n");
-  // mkstemps replaces the six Xs with a unique suffix and keeps the 5-character ".urdf" extension
-  std::string copy = (std::filesystem::temp_directory_path() / "lowpair_urdf_XXXXXX.urdf").string();
-  const int fd = mkstemps(copy.data(), 5);
-  if (fd < 0) fail(path, "cannot create a temporary copy");
-  ::close(fd);
-  std::ofstream(copy) << s;
-  return copy;
 }
 
 }  // namespace
@@ -88,24 +63,89 @@ void installMujocoHandlers() {
   });
 }
 
+// A hinge's qpos0 (its ref) beyond this, in rad, is no usable zero: qpos = qpos0 + x rounds x to
+// ulp(qpos0) / 2 (1.1e-13 rad at 1000), and the acceptance bound is 1e-12. A slide's bound is this many
+// model lengths (the farthest joint anchor or the tip from the base at qpos0, at least 1).
+constexpr double kMaxRef = 1e3;
+
+bool finite(const Vec3& v) { return v.allFinite(); }
+
+std::string number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+// True when body `a` is `b` or one of its ancestors (the world is everyone's).
+bool ancestorOrSelf(const mjModel* m, int a, int b) {
+  for (; b > 0; b = m->body_parentid[b]) {
+    if (b == a) return true;
+  }
+  return a == 0;
+}
+
+std::string nameOf(const mjModel* m, int type, int id, const char* fallback) {
+  if (id < 0) return "";
+  const char* n = mj_id2name(m, type, id);
+  return n ? n : std::string(fallback) + std::to_string(id);
+}
+
+// An equality constraint as the element it came from, e.g. <equality><weld body1='a' body2='world'>.
+std::string describeEquality(const mjModel* m, int e) {
+  const int o1 = m->eq_obj1id[e], o2 = m->eq_obj2id[e];
+  std::string s;
+  switch (m->eq_type[e]) {
+    case mjEQ_CONNECT:
+    case mjEQ_WELD:
+      s = std::string(m->eq_type[e] == mjEQ_CONNECT ? "connect" : "weld") + " body1='" + nameOf(m, mjOBJ_BODY, o1, "body") +
+          "' body2='" + (o2 > 0 ? nameOf(m, mjOBJ_BODY, o2, "body") : "world") + "'";
+      break;
+    case mjEQ_JOINT:
+      s = "joint joint1='" + nameOf(m, mjOBJ_JOINT, o1, "joint") + "'" +
+          (o2 >= 0 ? " joint2='" + nameOf(m, mjOBJ_JOINT, o2, "joint") + "'" : "");
+      break;
+    case mjEQ_TENDON:
+      s = "tendon tendon1='" + nameOf(m, mjOBJ_TENDON, o1, "tendon") + "'" +
+          (o2 >= 0 ? " tendon2='" + nameOf(m, mjOBJ_TENDON, o2, "tendon") + "'" : "");
+      break;
+    default:
+      s = "distance";
+  }
+  const char* name = mj_id2name(m, mjOBJ_EQUALITY, e);
+  if (name) s += " name='" + std::string(name) + "'";
+  return "<equality><" + s + ">";
+}
+
+// A URDF's <mimic> joints (joint -> the joint it follows): MuJoCo 2.2.2 ignores <mimic>.
+std::map<std::string, std::string> urdfMimics(const std::string& path) {
+  std::map<std::string, std::string> mimics;
+  tinyxml2::XMLDocument doc;
+  if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS || !doc.RootElement()) return mimics;
+  const tinyxml2::XMLElement* robot = doc.RootElement();
+  if (std::string(robot->Name()) != "robot") return mimics;
+  for (const auto* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const auto* mimic = j->FirstChildElement("mimic");
+    const char* name = j->Attribute("name");
+    if (mimic && name) mimics[name] = mimic->Attribute("joint") ? mimic->Attribute("joint") : "?";
+  }
+  return mimics;
+}
+
 }  // namespace
 
 void MujocoRobot::ModelDeleter::operator()(mjModel_* m) const { mj_deleteModel(m); }
 
-MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base)
-{
-  {
-    std::ifstream probe(path);
-    if (!probe) fail(path, "cannot open file");
-  }
-  const bool urdf = path.size() > 5 && path.substr(path.size() - 5) == ".urdf";
-  const std::string load_path = urdf ? urdfCopy(path) : path;
-  char error[1000] = "";
+MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base) {
   installMujocoHandlers();
   g_loading = path;
-  model_.reset(mj_loadXML(load_path.c_str(), nullptr, error, sizeof error));
-  if (urdf) std::remove(load_path.c_str());
-  if (!model_) fail(path, "MuJoCo could not load the model: " + oneLine(error));
+  std::vector<std::string> notes;
+  {
+    const ModelCopy copy(path, &notes);  // kinematics only; it loaded once already
+    char error[1000] = "";
+    model_.reset(mj_loadXML(copy.path().c_str(), nullptr, error, sizeof error));
+    if (!model_) fail(path, "MuJoCo could not load the model: " + oneLine(error));
+    if (error[0]) notes.push_back(path + ": MuJoCo: " + oneLine(error));  // a warning
+  }
   const mjModel* m = model_.get();
 
   tip_site_ = mj_name2id(m, mjOBJ_SITE, tip.c_str());
@@ -117,30 +157,101 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
   }
   const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;
 
-  // the chain: bodies from the tip's up to (excluding) the base
+  // the chain: bodies from the tip's up to (excluding) the base, and their joints
   std::vector<int> bodies;
   for (int b = tip_owner; b != base_body_; b = m->body_parentid[b]) {
     if (b == 0) fail(path, "base '" + base + "' is not an ancestor of the tip '" + tip + "'");
     bodies.push_back(b);
   }
   std::reverse(bodies.begin(), bodies.end());
+  std::set<int> chain_joints;
+  for (int b : bodies) {
+    for (int k = 0; k < m->body_jntnum[b]; ++k) chain_joints.insert(m->body_jntadr[b] + k);
+  }
+  const auto jointName = [&](int j) { return nameOf(m, mjOBJ_JOINT, j, "joint"); };
+  // a chain joint whose motion changes the relative pose of the given bodies, or -1
+  const auto chainJointBetween = [&](const std::vector<int>& touched) {
+    for (int j : chain_joints) {
+      size_t below = 0;
+      for (int b : touched) below += ancestorOrSelf(m, m->jnt_bodyid[j], b);
+      if (below > 0 && below < touched.size()) return j;
+    }
+    return -1;
+  };
+  // a chain joint a tendon's length depends on, or -1
+  const auto chainJointOfTendon = [&](int t) {
+    std::vector<int> touched;
+    for (int w = m->tendon_adr[t]; w < m->tendon_adr[t] + m->tendon_num[t]; ++w) {
+      const int obj = m->wrap_objid[w];
+      if (m->wrap_type[w] == mjWRAP_JOINT && chain_joints.count(obj)) return obj;
+      if (m->wrap_type[w] == mjWRAP_SITE) touched.push_back(m->site_bodyid[obj]);
+      if (m->wrap_type[w] == mjWRAP_SPHERE || m->wrap_type[w] == mjWRAP_CYLINDER) touched.push_back(m->geom_bodyid[obj]);
+    }
+    return chainJointBetween(touched);
+  };
 
-  // joint equalities: slide (obj1) driven by hinge (obj2)
+  // Equalities (active ones: MuJoCo enforces no other) that constrain the chain's joints. The only one
+  // modelled: a chain slide (joint1) driven by a chain hinge (joint2) on the same body and axis, linearly
+  // (a helical joint). A joint outside the chain driven by a chain joint constrains nothing of the chain.
   std::map<int, std::pair<int, double>> coupled_slide;  // slide joint -> (hinge joint, pitch)
+  std::map<int, int> slide_of_hinge;
+  const std::string unmodelled = ": the extraction models an open chain of independent lower pairs only";
   for (int e = 0; e < m->neq; ++e) {
-    if (m->eq_type[e] != mjEQ_JOINT) continue;
-    const int j1 = m->eq_obj1id[e], j2 = m->eq_obj2id[e];
-    const mjtNum* c = m->eq_data + mjNEQDATA * e;
-    const char* n1 = mj_id2name(m, mjOBJ_JOINT, j1);
-    const std::string label = "joint equality " + std::string(n1 ? n1 : "?");
-    if (j2 < 0) continue;  // a joint fixed to a polynomial of nothing: not a coupling we model
-    if (m->jnt_type[j1] != mjJNT_SLIDE || m->jnt_type[j2] != mjJNT_HINGE) {
-      fail(path, label + ": only a slide (joint1) driven by a hinge (joint2) is supported (a helical joint)");
+    if (!m->eq_active[e]) continue;
+    const std::string label = describeEquality(m, e);
+    const int o1 = m->eq_obj1id[e], o2 = m->eq_obj2id[e];
+    switch (m->eq_type[e]) {
+      case mjEQ_CONNECT:
+      case mjEQ_WELD: {
+        const int j = chainJointBetween({o1, o2 > 0 ? o2 : 0});
+        if (j >= 0) fail(path, label + " closes a loop through the chain joint '" + jointName(j) + "'" + unmodelled);
+        break;
+      }
+      case mjEQ_TENDON:
+        for (int t : {o1, o2}) {
+          if (t < 0) continue;
+          const int j = chainJointOfTendon(t);
+          if (j >= 0) fail(path, label + " couples the chain joint '" + jointName(j) + "'" + unmodelled);
+        }
+        break;
+      case mjEQ_JOINT: {
+        if (!chain_joints.count(o1)) break;
+        if (o2 < 0) fail(path, label + " fixes the chain joint '" + jointName(o1) + "'" + unmodelled);
+        if (!chain_joints.count(o2)) {
+          fail(path, label + " couples the chain joint '" + jointName(o1) + "' to '" + jointName(o2) +
+                         "', which is not in the chain" + unmodelled);
+        }
+        if (m->jnt_type[o1] != mjJNT_SLIDE || m->jnt_type[o2] != mjJNT_HINGE) {
+          fail(path, label + ": only a slide (joint1) driven by a hinge (joint2) is supported (a helical joint)");
+        }
+        const mjtNum* c = m->eq_data + mjNEQDATA * e;
+        if (c[0] != 0 || c[2] != 0 || c[3] != 0 || c[4] != 0) {
+          fail(path, label + ": polycoef must be \"0 h 0 0 0\" (a linear coupling slide = h * hinge)");
+        }
+        if (coupled_slide.count(o1)) {
+          fail(path, label + ": the slide '" + jointName(o1) + "' is already driven by the hinge '" +
+                         jointName(coupled_slide[o1].first) + "'" + unmodelled);
+        }
+        if (slide_of_hinge.count(o2)) {
+          fail(path, label + ": the hinge '" + jointName(o2) + "' already drives the slide '" +
+                         jointName(slide_of_hinge[o2]) + "'; one hinge drives at most one slide (a helical joint)");
+        }
+        coupled_slide[o1] = {o2, c[1]};
+        slide_of_hinge[o2] = o1;
+        break;
+      }
+      default:
+        fail(path, label + unmodelled);
     }
-    if (c[0] != 0 || c[2] != 0 || c[3] != 0 || c[4] != 0) {
-      fail(path, label + ": polycoef must be \"0 h 0 0 0\" (a linear coupling slide = h * hinge)");
+  }
+  // MuJoCo 2.2.2 ignores a URDF's <mimic>: a mimicking chain joint would be sampled as independent
+  const std::map<std::string, std::string> mimics = urdfMimics(path);
+  for (int j : chain_joints) {
+    auto it = mimics.find(jointName(j));
+    if (it != mimics.end()) {
+      fail(path, "joint '" + it->first + "' mimics '" + it->second +
+                     "' (URDF <mimic>), which MuJoCo 2.2.2 ignores: MuJoCo would move it independently");
     }
-    coupled_slide[j1] = {j2, c[1]};
   }
 
   std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
@@ -149,21 +260,33 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
       base_body_ == 0 ? Pose() : poseFrom(d->xpos + 3 * base_body_, d->xmat + 9 * base_body_);
   T_base_world_ = T_world_base.inverse();
   const Pose& T_base_world = T_base_world_;
+  const Pose T_world_tip = tip_site_ >= 0 ? poseFrom(d->site_xpos + 3 * tip_site_, d->site_xmat + 9 * tip_site_)
+                                          : poseFrom(d->xpos + 3 * tip_body_, d->xmat + 9 * tip_body_);
+  const Pose T_base_tip = T_base_world * T_world_tip;
 
   std::vector<JointSpec> specs;
+  std::vector<std::pair<std::string, double>> slide_refs;  // checked once the model's length is known
   std::map<int, size_t> hinge_to_joint;
+  double length = T_base_tip.p.norm();
   for (int b : bodies) {
     for (int k = 0; k < m->body_jntnum[b]; ++k) {
       const int j = m->body_jntadr[b] + k;
-      const char* raw = mj_id2name(m, mjOBJ_JOINT, j);
-      const std::string name = raw ? raw : "joint" + std::to_string(j);
+      const std::string name = jointName(j);
       const int type = m->jnt_type[j];
       if (type == mjJNT_FREE || type == mjJNT_BALL) {
         fail(path, "joint '" + name + "' is a " + (type == mjJNT_FREE ? "free" : "ball") +
                        " joint: only hinges, slides and coupled hinge+slide pairs form a serial chain of lower pairs");
       }
+      const double ref = m->qpos0[m->jnt_qposadr[j]];
+      if (!std::isfinite(ref) || (type == mjJNT_HINGE && std::abs(ref) > kMaxRef)) {
+        fail(path, "joint '" + name + "': qpos0 (its ref) " + number(ref) +
+                       " is no usable zero (qpos = qpos0 + x must resolve x; |qpos0| <= 1000 rad)");
+      }
+      if (type == mjJNT_SLIDE) slide_refs.emplace_back(name, ref);
       const Vec3 axis = T_base_world.R * Vec3(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
       const Vec3 anchor = T_base_world * Vec3(d->xanchor[3 * j], d->xanchor[3 * j + 1], d->xanchor[3 * j + 2]);
+      if (!finite(axis) || !finite(anchor)) fail(path, "joint '" + name + "': its axis or anchor at qpos0 is not finite");
+      length = std::max(length, anchor.norm());
       auto coupled = coupled_slide.find(j);
       if (coupled != coupled_slide.end()) {
         const int hinge = coupled->second.first;
@@ -178,6 +301,7 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
           fail(path, "slide '" + name + "' must be on the same body and axis as its hinge to form a helical joint");
         }
         const double h = coupled->second.second * w.dot(axis);  // slide axis may be anti-parallel
+        if (!std::isfinite(h)) fail(path, "slide '" + name + "': its pitch is not finite");
         mj.type = JointType::Helical;
         mj.slide_qpos = m->jnt_qposadr[j];
         mj.slide_dof = m->jnt_dofadr[j];
@@ -190,7 +314,12 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
       mj.name = name;
       mj.qpos = m->jnt_qposadr[j];
       mj.dof = m->jnt_dofadr[j];
-      if (m->jnt_limited[j]) mj.range = std::array<double, 2>{m->jnt_range[2 * j], m->jnt_range[2 * j + 1]};
+      if (m->jnt_limited[j]) {
+        mj.range = std::array<double, 2>{m->jnt_range[2 * j], m->jnt_range[2 * j + 1]};
+        if (!std::isfinite((*mj.range)[0]) || !std::isfinite((*mj.range)[1])) {
+          fail(path, "joint '" + name + "': its range is not finite");
+        }
+      }
       JointSpec spec;
       spec.name = name;
       spec.range = mj.range;
@@ -210,13 +339,20 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
     }
   }
   if (joints_.empty()) fail(path, "no joint between the base and the tip '" + tip + "'");
-  const Pose T_world_tip = tip_site_ >= 0 ? poseFrom(d->site_xpos + 3 * tip_site_, d->site_xmat + 9 * tip_site_)
-                                          : poseFrom(d->xpos + 3 * tip_body_, d->xmat + 9 * tip_body_);
+  if (!finite(T_base_tip.p) || !T_base_tip.R.allFinite()) fail(path, "the tip pose at qpos0 is not finite");
+  for (const auto& [name, ref] : slide_refs) {
+    if (std::abs(ref) > kMaxRef * std::max(1.0, length)) {
+      fail(path, "joint '" + name + "': qpos0 (its ref) " + number(ref) + " is no usable zero (qpos = qpos0 + x must " +
+                     "resolve x; |qpos0| <= 1000 model lengths, here " + number(kMaxRef * std::max(1.0, length)) + ")");
+    }
+  }
   try {
-    poe_ = std::make_unique<PoeModel>(specs, T_base_world * T_world_tip, path);
+    poe_ = std::make_unique<PoeModel>(specs, T_base_tip, path);
   } catch (const std::invalid_argument& e) {
     fail(path, e.what());
   }
+  // notes once the model is accepted: a rejected file gets its one error line
+  for (const std::string& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
 }
 
 MujocoRobot::~MujocoRobot() = default;

@@ -1,14 +1,26 @@
 #pragma once
 /// @file mujoco_robot.hpp
-/// MuJoCo ground truth (the only place that includes MuJoCo): load an MJCF (or a URDF, through a
-/// temporary copy with `fusestatic="false"` and mass bounds), walk the chain from the base to the tip,
-/// extract the POE model at `qpos0` from MuJoCo's own world-frame joint axes and anchors, and evaluate
-/// tip poses and Jacobians at configurations.
+/// MuJoCo ground truth (the only place that includes MuJoCo): load an MJCF or a URDF through a
+/// kinematics-only copy (ModelCopy, model_copy.hpp: geometry, assets, actuators, sensors... dropped, mass
+/// bounds, compiler settings merged), walk the chain from the base to the tip, extract the POE model at
+/// `qpos0` from MuJoCo's own world-frame joint axes and anchors, and evaluate tip poses and Jacobians at
+/// configurations.
 ///
 /// Joint mapping: hinge -> revolute, slide -> prismatic, a hinge and a slide on the same axis coupled by
 /// a joint equality (`joint1` the slide, `joint2` the hinge, `polycoef="0 h 0 0 0"`) -> one helical joint
 /// of pitch h. The extracted model has scale 1: its joint variable is MuJoCo's `qpos - qpos0` of the hinge
 /// or slide (rad or length).
+///
+/// Rejected (RobotFileError, exit 2), naming the element: what ModelCopy rejects; free and ball joints in
+/// the chain; among active equalities, a `<connect>` or `<weld>` closing a loop through a chain joint (one
+/// on the tree path between its two bodies; loops elsewhere, e.g. inside a gripper beyond the tip, are
+/// ignored), a `<tendon>` equality whose tendon depends on a chain joint, a `<joint>` equality driving a
+/// chain joint other than as a helical slide (a locked joint, a joint of another type or outside the chain,
+/// two couplings of one slide, one hinge driving two slides); a URDF chain joint with `<mimic>` (MuJoCo
+/// 2.2.2 ignores it); a chain joint whose `qpos0` (ref) is not finite or too large for `qpos0 + x` to
+/// resolve x (hinge: 1000 rad; slide: 1000 model lengths); anything not finite at qpos0.
+/// ModelCopy's notes (what was dropped) and MuJoCo's load warnings go to stderr as `note: ` lines once the
+/// model is accepted; nothing goes to stdout and MuJoCo writes no MUJOCO_LOG.TXT.
 
 #include <memory>
 #include <string>
