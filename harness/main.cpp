@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "mujoco_robot.hpp"
+#include "urdf_reader.hpp"
 
 namespace lowpair {
 
@@ -49,6 +50,7 @@ RobotFile loadRobot(const RobotSource& source) {
     return readRobotFile(source.path);
   }
   if (source.tip.empty()) throw UsageError(source.path, "--tip NAME is required with a model file");
+  if (ext == ".urdf") return readUrdf(source.path, source.tip, source.base);  // urdfdom, not MuJoCo
   const MujocoRobot robot(source.path, source.tip, source.base);
   RobotFile file;
   file.path = source.path;

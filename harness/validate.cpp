@@ -18,6 +18,7 @@
 #include "lowpair/singularity.hpp"
 #include "mujoco_robot.hpp"
 #include "robot_file.hpp"
+#include "urdf_reader.hpp"
 
 namespace lowpair {
 
@@ -126,6 +127,23 @@ void addMeasurementNoise(unsigned long long seed, unsigned long long index, doub
   T.R = expSO3(n) * T.R;
 }
 
+PoeModel matchingModel(const RobotFile& file, const MujocoRobot& robot, const std::string& model_path,
+                       const std::string& tip) {
+  const PoeModel m = file.poeModel();
+  if (m.dof() != robot.dof()) {
+    throw RobotFileError(file.path + ": has " + std::to_string(m.dof()) + " joints but the chain to '" + tip + "' in " +
+                         model_path + " has " + std::to_string(robot.dof()));
+  }
+  for (int i = 0; i < m.dof(); ++i) {
+    const MujocoJoint& j = robot.joints()[static_cast<size_t>(i)];
+    if (m.joint(i).type != j.type) {
+      throw RobotFileError(file.path + ": joint " + std::to_string(i + 1) + " is " + jointTypeName(m.joint(i).type) +
+                           " but MuJoCo joint '" + j.name + "' is " + jointTypeName(j.type));
+    }
+  }
+  return m;
+}
+
 std::vector<std::array<double, 2>> samplingRanges(const PoeModel& model) {
   std::vector<std::array<double, 2>> ranges;
   for (const Joint& j : model.joints()) {
@@ -182,24 +200,6 @@ class SampleStream {
   long long first_, last_;
 };
 
-// The robot file `f` as a POE model, checked to describe the MuJoCo chain (joint count and types).
-PoeModel matchingModel(const RobotFile& f, const MujocoRobot& robot, const Scenario& scenario) {
-  const PoeModel m = f.poeModel();
-  const int n = robot.dof();
-  if (m.dof() != n) {
-    throw RobotFileError(f.path + ": has " + std::to_string(m.dof()) + " joints but the chain to '" + scenario.tip +
-                         "' in " + scenario.model + " has " + std::to_string(n));
-  }
-  for (int i = 0; i < n; ++i) {
-    const MujocoJoint& j = robot.joints()[static_cast<size_t>(i)];
-    if (m.joint(i).type != j.type) {
-      throw RobotFileError(f.path + ": joint " + std::to_string(i + 1) + " is " + jointTypeName(m.joint(i).type) +
-                           " but MuJoCo joint '" + j.name + "' is " + jointTypeName(j.type));
-    }
-  }
-  return m;
-}
-
 std::string subject(const Scenario& scenario) { return scenario.path.empty() ? scenario.model : scenario.path; }
 
 // Everything a run needs besides the samples: the MuJoCo chain, the sampled variable's joint map, the
@@ -226,7 +226,7 @@ Setup prepare(const Scenario& scenario) {
   std::optional<PoeModel> variable_model;
   setup.variables.assign(static_cast<size_t>(n), JointMotion{});
   if (!scenario.joint_variables.empty()) {
-    variable_model = matchingModel(readRobotFile(scenario.joint_variables), robot, scenario);
+    variable_model = matchingModel(readRobotFile(scenario.joint_variables), robot, scenario.model, scenario.tip);
     for (int i = 0; i < n; ++i) setup.variables[static_cast<size_t>(i)] = variable_model->joint(i);
   }
   if (!scenario.ranges.empty() && static_cast<int>(scenario.ranges.size()) != n) {
@@ -256,9 +256,13 @@ Setup prepare(const Scenario& scenario) {
   const double tr = scenario.tol_rotation, tt = scenario.tol_translation * L;
   setup.comparisons.push_back(poseComparison("poe_vs_mujoco", poe, tr, tt));
   setup.comparisons.push_back(poseComparison("dh_vs_mujoco", poeToDh(poe).model, tr, tt));
+  if (fs::path(scenario.model).extension() == ".urdf") {  // the URDF's own reading (urdfdom) against MuJoCo's
+    setup.comparisons.push_back(poseComparison(
+        "urdfdom_vs_mujoco", matchingModel(readUrdf(scenario.model, scenario.tip, scenario.base), robot, scenario.model, scenario.tip), tr, tt));
+  }
   for (const auto& path : scenario.robot_files) {
     RobotFile file = readRobotFile(path);
-    const PoeModel m = matchingModel(file, robot, scenario);
+    const PoeModel m = matchingModel(file, robot, scenario.model, scenario.tip);
     std::string name = "robot_file_vs_mujoco:" + fs::path(path).filename().string();
     if (file.poe) {
       setup.comparisons.push_back(poseComparison(std::move(name), m, tr, tt));

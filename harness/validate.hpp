@@ -3,7 +3,8 @@
 /// The MuJoCo validation engine behind `lowpair validate` (scenarios: scenario.hpp). runScenario builds a
 /// list of comparisons (comparison.hpp): the library's POE FK of the model extracted from MuJoCo
 /// (`poe_vs_mujoco`), the FK of its converted D-H table (`dh_vs_mujoco`), the FK of each cross-checked robot
-/// file (`robot_file_vs_mujoco:<file>`) against MuJoCo's tip pose, and the library's geometric Jacobian
+/// file (`robot_file_vs_mujoco:<file>`) and, for a URDF, the urdfdom reading of the same file
+/// (`urdfdom_vs_mujoco`) against MuJoCo's tip pose, and the library's geometric Jacobian
 /// against MuJoCo's (`jacobian_vs_mujoco`); then it runs every sample through every comparison.
 ///
 /// Samples: the sampled variable q is the `joint_variables` robot file's (or MuJoCo's own); each sample's q
@@ -23,6 +24,7 @@
 #include "comparison.hpp"
 #include "lowpair/model.hpp"
 #include "lowpair/types.hpp"
+#include "robot_file.hpp"
 #include "scenario.hpp"
 
 namespace lowpair {
@@ -101,6 +103,11 @@ void randomSample(unsigned long long seed, unsigned long long index, const std::
 /// randomSample's q stream, and a measurement's noise depends only on (seed, index).
 void addMeasurementNoise(unsigned long long seed, unsigned long long index, double sd_position, double sd_rotation,
                          Pose& T);
+
+/// The robot file `file` as a POE model, checked to describe the MuJoCo chain of `robot` (joint count and
+/// types; `model_path` and `tip` name the chain in messages). @throws RobotFileError
+PoeModel matchingModel(const RobotFile& file, const MujocoRobot& robot, const std::string& model_path,
+                       const std::string& tip);
 
 /// Sampling ranges of a model's joint variables when none are given: each joint's range when the model has
 /// one, else revolute/helical [-pi, pi] and prismatic [-L, L] (L = model.size()).

@@ -116,7 +116,10 @@ TEST(Validate, UrdfWithFixedToolLinkAndMasslessLinks) {
   ASSERT_EQ(r.status, 0) << r.out << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["pass"].get<bool>());
-  EXPECT_EQ(j["scenarios"][0]["comparisons"].size(), 4u);  // poe, dh, the robot file, the Jacobian
+  // poe, dh, the URDF read by urdfdom, the robot file, the Jacobian
+  ASSERT_EQ(j["scenarios"][0]["comparisons"].size(), 5u);
+  EXPECT_EQ(j["scenarios"][0]["comparisons"][2]["name"], "urdfdom_vs_mujoco");
+  EXPECT_TRUE(j["scenarios"][0]["comparisons"][2]["pass"].get<bool>());
 }
 
 TEST(Validate, NegativeControlPerturbedAxisFails) {
