@@ -9,7 +9,6 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <random>
 #include <sstream>
 
 #include "atomic_file.hpp"
@@ -28,8 +27,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMaxPoses = 1000000;
-// Mixed into the noise generator's seed: the noise stream of a seed is not its q stream.
-constexpr unsigned long long kNoiseStream = 0x6E6F6973652D7374ULL;  // "noise-st"
 
 struct SimulateOptions {
   RobotSource robot;
@@ -82,24 +79,6 @@ Truth robotFileTruth(const SimulateOptions& o) {
   return truth;
 }
 
-// The --joint-variables robot file as a POE model, checked to describe the MuJoCo chain: joint count and
-// types (as validate checks its cross-checked robot files).
-PoeModel matchingModel(const RobotFile& file, const MujocoRobot& robot, const SimulateOptions& o) {
-  const PoeModel m = file.poeModel();
-  if (m.dof() != robot.dof()) {
-    throw RobotFileError(file.path + ": has " + std::to_string(m.dof()) + " joints but the chain to '" + o.robot.tip +
-                         "' in " + o.robot.path + " has " + std::to_string(robot.dof()));
-  }
-  for (int i = 0; i < m.dof(); ++i) {
-    const MujocoJoint& j = robot.joints()[static_cast<size_t>(i)];
-    if (m.joint(i).type != j.type) {
-      throw RobotFileError(file.path + ": joint " + std::to_string(i + 1) + " is " + jointTypeName(m.joint(i).type) +
-                           " but MuJoCo joint '" + j.name + "' is " + jointTypeName(j.type));
-    }
-  }
-  return m;
-}
-
 // MuJoCo's tip pose at the motion x_i = variables[i].motion(q_i); q is the --joint-variables file's
 // variable, else MuJoCo's own (qpos - qpos0).
 Truth modelTruth(const SimulateOptions& o) {
@@ -113,7 +92,7 @@ Truth modelTruth(const SimulateOptions& o) {
   truth.variable = "MuJoCo's qpos - qpos0 of " + o.robot.path;
   if (!o.joint_variables.empty()) {
     const RobotFile file = readRobotFile(o.joint_variables);
-    variable_model = matchingModel(file, *robot, o);
+    variable_model = matchingModel(file, *robot, o.robot.path, o.robot.tip);
     for (int i = 0; i < n; ++i) variables[static_cast<size_t>(i)] = variable_model->joint(i);
     truth.variable = file.path + " (motion x = scale (q + offset))";
     truth.length_unit = file.length_unit;
@@ -137,29 +116,6 @@ Truth modelTruth(const SimulateOptions& o) {
   truth.source = "MuJoCo's pose of '" + o.robot.tip + "'" +
                  (o.robot.base.empty() ? "" : " relative to '" + o.robot.base + "'") + " in " + o.robot.path;
   return truth;
-}
-
-// splitmix64 (Steele, Lea, Flood 2014): a well-mixed 64-bit value from a counter.
-unsigned long long splitmix64(unsigned long long x) {
-  x += 0x9E3779B97F4A7C15ULL;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
-
-// Measurement noise of pose `index`: position += N(0, sd_position^2) per coordinate, then R <- expSO3(n) R
-// with n ~ N(0, sd_rotation^2 I3). Its own engine per (seed, index), seeded with
-// splitmix64(splitmix64(seed ^ kNoiseStream) + index), unlike randomSample's splitmix64(seed * prime + index):
-// the noise is independent of q, and a pose's noise does not depend on --poses or on the other noise level.
-void addNoise(unsigned long long seed, unsigned long long index, double sd_position, double sd_rotation, Pose& T) {
-  if (sd_position == 0.0 && sd_rotation == 0.0) return;
-  std::mt19937_64 rng(splitmix64(splitmix64(seed ^ kNoiseStream) + index));
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Vec3 dp, n;
-  for (int k = 0; k < 3; ++k) dp[k] = sd_position * normal(rng);
-  for (int k = 0; k < 3; ++k) n[k] = sd_rotation * normal(rng);
-  T.p += dp;
-  T.R = expSO3(n) * T.R;
 }
 
 void checkNoise(const char* option, double sd) {
@@ -208,7 +164,7 @@ int simulate(const SimulateOptions& o) {
     m.q.resize(static_cast<Eigen::Index>(truth.ranges.size()));
     randomSample(seed, k, truth.ranges, m.q);
     m.T_base_tool = truth.tipPose(m.q);
-    addNoise(seed, k, o.noise_position, o.noise_rotation, m.T_base_tool);
+    addMeasurementNoise(seed, k, o.noise_position, o.noise_rotation, m.T_base_tool);
   }
   const std::string text = formatMeasurements(measure, measurements, describe(o, truth));
   if (o.out.empty()) {

@@ -259,3 +259,162 @@ TEST(SimulateRejects, OutIntoAMissingFolderCreatesNothing) {
   expectRejected("simulate " + kNominal + " --poses 2 --out " + scratch() + "/a_folder", "cannot write: is a directory");
   EXPECT_TRUE(fs::is_directory(scratch() + "/a_folder/inside"));
 }
+
+// ---- identifiability and calibrate: the paper's loop through the CLI (issue 9's "done when") -----------
+
+namespace {
+
+const std::string kMujocoActual = shellQuote(kActualXml) + " --tip tool --joint-variables " + shellQuote(kActualYaml);
+
+// Simulated measurements written to a scratch file.
+std::string simulateTo(const std::string& name, const std::string& args) {
+  const std::string path = scratch() + "/" + name;
+  const CliRun r = runCli("simulate " + args + " --out " + shellQuote(path));
+  EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+  return path;
+}
+
+nlohmann::json jsonOf(const std::string& args) {
+  const CliRun r = runCli(args + " --json");
+  EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+// The D-H table rows of `poe2dh` (everything between the column header and the blank line).
+std::vector<std::string> dhRows(const std::string& robot) {
+  const CliRun r = runCli("poe2dh " + shellQuote(robot));
+  EXPECT_EQ(r.status, 0) << r.err;
+  std::vector<std::string> rows;
+  std::istringstream in(r.out);
+  bool table = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("row ", 0) == 0) {
+      table = true;
+    } else if (table && line.empty()) {
+      break;
+    } else if (table) {
+      rows.push_back(line);
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST(Identifiability, PumaRankIsThePaperCountAndDhLosesFive) {
+  const auto pose = jsonOf("identifiability " + shellQuote(kNominal));
+  EXPECT_EQ(pose["expected"], 36);  // 4 x 6 revolute + 6 scales + 6 tool
+  EXPECT_EQ(pose["rank"], 36);
+  EXPECT_EQ(pose["full_model"]["rank"], 36);
+  EXPECT_EQ(pose["parameters"].size(), 36u);
+  EXPECT_EQ(pose["joints"]["revolute"], 6);
+  EXPECT_TRUE(pose["condition"].is_number());
+  for (const char* k : {"O1", "O2", "O3", "O4", "O5"}) EXPECT_GT(pose["observability"][k].get<double>(), 0.0) << k;
+  // base z on joint 1, joints 2 and 3 parallel, joint 6 on the tool z: five D-H directions undetermined
+  EXPECT_EQ(pose["dh"]["rank"], 31);
+  EXPECT_TRUE(pose["dh"]["condition"].is_null());
+  EXPECT_EQ(pose["dh"]["undetermined"].size(), 5u);
+  // position only: 33 at most, and this tool point is the wrist centre, so the wrist is not seen (24)
+  const auto position = jsonOf("identifiability " + shellQuote(kNominal) + " --measure position");
+  EXPECT_EQ(position["expected"], 33);
+  EXPECT_EQ(position["rank"], 24);
+  for (const auto& direction : position["undetermined"]) {
+    for (const auto& term : direction) {
+      const std::string name = term["parameter"];
+      EXPECT_TRUE(name.rfind("j4.", 0) == 0 || name.rfind("j5.", 0) == 0 || name.rfind("j6.", 0) == 0 ||
+                  name.rfind("tool.r", 0) == 0)
+          << name;
+    }
+  }
+}
+
+// Wu et al.'s case: the nominal PUMA calibrated from noise-free measurements of the actual robot (MuJoCo)
+// must be the actual robot: FK to 1e-9 L on held-out poses, and its D-H table is Table II (actual) as poe2dh
+// prints it from Table I.
+TEST(Calibrate, NoiseFreeLoopRecoversTheActualPuma) {
+  const std::string m = simulateTo("noise_free.csv", kMujocoActual + " --poses 50 --seed 1");
+  const std::string cal = scratch() + "/cal.yaml";
+  const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m) +
+                          " --free-pitch --out " + shellQuote(cal));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("rank 42 of 42"), std::string::npos) << r.out;
+  const double L = jsonOf("poe2dh " + shellQuote(kActualYaml))["size"];
+  // held-out: the same 200 random joint vectors (same seed, same [-pi, pi] ranges) through both robot files
+  const Csv calibrated = simulate(shellQuote(cal) + " --poses 200 --seed 7");
+  const Csv actual = simulate(shellQuote(kActualYaml) + " --poses 200 --seed 7");
+  ASSERT_EQ(calibrated.rows.size(), 200u);
+  double max_position = 0, max_rotation = 0;
+  for (size_t k = 0; k < 200; ++k) {
+    ASSERT_EQ(calibrated.rows[k].q, actual.rows[k].q);
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i) d2 += std::pow(calibrated.rows[k].p[i] - actual.rows[k].p[i], 2);
+    max_position = std::max(max_position, std::sqrt(d2));
+    max_rotation = std::max(max_rotation, angleBetween(calibrated.rows[k].quaternion, actual.rows[k].quaternion));
+  }
+  EXPECT_LE(max_position, 1e-9 * L);
+  EXPECT_LE(max_rotation, 1e-9);
+  const auto calibrated_rows = dhRows(cal), actual_rows = dhRows(kActualYaml);
+  ASSERT_EQ(calibrated_rows.size(), 8u);  // base, 6 joints, tool
+  EXPECT_EQ(calibrated_rows, actual_rows);
+}
+
+// Noisy loop: 0.01 mm and 1e-5 rad, 50 poses; 200 noise-free validation poses.
+TEST(Calibrate, NoisyLoopReachesTheNoiseLevel) {
+  const std::string m =
+      simulateTo("noisy.csv", kMujocoActual + " --poses 50 --seed 1 --noise-position 0.01 --noise-rotation 1e-5");
+  const std::string v = simulateTo("validation.csv", kMujocoActual + " --poses 200 --seed 2");
+  const auto j = jsonOf("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m) + " --validation " +
+                        shellQuote(v) + " --noise-position 0.01 --noise-rotation 1e-5 --free-pitch");
+  EXPECT_TRUE(j["converged"].get<bool>());
+  EXPECT_EQ(j["rank"], 42);
+  EXPECT_EQ(j["expected"], 42);
+  const double before = j["validation"]["before"]["rms_position"], after = j["validation"]["after"]["rms_position"];
+  EXPECT_LE(after, 0.01);
+  EXPECT_GE(before / after, 100.0);
+  EXPECT_LT(j["after"]["rms_position"].get<double>(), j["before"]["rms_position"].get<double>());
+  // the stated noise is right, so the variance factor is near 1 (chi-square with 300 - 42 dof: 1 +- 0.25)
+  EXPECT_NEAR(j["variance_factor"].get<double>(), 1.0, 0.25);
+  for (const auto& joint : j["dh"]["joints"]) EXPECT_TRUE(joint["sd"]["d"].is_number()) << joint;
+}
+
+// Three poses cannot determine 42 parameters: a result (exit 0) whose rank report names what is missing,
+// finite numbers everywhere (JSON has no NaN: a non-finite number would print as null).
+TEST(Calibrate, TooFewPosesReportsTheUndeterminedParameters) {
+  const std::string m = simulateTo("three.csv", kMujocoActual + " --poses 3 --seed 4");
+  const CliRun text = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m));
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("do not determine"), std::string::npos) << text.out;
+  const auto j = jsonOf("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m));
+  EXPECT_LE(j["rank"].get<int>(), 18);  // 3 poses x 6 rows
+  EXPECT_EQ(j["expected"], 36);
+  EXPECT_EQ(j["undetermined"].size(), 36u - j["rank"].get<size_t>());
+  for (const char* k : {"rms_position", "max_position", "rms_rotation", "max_rotation"}) {
+    EXPECT_TRUE(j["after"][k].is_number()) << k;
+  }
+  EXPECT_FALSE(j["warnings"].empty());
+}
+
+TEST(CalibrateRejects, BadMeasurementFilesWithFileAndLineAndWriteNothing) {
+  const std::string good = simulateTo("good.csv", shellQuote(kActualYaml) + " --poses 5 --seed 1");
+  std::ifstream in(good);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::string cal = scratch() + "/never.yaml";
+  // a data line with one number missing
+  const auto last = text.rfind(',', text.size() - 2);
+  const std::string short_line = scratch() + "/short.csv";
+  std::ofstream(short_line) << text.substr(0, last) << "\n";
+  const int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(short_line) + " --out " +
+                     shellQuote(cal),
+                 ":" + std::to_string(lines) + ": ", short_line);
+  // measurements of a 6-joint robot for a 1-joint nominal
+  const std::string one_joint = scratch() + "/one_joint.yaml";
+  std::ofstream(one_joint) << "poe:\n  joints:\n    - {twist: [0, 0, 1, 0, 0, 0]}\n  tool: [0, 0, 0, 1, 0, 0]\n";
+  expectRejected("calibrate " + shellQuote(one_joint) + " --measurements " + shellQuote(good) + " --out " +
+                     shellQuote(cal),
+                 "6 joint columns", good);
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(good) +
+                     " --noise-position -1 --out " + shellQuote(cal),
+                 "positive");
+  EXPECT_FALSE(fs::exists(cal));
+}

@@ -17,13 +17,6 @@ namespace {
 using namespace lowpair_test;
 namespace fs = std::filesystem;
 
-// The test's own shell call (cli_runner uses popen): single-quote an argument for /bin/sh.
-std::string shellQuote(const std::string& text) {
-  std::string out = "'";
-  for (const char ch : text) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  return out + "'";
-}
-
 // Finding 1: a scenario name and a report path that would break out of a quoted gnuplot string or a
 // shell command line, each trying to create a marker file through gnuplot's `system`, its `!` shell
 // escape, backquotes, or the shell. None may run; the report is complete.
