@@ -418,3 +418,24 @@ TEST(CalibrateRejects, BadMeasurementFilesWithFileAndLineAndWriteNothing) {
                  "positive");
   EXPECT_FALSE(fs::exists(cal));
 }
+
+// The calibrated model reaches a simulator: export it as MJCF (with its joint-variable file, since the
+// calibrated scales are not 1) and validate the export against the calibrated robot file through MuJoCo.
+TEST(Calibrate, CalibratedModelExportsAndValidates) {
+  const std::string m = simulateTo("export_fit.csv", kMujocoActual + " --poses 50 --seed 3");
+  const std::string cal = scratch() + "/export_cal.yaml";
+  ASSERT_EQ(runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m) + " --free-pitch --out " +
+                   shellQuote(cal))
+                .status,
+            0);
+  // without --out the joint-variable file has nowhere to go: a usage error, one line
+  expectRejected("export " + shellQuote(cal) + " --format mjcf", "--out");
+  expectRejected("export " + shellQuote(cal) + " --format step", "format");
+  const std::string xml = scratch() + "/export_cal.xml";
+  const CliRun e = runCli("export " + shellQuote(cal) + " --format mjcf --out " + shellQuote(xml));
+  ASSERT_EQ(e.status, 0) << e.err;
+  EXPECT_TRUE(fs::exists(scratch() + "/export_cal.joint_variables.yaml"));
+  const CliRun v = runCli("validate " + shellQuote(xml) + " --tip tool --robot " + shellQuote(cal) + " --samples 2000");
+  EXPECT_EQ(v.status, 0) << v.out << v.err;
+  EXPECT_NE(v.out.find("robot_file_vs_mujoco:export_cal.yaml"), std::string::npos) << v.out;
+}
