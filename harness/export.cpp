@@ -319,49 +319,6 @@ ExportFrames exportFrames(const PoeModel& motion_model) {
   return frames;
 }
 
-std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const std::string& name,
-                              const std::string& description, const std::vector<std::string>& comments) {
-  const double k = like.angleFactor();
-  YAML::Emitter out;
-  out.SetDoublePrecision(17);
-  for (std::string c : comments) {
-    std::replace_if(c.begin(), c.end(), [](char ch) { return ch == '\n' || ch == '\r'; }, ' ');
-    out << YAML::Comment(c) << YAML::Newline;
-  }
-  auto row = [&](const DhParams& r) {
-    out << YAML::Key << "theta" << YAML::Value << r.theta / k << YAML::Key << "d" << YAML::Value << r.d;
-    out << YAML::Key << "alpha" << YAML::Value << r.alpha / k << YAML::Key << "a" << YAML::Value << r.a;
-  };
-  out << YAML::BeginMap;
-  out << YAML::Key << "name" << YAML::Value << name;
-  if (!description.empty()) out << YAML::Key << "description" << YAML::Value << description;
-  if (!like.length_unit.empty()) out << YAML::Key << "length_unit" << YAML::Value << like.length_unit;
-  out << YAML::Key << "angle_unit" << YAML::Value << like.angle_unit;
-  out << YAML::Key << "dh" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "base" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  row(model.base());
-  out << YAML::EndMap;
-  out << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
-  for (const DhJoint& j : model.joints()) {
-    const double unit = j.type == JointType::Prismatic ? 1.0 : k;  // joint-variable unit of the range
-    out << YAML::Flow << YAML::BeginMap;
-    if (!j.name.empty()) out << YAML::Key << "name" << YAML::Value << j.name;
-    out << YAML::Key << "type" << YAML::Value << jointTypeName(j.type);
-    row(movedRow(j.link, j, j.motion(0.0)));  // the offset folded (conventions.md, D-H model)
-    if (j.type == JointType::Helical) out << YAML::Key << "pitch" << YAML::Value << j.pitch * k;  // per angle_unit
-    out << YAML::Key << "scale" << YAML::Value << j.scale;
-    if (j.range) {
-      out << YAML::Key << "range" << YAML::Value << YAML::Flow
-          << std::vector<double>{(*j.range)[0] / unit, (*j.range)[1] / unit};
-    }
-    out << YAML::EndMap;
-  }
-  out << YAML::EndSeq;
-  out << YAML::Key << "tool" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  out << YAML::Key << "theta" << YAML::Value << model.toolTheta() / k << YAML::Key << "d" << YAML::Value << model.toolD();
-  out << YAML::EndMap << YAML::EndMap << YAML::EndMap;
-  return std::string(out.c_str()) + "\n";
-}
 
 std::string formatUrdf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments) {
   const PoeModel motion = motionModel(model);

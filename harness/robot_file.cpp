@@ -159,10 +159,12 @@ RobotFile readRobotFile(const std::string& path) {
   return file;
 }
 
-std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
-                               const std::string& description, const std::vector<std::string>& comments) {
-  const double k = like.angleFactor();
-  YAML::Emitter out;
+namespace {
+
+// The part every written robot file shares: `#` comments (one line each), then name, description and units,
+// leaving the top-level map open. 17 significant digits: every number reads back to the same double.
+void beginRobotFile(YAML::Emitter& out, const RobotFile& like, const std::string& name, const std::string& description,
+                    const std::vector<std::string>& comments) {
   out.SetDoublePrecision(17);
   for (std::string c : comments) {
     std::replace_if(c.begin(), c.end(), [](char ch) { return ch == '\n' || ch == '\r'; }, ' ');
@@ -173,6 +175,15 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
   if (!description.empty()) out << YAML::Key << "description" << YAML::Value << description;
   if (!like.length_unit.empty()) out << YAML::Key << "length_unit" << YAML::Value << like.length_unit;
   out << YAML::Key << "angle_unit" << YAML::Value << like.angle_unit;
+}
+
+}  // namespace
+
+std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
+                               const std::string& description, const std::vector<std::string>& comments) {
+  const double k = like.angleFactor();
+  YAML::Emitter out;
+  beginRobotFile(out, like, name, description, comments);
   out << YAML::Key << "poe" << YAML::Value << YAML::BeginMap << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
   for (const Joint& j : model.joints()) {
     const double unit = j.type == JointType::Prismatic ? 1.0 : k;  // joint-variable unit of offset and range
@@ -194,6 +205,41 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
   const Mat4 T = model.toolPose().matrix();
   for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{T(r, 0), T(r, 1), T(r, 2), T(r, 3)};
   out << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const std::string& name,
+                              const std::string& description, const std::vector<std::string>& comments) {
+  const double k = like.angleFactor();
+  YAML::Emitter out;
+  beginRobotFile(out, like, name, description, comments);
+  auto row = [&](const DhParams& r) {
+    out << YAML::Key << "theta" << YAML::Value << r.theta / k << YAML::Key << "d" << YAML::Value << r.d;
+    out << YAML::Key << "alpha" << YAML::Value << r.alpha / k << YAML::Key << "a" << YAML::Value << r.a;
+  };
+  out << YAML::Key << "dh" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "base" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  row(model.base());
+  out << YAML::EndMap;
+  out << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
+  for (const DhJoint& j : model.joints()) {
+    const double unit = j.type == JointType::Prismatic ? 1.0 : k;  // joint-variable unit of the range
+    out << YAML::Flow << YAML::BeginMap;
+    if (!j.name.empty()) out << YAML::Key << "name" << YAML::Value << j.name;
+    out << YAML::Key << "type" << YAML::Value << jointTypeName(j.type);
+    row(movedRow(j.link, j, j.motion(0.0)));  // the offset folded (conventions.md, D-H model)
+    if (j.type == JointType::Helical) out << YAML::Key << "pitch" << YAML::Value << j.pitch * k;  // per angle_unit
+    out << YAML::Key << "scale" << YAML::Value << j.scale;
+    if (j.range) {
+      out << YAML::Key << "range" << YAML::Value << YAML::Flow
+          << std::vector<double>{(*j.range)[0] / unit, (*j.range)[1] / unit};
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "tool" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "theta" << YAML::Value << model.toolTheta() / k << YAML::Key << "d" << YAML::Value << model.toolD();
+  out << YAML::EndMap << YAML::EndMap << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 

@@ -42,4 +42,11 @@ RobotFile readRobotFile(const std::string& path);
 std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
                                const std::string& description, const std::vector<std::string>& comments);
 
+/// A D-H robot file of `model` (docs/file_formats.md; readRobotFile reads it back to rounding: numbers with
+/// 17 significant digits, strings quoted and escaped by yaml-cpp) with `like`'s units (angles, pitch and
+/// revolute ranges in its angle_unit), `name`, `description` and `comments` as leading `#` lines.
+/// A joint offset (0 in every table poeToDh makes) is folded into its row (movedRow).
+std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const std::string& name,
+                              const std::string& description, const std::vector<std::string>& comments);
+
 }  // namespace lowpair
