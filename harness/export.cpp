@@ -1,7 +1,6 @@
 #include "export.hpp"
 
 #include <tinyxml2.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
