@@ -92,6 +92,11 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
       }
     };
     check_dof(fit);
+    if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements)) {
+      throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
+                           " measurements; calibrate fits at most " + std::to_string(kMaxCalibrationMeasurements) +
+                           " (use the rest with --validation)");
+    }
     std::optional<MeasurementFile> validation;
     if (!o->validation.empty()) {
       validation = readMeasurements(o->validation);

@@ -17,6 +17,10 @@ namespace lowpair {
 
 /// Upper bound on `identifiability --poses` (the Jacobian has 6 rows per pose).
 constexpr int kMaxIdentifiabilityPoses = 10000;
+/// Upper bound on the measurements `calibrate` fits (and a scenario's `poses`): the weighted Jacobian and its
+/// SVD hold 6 rows per measurement, about 40 MB at this limit for 7 joints. Validation files are streamed
+/// and only bounded by the CSV reader's limit.
+constexpr int kMaxCalibrationMeasurements = 10000;
 
 /// Everything `calibrate` prints.
 struct CalibrationReport {

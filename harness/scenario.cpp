@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <set>
 
+#include "calibration_output.hpp"
 #include "robot_file.hpp"
 #include "yaml_reader.hpp"
 
@@ -36,7 +37,7 @@ CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node
   const std::string where = "calibration '" + c.name + "'";
   if (!node["nominal"]) yamlError(path, node, where + ": missing 'nominal' (the robot file to calibrate)");
   c.nominal = relative(path, in.string(node["nominal"], where + ".nominal"));
-  if (node["poses"]) c.poses = static_cast<int>(in.integer(node["poses"], where + ".poses", 1, kMaxCalibrationPoses));
+  if (node["poses"]) c.poses = static_cast<int>(in.integer(node["poses"], where + ".poses", 1, kMaxCalibrationMeasurements));
   if (node["validation_poses"]) {
     c.validation_poses =
         static_cast<int>(in.integer(node["validation_poses"], where + ".validation_poses", 1, kMaxCalibrationPoses));

@@ -46,7 +46,7 @@ struct CalibrationCase {
   std::optional<double> min_improvement;     ///< acceptance: validation RMS position before / after
 };
 
-/// Upper bound on a calibration case's poses and validation poses.
+/// Upper bound on a calibration case's validation poses (its fitting `poses`: kMaxCalibrationMeasurements).
 constexpr int kMaxCalibrationPoses = 100000;
 
 struct Scenario {

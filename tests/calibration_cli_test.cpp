@@ -439,3 +439,16 @@ TEST(Calibrate, CalibratedModelExportsAndValidates) {
   EXPECT_EQ(v.status, 0) << v.out << v.err;
   EXPECT_NE(v.out.find("robot_file_vs_mujoco:export_cal.yaml"), std::string::npos) << v.out;
 }
+
+// Memory stays bounded: calibrate holds 6 rows per fitted measurement, so it fits at most 10,000.
+TEST(CalibrateRejects, MoreMeasurementsThanItFits) {
+  const std::string big = scratch() + "/big.csv";
+  {
+    std::ofstream out(big);
+    out << "q1,x,y,z\n";
+    for (int i = 0; i < 10001; ++i) out << i * 1e-3 << ",1,0,0\n";
+  }
+  const std::string one_joint = scratch() + "/one_joint_big.yaml";
+  std::ofstream(one_joint) << "poe:\n  joints:\n    - {twist: [0, 0, 1, 0, 0, 0]}\n  tool: [0, 0, 0, 1, 0, 0]\n";
+  expectRejected("calibrate " + shellQuote(one_joint) + " --measurements " + shellQuote(big), "at most 10000", big);
+}
