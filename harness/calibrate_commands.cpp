@@ -53,6 +53,12 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     const RobotFile file = loadRobot(o->robot);
     const PoeModel model = file.poeModel();
     const Measure measure = parseMeasure(o->measure);
+    // the full error model has 8 columns per joint + pitches + 6; the D-H one 6 per joint + 6
+    if (6.0 * o->poses * (9.0 * model.dof() + 6.0) > kMaxJacobianEntries) {
+      throw UsageError("--poses", std::to_string(o->poses) + " poses of a " + std::to_string(model.dof()) +
+                                      "-joint robot exceed the Jacobian size limit (" + fixed(kMaxJacobianEntries, 0) +
+                                      " entries)");
+    }
     const auto ranges = samplingRanges(model);
     std::vector<VecX> q(static_cast<size_t>(o->poses), VecX(model.dof()));
     for (int i = 0; i < o->poses; ++i) randomSample(static_cast<unsigned long long>(o->seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
@@ -65,7 +71,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     } else {
       std::cout << "identifiability of " << robotLabel(file) << " from " << o->poses << " random "
                 << measureName(measure) << " measurements (seed " << o->seed << ")\n";
-      printIdentifiability(std::cout, file, id);
+      printIdentifiability(std::cout, id);
     }
     return 0;
   });
@@ -92,10 +98,12 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
       }
     };
     check_dof(fit);
-    if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements)) {
+    if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
+        6.0 * static_cast<double>(fit.measurements.size()) * (6.0 * nominal.dof() + 6.0) > kMaxJacobianEntries) {
       throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
-                           " measurements; calibrate fits at most " + std::to_string(kMaxCalibrationMeasurements) +
-                           " (use the rest with --validation)");
+                           " measurements of " + std::to_string(nominal.dof()) + " joints; calibrate fits at most " +
+                           std::to_string(kMaxCalibrationMeasurements) + " and at most " + fixed(kMaxJacobianEntries, 0) +
+                           " Jacobian entries (use the rest with --validation)");
     }
     std::optional<MeasurementFile> validation;
     if (!o->validation.empty()) {

@@ -126,7 +126,7 @@ json identifiabilityJson(const RobotFile& file, const Identifiability& id) {
   return o;
 }
 
-void printIdentifiability(std::ostream& out, const RobotFile& file, const Identifiability& id) {
+void printIdentifiability(std::ostream& out, const Identifiability& id) {
   const std::vector<std::string> names = parameterNames(id.parameters);
   auto cond = [](double c) { return std::isfinite(c) ? fixed(c, 2) : std::string("inf"); };
   out << "expected (Wu et al. §V):  " << countFormula(id.expected) << (id.free_pitch ? "  (free pitch: revolute counted as helical)" : "") << "\n";
@@ -145,7 +145,6 @@ void printIdentifiability(std::ostream& out, const RobotFile& file, const Identi
       << ", D-H " << deviation(id.dh.singular_values.minCoeff()) << "\n";
   printUndetermined(out, "POE", id.poe, names);
   printUndetermined(out, "D-H", id.dh, id.dh_parameters);
-  (void)file;
 }
 
 // --- calibrate -------------------------------------------------------------------------------------------
@@ -170,7 +169,13 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
     w.push_back(s.str());
   }
   if (!c.converged) w.push_back("did not converge in " + std::to_string(c.iterations) + " iterations");
-  if (c.noise_stated && (c.variance_factor > kVarianceFactorWarning || c.variance_factor < 1.0 / kVarianceFactorWarning)) {
+  if (!std::isfinite(c.variance_factor)) {
+    w.push_back("no redundancy: " + std::to_string(c.rank.rank) + " determined parameters from as many residuals "
+                "or fewer, so the fit passes through the noise" +
+                (c.noise_stated ? std::string("; the standard deviations come from the stated noise alone")
+                                : std::string("; without stated noise there are no standard deviations")));
+  } else if (c.noise_stated &&
+             (c.variance_factor > kVarianceFactorWarning || c.variance_factor < 1.0 / kVarianceFactorWarning)) {
     std::ostringstream s;
     s << "the weighted residuals are " << fixed(std::sqrt(c.variance_factor), 2)
       << " times the stated noise (variance factor " << fixed(c.variance_factor, 3) << "): "
@@ -206,8 +211,11 @@ json calibrationJson(const CalibrationReport& r) {
   o["nominal"] = r.nominal.path;
   o["measurements"] = {{"path", r.fit.path}, {"count", r.fit.measurements.size()}, {"measure", measureName(r.fit.measure)}};
   o["free_pitch"] = c.error_model.freePitch();
-  o["noise"] = {{"position", c.sigma_position}, {"rotation", c.sigma_rotation}, {"stated", c.noise_stated}};
-  o["variance_factor"] = c.variance_factor;
+  // the weights are noise only when stated; otherwise they are relative weights (1/L, 1/rad)
+  o["noise"] = {{"position", c.noise_stated ? json(c.sigma_position) : json(nullptr)},
+                {"rotation", c.noise_stated ? json(c.sigma_rotation) : json(nullptr)},
+                {"stated", c.noise_stated}};
+  o["variance_factor"] = finiteOrNull(c.variance_factor);  // null: no redundancy (rows <= rank)
   o["before"] = statisticsJson(c.before);
   o["after"] = statisticsJson(c.after);
   if (r.validation) {
@@ -261,13 +269,15 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   const PoeModel nominal = r.nominal.poeModel();
   out << "calibration of " << robotLabel(r.nominal) << " (" << r.nominal.path << ") from " << r.fit.measurements.size()
       << " " << measureName(r.fit.measure) << " measurements (" << r.fit.path << ")\n";
+  const std::string vf = std::isfinite(c.variance_factor) ? fixed(c.variance_factor, 3) : std::string("none (no redundancy)");
   if (c.noise_stated) {
-    out << "noise (stated): position " << deviation(c.sigma_position) << " " << u << ", rotation "
-        << deviation(c.sigma_rotation) << " rad; variance factor " << fixed(c.variance_factor, 3) << "\n";
+    out << "noise (stated): position " << deviation(c.sigma_position) << " " << u;
+    if (r.fit.measure == Measure::Pose) out << ", rotation " << deviation(c.sigma_rotation) << " rad";
+    out << "; variance factor " << vf << "\n";
   } else {
     out << "noise: not stated (position weighted 1/L, rotation 1/rad; standard deviations from the residuals, "
            "variance factor "
-        << deviation(c.variance_factor) << ")\n";
+        << vf << ")\n";
   }
   out << "parameters: rank " << c.rank.rank << " of " << c.expected.total() << " (" << countFormula(c.expected)
       << (c.error_model.freePitch() ? ", free pitch" : "") << ")\n";

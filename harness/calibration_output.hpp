@@ -21,6 +21,9 @@ constexpr int kMaxIdentifiabilityPoses = 10000;
 /// SVD hold 6 rows per measurement, about 40 MB at this limit for 7 joints. Validation files are streamed
 /// and only bounded by the CSV reader's limit.
 constexpr int kMaxCalibrationMeasurements = 10000;
+/// Upper bound on the entries of an identification Jacobian the CLI builds (rows x columns, bounded for a
+/// many-joint robot too: 2e7 doubles, 160 MB, and its SVD about as much again).
+constexpr double kMaxJacobianEntries = 2e7;
 
 /// Everything `calibrate` prints.
 struct CalibrationReport {
@@ -33,7 +36,7 @@ struct CalibrationReport {
 };
 
 nlohmann::json identifiabilityJson(const RobotFile& file, const Identifiability& id);
-void printIdentifiability(std::ostream& out, const RobotFile& file, const Identifiability& id);
+void printIdentifiability(std::ostream& out, const Identifiability& id);
 
 /// Residuals of the validation set before (nominal) and after (calibrated), with its own measure.
 struct ValidationResiduals {

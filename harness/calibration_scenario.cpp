@@ -56,6 +56,15 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
                          scenario.tip + "' in " + scenario.model + " has " + std::to_string(robot.dof()) +
                          " (calibration '" + config.name + "' of " + scenario.path + ")");
   }
+  if (config.noise_position > nominal.size()) {
+    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': noise.position " +
+                         std::to_string(config.noise_position) + " exceeds the robot size L = " +
+                         std::to_string(nominal.size()));
+  }
+  if (6.0 * config.poses * (6.0 * nominal.dof() + 6.0) > kMaxJacobianEntries) {
+    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': " + std::to_string(config.poses) +
+                         " poses of a " + std::to_string(nominal.dof()) + "-joint robot exceed the Jacobian size limit");
+  }
   MujocoRobot::Evaluator mujoco(robot);
   const std::string where = scenario.name + ", calibration '" + config.name + "'";
   const MeasurementFile fit =
@@ -116,8 +125,8 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
                                                   fixed(*config.min_improvement, 1) + "x");
   }
   require(result.converged, "did not converge");
-  require(result.rank.rank == result.expected.total(),
-          "rank " + std::to_string(result.rank.rank) + " < " + std::to_string(result.expected.total()));
+  // (a rank below the count is not a failure: position measurements of a tool point on the last axis, for
+  // one, cannot see that axis; calibrate's text and JSON name the undetermined directions)
   return out;
 }
 

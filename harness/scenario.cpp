@@ -58,13 +58,20 @@ CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node
     c.noise_position = in.numberOr(noise, "position", 0.0, where + ".noise");
     c.noise_rotation = in.numberOr(noise, "rotation", 0.0, where + ".noise");
     if (c.noise_position < 0 || c.noise_rotation < 0) yamlError(path, noise, where + ".noise must be >= 0");
+    if (c.noise_rotation > M_PI) yamlError(path, noise, where + ".noise.rotation must be at most pi (rad)");
+    if (c.position_only && noise["rotation"]) {
+      yamlError(path, noise, where + ": noise.rotation given for position measurements (measure: position)");
+    }
   }
   const YAML::Node t = node["tolerance"];
   if (!t) yamlError(path, node, where + ": missing 'tolerance' (at least position: validation RMS after, length)");
   in.allowOnly(t, where + ".tolerance", {"position", "rotation", "improvement"});
   if (!t["position"]) yamlError(path, t, where + ".tolerance: missing 'position'");
   c.tolerance_position = in.number(t["position"], where + ".tolerance.position");
-  if (t["rotation"]) c.tolerance_rotation = in.number(t["rotation"], where + ".tolerance.rotation");
+  if (t["rotation"]) {
+    if (c.position_only) yamlError(path, t, where + ": tolerance.rotation given for position measurements");
+    c.tolerance_rotation = in.number(t["rotation"], where + ".tolerance.rotation");
+  }
   if (t["improvement"]) c.min_improvement = in.number(t["improvement"], where + ".tolerance.improvement");
   for (const double v : {c.tolerance_position, c.tolerance_rotation.value_or(1.0), c.min_improvement.value_or(1.0)}) {
     if (!(v > 0)) yamlError(path, t, where + ".tolerance values must be positive");

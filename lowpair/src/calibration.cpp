@@ -82,10 +82,8 @@ void checkPoses(const std::vector<VecX>& q, int dof) {
 
 // The SVD-based analysis of a matrix whose rows are already dimensionless: columns scaled to unit norm,
 // rank by kRankFactor cols eps sigma_1. `column_scale` receives the factors (1 / norm, 1 for a zero column)
-// and `V` the full right singular vectors of the scaled matrix; `singular` the singular values (cols of
-// them, zero-padded), `Ub` U^T b for a right-hand side b when given.
-RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale = nullptr, MatX* V = nullptr,
-                                  const VecX* b = nullptr, VecX* Ub = nullptr) {
+// and `V` the full right singular vectors of the scaled matrix (singular values: cols of them, zero-padded).
+RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale = nullptr, MatX* V = nullptr) {
   const Eigen::Index cols = A.cols();
   VecX scale = VecX::Ones(cols);
   for (Eigen::Index c = 0; c < cols; ++c) {
@@ -93,7 +91,7 @@ RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale =
     if (norm > 0.0 && std::isfinite(norm)) scale[c] = 1.0 / norm;
   }
   const MatX scaled = A * scale.asDiagonal();
-  Eigen::BDCSVD<MatX> svd(scaled, Eigen::ComputeThinU | Eigen::ComputeFullV);
+  Eigen::BDCSVD<MatX> svd(scaled, Eigen::ComputeFullV);
   RankAnalysis out;
   out.columns = static_cast<int>(cols);
   out.singular_values = VecX::Zero(cols);
@@ -124,7 +122,6 @@ RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale =
   }
   if (column_scale) *column_scale = scale;
   if (V) *V = v;
-  if (b && Ub) *Ub = svd.matrixU().transpose() * *b;
   return out;
 }
 
@@ -232,6 +229,13 @@ PoeModel ErrorModel::apply(const Eigen::Ref<const VecX>& delta) const {
   const Pose& T = model_.toolPose();
   const Pose tool = expSE3(twist(r, T.p.cross(r) + t)) * T;
   return PoeModel(std::move(joints), tool, model_.name());
+}
+
+ErrorModel ErrorModel::rebased(const PoeModel& model) const {
+  LP_CHECK(model.dof() == model_.dof(), "error model: rebased onto a model with another joint count");
+  ErrorModel out = *this;
+  out.model_ = model;
+  return out;
 }
 
 Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows) const {
@@ -442,17 +446,6 @@ MatX weightedJacobian(const ErrorModel& em, const std::vector<Measurement>& meas
   return J;
 }
 
-// Step of the damped, truncated least-squares problem in scaled coordinates:
-// delta = D sum_{i < rank} v_i sigma_i (u_i^T r) / (sigma_i^2 + lambda).
-VecX dampedStep(const RankAnalysis& a, const VecX& D, const MatX& V, const VecX& Ur, double lambda) {
-  VecX step = VecX::Zero(D.size());
-  for (int i = 0; i < a.rank; ++i) {
-    const double s = a.singular_values[i];
-    step += V.col(i) * (s * Ur[i] / (s * s + lambda));
-  }
-  return D.asDiagonal() * step;
-}
-
 }  // namespace
 
 CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
@@ -484,43 +477,66 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
     w.rotation = 1.0;
   }
 
+  const auto poses = static_cast<int>(measurements.size());
   ErrorModel em(nominal, options.free_pitch);
   VecX r;
   double cost = residual(nominal, measurements, measure, w, r);
-  double lambda = -1.0;  // set from sigma_1 at the first iteration
+  // the determined subspace, fixed at the nominal: steps are `basis * y`
+  VecX D0;
+  MatX V0;
+  RankAnalysis nominal_rank =
+      analyzeDimensionless(weightedJacobian(em, measurements, measure, w), poses, &D0, &V0);
+  const int rank = nominal_rank.rank;
+  const Eigen::Index n = em.size();
+  const MatX basis = D0.asDiagonal() * V0.leftCols(rank);
+  // the reduced problem at an iterate: A = J basis (rows x rank) and its SVD
+  auto reduced = [&](const ErrorModel& at) {
+    return Eigen::BDCSVD<MatX>(weightedJacobian(at, measurements, measure, w) * basis,
+                               Eigen::ComputeThinU | Eigen::ComputeThinV);
+  };
+  auto usable = [&](const VecX& s, int i) { return s[i] > kRankFactor * rank * kEps * s[0]; };
+
+  double lambda = -1.0, lambda_start = 0.0;  // set from sigma_1 at the first iteration
   int iterations = 0;
   bool converged = false;
-  constexpr double kRelativeDecrease = 1e-10;  // converged when an accepted step gains less than this
+  constexpr double kRelativeDecrease = 1e-10;  // converged when an undamped step gains less than this
   constexpr double kLambdaUp = 10.0, kLambdaDown = 10.0, kLambdaMax = 1e16;  // relative to sigma_1^2
   while (!converged && iterations < options.max_iterations) {
     ++iterations;
-    const MatX J = weightedJacobian(em, measurements, measure, w);
-    VecX D, Ur;
-    MatX V;
-    const RankAnalysis a = analyzeDimensionless(J, static_cast<int>(measurements.size()), &D, &V, &r, &Ur);
-    const double s1 = a.singular_values.size() > 0 ? a.singular_values[0] : 0.0;
-    if (a.rank == 0 || cost == 0.0) {
+    if (rank == 0 || cost == 0.0) {
       converged = true;
       break;
     }
-    if (lambda < 0.0) lambda = 1e-6 * s1 * s1;
+    const Eigen::BDCSVD<MatX> svd = reduced(em);
+    const VecX& s = svd.singularValues();
+    const double s1 = s[0];
+    if (!(s1 > 0.0)) {
+      converged = true;
+      break;
+    }
+    const VecX g = svd.matrixU().transpose() * r;
+    if (lambda < 0.0) lambda = lambda_start = 1e-6 * s1 * s1;
     bool accepted = false;
     while (!accepted && lambda <= kLambdaMax * s1 * s1) {
-      const VecX delta = dampedStep(a, D, V, Ur, lambda);
+      VecX y = VecX::Zero(rank);
+      for (int i = 0; i < s.size(); ++i) {
+        if (usable(s, i)) y += svd.matrixV().col(i) * (s[i] * g[i] / (s[i] * s[i] + lambda));
+      }
       VecX r_new;
       double cost_new = kInf;
       std::optional<PoeModel> candidate;
       try {
-        candidate.emplace(em.apply(delta));
+        candidate.emplace(em.apply(basis * y));
         cost_new = residual(*candidate, measurements, measure, w, r_new);
       } catch (const std::invalid_argument&) {  // a step through a non-positive scale: damp more
       }
       if (cost_new < cost) {
         accepted = true;
-        converged = cost - cost_new <= kRelativeDecrease * cost;
+        // a small gain counts only for an undamped-enough step (a heavily damped one is small anyway)
+        converged = cost - cost_new <= kRelativeDecrease * cost && lambda <= lambda_start;
         cost = cost_new;
         r = std::move(r_new);
-        em = ErrorModel(*candidate, options.free_pitch);
+        em = em.rebased(*candidate);
         lambda /= kLambdaDown;
       } else {
         lambda = std::max(lambda, 1e-12 * s1 * s1) * kLambdaUp;
@@ -529,27 +545,35 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
     if (!accepted) converged = true;  // no step decreases the cost: the rounding floor
   }
 
-  // covariance at the result, from the same weighted, scaled SVD
-  const MatX J = weightedJacobian(em, measurements, measure, w);
-  VecX D;
-  MatX V;
-  RankAnalysis a = analyzeDimensionless(J, static_cast<int>(measurements.size()), &D, &V);
-  const auto rows = static_cast<double>(J.rows());
-  const double variance_factor = cost / std::max(1.0, rows - a.rank);
+  // covariance at the result on the determined subspace: Cov = basis W S^-2 W^T basis^T (times the variance
+  // factor when the noise was not stated). Redundancy: with no more residuals than determined parameters the
+  // fit passes through the noise and the cost says nothing about it (variance factor NaN).
+  const double redundancy = static_cast<double>(r.size()) - rank;
+  const double variance_factor = redundancy > 0 ? cost / redundancy : std::numeric_limits<double>::quiet_NaN();
   const double factor = stated ? 1.0 : variance_factor;
-  const Eigen::Index n = em.size();
-  MatX axes(n, a.rank);
-  for (int i = 0; i < a.rank; ++i) axes.col(i) = D.asDiagonal() * V.col(i) * (std::sqrt(factor) / a.singular_values[i]);
-  MatX null(n, n - a.rank);
-  for (Eigen::Index i = a.rank; i < n; ++i) null.col(i - a.rank) = D.asDiagonal() * V.col(i);
-  VecX sd = axes.rowwise().norm();
+  MatX axes = MatX::Zero(n, rank);
+  VecX sd = VecX::Constant(n, kInf);
+  if (rank > 0 && factor >= 0.0) {
+    const Eigen::BDCSVD<MatX> svd = reduced(em);
+    const VecX& s = svd.singularValues();
+    bool full = true;
+    for (int i = 0; i < s.size(); ++i) {
+      if (usable(s, i)) {
+        axes.col(i) = basis * svd.matrixV().col(i) * (std::sqrt(factor) / s[i]);
+      } else {
+        full = false;
+      }
+    }
+    sd = axes.rowwise().norm();
+    if (!full) sd.setConstant(kInf);  // the subspace lost rank on the way: nothing is certain
+  }
+  const MatX null = D0.asDiagonal() * V0.rightCols(n - rank);
   for (Eigen::Index i = 0; i < null.cols(); ++i) {
-    const VecX unit = V.col(a.rank + i);
     for (Eigen::Index k = 0; k < n; ++k) {
-      if (std::abs(unit[k]) > 1e-8) sd[k] = kInf;  // moves along an undetermined direction
+      if (std::abs(V0(k, rank + i)) > 1e-8) sd[k] = kInf;  // moves along an undetermined direction
     }
   }
-  CalibrationResult out{em.model(), em, identifiableCount(nominal, measure, options.free_pitch), std::move(a),
+  CalibrationResult out{em.model(), em, identifiableCount(nominal, measure, options.free_pitch), std::move(nominal_rank),
                         residualStatistics(nominal, measurements, measure),
                         residualStatistics(em.model(), measurements, measure), iterations, converged,
                         w.position, w.rotation, stated, variance_factor, axes * axes.transpose(), sd, axes, null};
@@ -636,16 +660,35 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
   for (Eigen::Index i = 0; i < result.principal_axes.cols(); ++i) {
     variance += spread(result.principal_axes.col(i)).cwiseAbs2();
   }
-  // an undetermined direction: a small step; a D-H number it moves beyond rounding is not determined
-  constexpr double kProbe = 1e-6;
+  // an undetermined direction: a small step (kProbe in dimensionless units: lengths and pitches over L); a
+  // D-H number it moves by more than 1e-6 of that (angles and scales in their units, lengths over L) is
+  // not determined
+  constexpr double kProbe = 1e-6, kMoved = 1e-6;
   const double L = result.model.size();
+  const auto& parameters = em.parameters();
+  VecX per_unit(em.size());  // a parameter's dimensionless unit: L for lengths and pitches, 1 otherwise
+  for (int k = 0; k < em.size(); ++k) per_unit[k] = parameters[static_cast<size_t>(k)].unit == "rad" ||
+                                                            parameters[static_cast<size_t>(k)].unit == "1"
+                                                        ? 1.0
+                                                        : L;
+  VecX dh_unit = VecX::Ones(center.size());  // L for d, a, pitch and the tool's d
+  for (Eigen::Index k = 0; k < center.size(); ++k) {
+    const bool scale_entry = k >= 4 && k < 4 + 6 * n && (k - 4) % 6 == 5;
+    if (!angle[static_cast<size_t>(k)] && !scale_entry) dh_unit[k] = L;
+  }
   for (Eigen::Index i = 0; i < result.undetermined_directions.cols(); ++i) {
     const VecX dir = result.undetermined_directions.col(i);
-    const VecX moved = spread(kProbe * dir / dir.norm());
+    const VecX moved = spread(kProbe * dir / dir.cwiseQuotient(per_unit).norm());
     for (Eigen::Index k = 0; k < moved.size(); ++k) {
-      if (!(std::abs(moved[k]) <= 1e-6 * kProbe * std::max(1.0, L))) variance[k] = kInf;
+      if (!(std::abs(moved[k]) <= kMoved * kProbe * dh_unit[k])) variance[k] = kInf;
     }
   }
+  // d of a row placed by a parallel axis is the conversion's free choice (0): nothing can determine it
+  for (size_t r = 0; r < out.conversion.rows.size(); ++r) {
+    if (out.conversion.rows[r].parallel) variance[r == 0 ? 1 : 4 + 6 * static_cast<Eigen::Index>(r - 1) + 1] = kInf;
+  }
+  // no redundancy and no stated noise: the covariance is unknown
+  if (!result.noise_stated && !(result.variance_factor >= 0.0)) variance.setConstant(kInf);
   const VecX sd = variance.cwiseSqrt();
   Eigen::Index k = 0;
   auto row = [&](DhParams& r) {

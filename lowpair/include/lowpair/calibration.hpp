@@ -81,6 +81,9 @@ class ErrorModel {
   /// joint's type follows its new pitch (revolute when |pitch| <= kPitchZero eps L, the pitch then 0).
   /// @throws std::invalid_argument when a scale would become <= 0 or a number non-finite
   PoeModel apply(const Eigen::Ref<const VecX>& delta) const;
+  /// The same parameters, their directions (the eta twists) kept from this model, at another model of the
+  /// same robot (a calibration iterate): the coordinates of every iterate then mean the same thing.
+  ErrorModel rebased(const PoeModel& model) const;
   /// Identification Jacobian at `q`: d(measured quantity)/d(parameters), 6 rows `[dtheta; dp]` (Pose) or
   /// 3 rows `dp` (Position), `size()` columns; units: rad and length per parameter unit. Also returns
   /// the model's `T_base_tool(q)`.
@@ -190,9 +193,11 @@ struct CalibrationResult {
   MatX undetermined_directions;
 };
 
-/// Levenberg–Marquardt in the error model's local coordinates, re-centred every iteration, on the
-/// determined subspace (truncated SVD of the weighted, column-scaled Jacobian, rank rule of analyzeRank);
-/// undetermined directions are left at the nominal. @throws std::invalid_argument for measurements whose
+/// Levenberg–Marquardt in the error model's coordinates (directions fixed at the nominal, re-centred at
+/// every iterate) on the determined subspace of the nominal: the weighted, column-scaled Jacobian at the
+/// nominal and the rank rule of analyzeRank fix the subspace once; every step lies in it, so undetermined
+/// directions are left at the nominal (a direction undetermined at the nominal can look determined a hair
+/// away from it, and fitting noise along it would be fitting nothing). @throws std::invalid_argument for measurements whose
 /// joint count differs from the model's or with non-finite numbers, or for no measurement.
 CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                             const CalibrationOptions& options = {});
