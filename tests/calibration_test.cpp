@@ -547,7 +547,7 @@ TEST(Identifiability, RankEqualsCountOnRandomRobots) {
   std::mt19937_64 rng(1902);
   Failures failures;
   RankTally tally;
-  for (int r = 0; r < 1000; ++r) {
+  for (int r = 0; r < lowpair_test::robotCount(1000); ++r) {
     const RandomRobot robot = randomRobot(rng);
     const std::string label = geometryName(robot.geometry);
     checkIdentifiability(robot.model, Measure::Pose, false, label, rng, tally, failures);

@@ -40,8 +40,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kTolerance = 1e-12;  // rad, and times L for translations
-constexpr int kRandomRobots = 1000;
-constexpr int kRandomRobotsMujoco = 1000;  // all of them: two MuJoCo loads each, ~9 s of the ~12 s
+const int kRandomRobots = lowpair_test::robotCount(1000);
+const int kRandomRobotsMujoco = kRandomRobots;  // all of them: two MuJoCo loads each, ~9 s of the ~12 s
 constexpr int kConfigurations = 8;
 
 // A scratch folder for the files written, removed at exit.

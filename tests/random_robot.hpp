@@ -2,7 +2,9 @@
 // Seeded random robots for property tests: 2-7 joints of every type, unnormalized twists (scale 0.3-3),
 // offsets, sizes 0.1-1000 length units, and on about half of the joints a deliberately degenerate
 // relation to the previous axis (one Geometry per robot), and a random, identity or axis-aligned tool.
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <random>
 #include <vector>
@@ -43,6 +45,12 @@ inline Vec3 unitVector(std::mt19937_64& rng) {
 inline Vec3 tilted(const Vec3& u, double angle, std::mt19937_64& rng) {
   Vec3 perp = u.cross(unitVector(rng)).normalized();
   return expSO3(angle * perp) * u;
+}
+
+// How many random robots a property test runs: `full`, or a tenth of it (at least 50) under the sanitizer
+// build (`make sanitize` sets LOWPAIR_SANITIZE), where each robot costs 10-40 times as much.
+inline int robotCount(int full) {
+  return std::getenv("LOWPAIR_SANITIZE") ? std::max(50, full / 10) : full;
 }
 
 inline RandomRobot randomRobot(std::mt19937_64& rng) {

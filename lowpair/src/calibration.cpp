@@ -80,6 +80,9 @@ void checkPoses(const std::vector<VecX>& q, int dof) {
   for (const VecX& qi : q) checkJointVector(qi, dof);
 }
 
+// (JacobiSVD, not BDCSVD: Eigen 3.4.0's BDCSVD reads out of bounds in perturbCol0 on some of these
+// matrices, AddressSanitizer on the random-robot rank test; Jacobi with QR preconditioning is exact enough
+// and fast for <= 60,000 x ~60.)
 // The SVD-based analysis of a matrix whose rows are already dimensionless: columns scaled to unit norm,
 // rank by kRankFactor cols eps sigma_1. `column_scale` receives the factors (1 / norm, 1 for a zero column)
 // and `V` the full right singular vectors of the scaled matrix (singular values: cols of them, zero-padded).
@@ -91,7 +94,7 @@ RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale =
     if (norm > 0.0 && std::isfinite(norm)) scale[c] = 1.0 / norm;
   }
   const MatX scaled = A * scale.asDiagonal();
-  Eigen::BDCSVD<MatX> svd(scaled, Eigen::ComputeFullV);
+  Eigen::JacobiSVD<MatX> svd(scaled, Eigen::ComputeFullV);
   RankAnalysis out;
   out.columns = static_cast<int>(cols);
   out.singular_values = VecX::Zero(cols);
@@ -491,7 +494,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   const MatX basis = D0.asDiagonal() * V0.leftCols(rank);
   // the reduced problem at an iterate: A = J basis (rows x rank) and its SVD
   auto reduced = [&](const ErrorModel& at) {
-    return Eigen::BDCSVD<MatX>(weightedJacobian(at, measurements, measure, w) * basis,
+    return Eigen::JacobiSVD<MatX>(weightedJacobian(at, measurements, measure, w) * basis,
                                Eigen::ComputeThinU | Eigen::ComputeThinV);
   };
   auto usable = [&](const VecX& s, int i) { return s[i] > kRankFactor * rank * kEps * s[0]; };
@@ -507,7 +510,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
       converged = true;
       break;
     }
-    const Eigen::BDCSVD<MatX> svd = reduced(em);
+    const Eigen::JacobiSVD<MatX> svd = reduced(em);
     const VecX& s = svd.singularValues();
     const double s1 = s[0];
     if (!(s1 > 0.0)) {
@@ -554,7 +557,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   MatX axes = MatX::Zero(n, rank);
   VecX sd = VecX::Constant(n, kInf);
   if (rank > 0 && factor >= 0.0) {
-    const Eigen::BDCSVD<MatX> svd = reduced(em);
+    const Eigen::JacobiSVD<MatX> svd = reduced(em);
     const VecX& s = svd.singularValues();
     bool full = true;
     for (int i = 0; i < s.size(); ++i) {
