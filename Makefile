@@ -2,7 +2,7 @@
 # and build into build/, then run. `make bench` builds in Release and runs the benchmarks.
 PACKAGES := cmake g++ make libeigen3-dev libmujoco-dev libqhull-dev liburdfdom-dev libyaml-cpp-dev \
             googletest libgtest-dev libbenchmark-dev liborocos-kdl-dev libcli11-dev nlohmann-json3-dev gnuplot-nox python3 \
-            valgrind bc libsleef-dev clang libtinyxml2-dev
+            valgrind bc libsleef-dev clang libclang-rt-14-dev libtinyxml2-dev
 BUILD ?= build
 JOBS ?= $(shell nproc)
 
@@ -63,3 +63,19 @@ sanitize: deps
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp LOWPAIR_SANITIZE=1 \
 	  ctest --test-dir $(SAN_BUILD) --output-on-failure -j$(JOBS) -E '$(SAN_SKIP)'
+
+# Fuzzing (tests/fuzz/README.md): libFuzzer targets built with clang (-fsanitize=fuzzer,address,undefined,
+# float-cast-overflow; the sanitizer and libFuzzer runtimes are in libclang-rt-14-dev) into $(FUZZ_BUILD),
+# each run for FUZZ_SECONDS on a working corpus under $(FUZZ_BUILD)/corpus/ seeded from models/, scenarios/,
+# tests/data/ and tests/fuzz/seeds/, FUZZ_JOBS targets at a time. Findings: $(FUZZ_BUILD)/artifacts/<target>/ (a previous run's: artifacts.previous/).
+# `make check` replays the seeds and tests/fuzz/regressions/ through every target (ctest fuzz_replay.*).
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 600
+FUZZ_JOBS ?= $(JOBS)
+FUZZ_TARGETS ?= robot_file scenario measurements urdf mujoco numeric
+.PHONY: fuzz fuzz-build
+fuzz-build: deps
+	FUZZ_BUILD=$(FUZZ_BUILD) FUZZ_SECONDS=0 FUZZ_TARGETS= bash tests/fuzz/run.sh
+fuzz: deps
+	FUZZ_BUILD=$(FUZZ_BUILD) FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_JOBS=$(FUZZ_JOBS) FUZZ_TARGETS='$(FUZZ_TARGETS)' \
+	  bash tests/fuzz/run.sh

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "robot_file.hpp"
+#include "urdf_reader.hpp"
 
 namespace lowpair {
 
@@ -115,6 +116,7 @@ class Copier {
       pruneMjcf(root);
       mergeCompiler(root, /*urdf=*/false);
     } else if (kind == "robot") {
+      checkUrdf(path_);  // MuJoCo 2.2.2's URDF parser crashes on trees urdfdom rejects
       pruneUrdf(root);
     } else {
       fail(path_, "the root element is <" + kind + ">: expected <mujoco> (MJCF) or <robot> (URDF)");

@@ -207,6 +207,8 @@ bool sameLine(const Line& a, const Line& b) {
 
 }  // namespace
 
+void checkUrdf(const std::string& path) { parse(path, readText(path)); }
+
 RobotFile readUrdf(const std::string& path, const std::string& tip, const std::string& base) {
   const urdf::ModelInterfaceSharedPtr model = parse(path, readText(path));
   if (!model->getRoot()) fail(path, "not a valid URDF: no root link");

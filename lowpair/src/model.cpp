@@ -197,6 +197,29 @@ double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose) {
   return size > 0.0 ? size : 1.0;
 }
 
+namespace {
+
+// The magnitude limits of tolerances.hpp (kMaxMagnitude) for one joint.
+void checkJointMagnitudes(const JointMotion& j, const std::optional<std::array<double, 2>>& range,
+                          const std::string& label) {
+  LP_CHECK(j.scale >= 1.0 / kMaxMagnitude && j.scale <= kMaxMagnitude,
+           label << ": scale " << j.scale << " outside [1e-100, 1e100]");
+  const double bound = kMaxMagnitude / j.scale;
+  LP_CHECK(std::abs(j.offset) <= bound, label << ": |offset| " << std::abs(j.offset) << " above 1e100 / scale");
+  if (range) {
+    LP_CHECK(std::abs((*range)[0]) <= bound && std::abs((*range)[1]) <= bound,
+             label << ": range end above 1e100 / scale in magnitude");
+  }
+}
+
+void checkSize(double size) {
+  LP_CHECK(std::isfinite(size) && size <= kMaxMagnitude,
+           "robot size L = " << size << " above 1e100 (a joint axis or the tool that far from the base origin)");
+  LP_CHECK(size >= 1.0 / kMaxMagnitude, "robot size L = " << size << " below 1e-100: state the lengths in a smaller unit");
+}
+
+}  // namespace
+
 PoeModel::PoeModel(const std::vector<JointSpec>& joints, const Pose& tool_pose, std::string name)
     : name_(std::move(name)) {
   joints_.reserve(joints.size());
@@ -233,9 +256,11 @@ PoeModel PoeModel::fromToolTwist(const std::vector<JointSpec>& joints, const Vec
 }
 
 void PoeModel::finish() {
+  for (size_t i = 0; i < joints_.size(); ++i) {
+    checkJointMagnitudes(joints_[i], joints_[i].range, jointLabel(static_cast<int>(i), joints_[i].name));
+  }
   size_ = robotSize(joints_, tool_pose_);
-  LP_CHECK(std::isfinite(size_), "robot size L overflows (a joint axis or the tool is about 1e308 or more from "
-                                 "the base origin)");
+  checkSize(size_);
   chain_ = poeChain(joints_, tool_pose_);
   checkChain(chain_);
 }
@@ -280,6 +305,7 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
       LP_CHECK(std::isfinite((*j.range)[0]) && std::isfinite((*j.range)[1]) && (*j.range)[0] <= (*j.range)[1],
                label << ": range must be finite with lo <= hi");
     }
+    checkJointMagnitudes(j, j.range, label);
   }
   chain_ = dhChain(base_, joints_, tool_theta_, tool_d_);
   checkChain(chain_);
@@ -293,6 +319,7 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
   Pose T_base_tool = chain_.T_base_first;
   for (const ChainLink& link : chain_.links) T_base_tool = T_base_tool * linkPose(link);
   size_ = robotSize(lines, T_base_tool * chain_.T_last_tool);
+  checkSize(size_);
 }
 
 }  // namespace lowpair

@@ -60,5 +60,12 @@ constexpr double kRotationExact = 4.0 * kEps;
 /// `PoeModel` from already normalized joints (a conversion result): |w| (prismatic |v|) must be 1 within
 /// this, a normalized twist carried through a chain of rigid transforms keeps its norm to rounding.
 constexpr double kUnitNorm = 1e3 * kEps;
+/// The magnitudes a model may have: the robot size `L` within [1/kMaxMagnitude, kMaxMagnitude] (in the
+/// length unit; `L = 1` when every length is 0), every joint scale within the same interval, and every
+/// range end and offset at most kMaxMagnitude / scale in magnitude (so the joint value `x = scale (q +
+/// offset)` at a range end is at most kMaxMagnitude). Products of three such numbers (a Jacobian entry
+/// times L squared, the D-H check's scaled errors) stay far from overflow and underflow; beyond them a
+/// model is rejected naming the quantity, never evaluated to inf or NaN (fuzz regressions numeric/*).
+constexpr double kMaxMagnitude = 1e100;
 
 }  // namespace lowpair

@@ -1,0 +1,39 @@
+// Fuzz target: the measurement CSV reader (harness/measurements.hpp). Allowed: RobotFileError. An accepted
+// file's numbers are finite, its rotations orthonormal, its shape as documented; formatMeasurements of it
+// reads back to the same joint values and positions.
+#include "fuzz_common.hpp"
+#include "measurements.hpp"
+#include "robot_file.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const lowpair_fuzz::TempFile file(".csv");
+  static const lowpair_fuzz::TempFile again(".csv");
+  lowpair::MeasurementFile m;
+  try {
+    m = lowpair::readMeasurements(file.write(data, size));
+  } catch (const lowpair::RobotFileError&) {
+    return 0;
+  }
+  FUZZ_CHECK(m.dof >= 1 && m.dof <= lowpair::kMaxMeasurementJoints);
+  FUZZ_CHECK(!m.measurements.empty() && m.measurements.size() <= size_t{lowpair::kMaxMeasurements});
+  for (const lowpair::Measurement& x : m.measurements) {
+    FUZZ_CHECK(x.q.size() == m.dof && x.q.allFinite());
+    FUZZ_CHECK(lowpair_fuzz::finite(x.T_base_tool));
+    FUZZ_CHECK((x.T_base_tool.R.transpose() * x.T_base_tool.R - lowpair::Mat3::Identity()).norm() < 1e-9);
+  }
+  // the writer's text reads back: joint values and positions bit for bit
+  const std::string text = lowpair::formatMeasurements(m.measure, m.measurements, {"fuzz"});
+  lowpair::MeasurementFile back;
+  try {
+    back = lowpair::readMeasurements(again.write(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  } catch (const lowpair::RobotFileError& e) {
+    std::fprintf(stderr, "formatMeasurements output rejected: %s\n", e.what());
+    std::abort();
+  }
+  FUZZ_CHECK(back.measure == m.measure && back.dof == m.dof && back.measurements.size() == m.measurements.size());
+  for (size_t i = 0; i < m.measurements.size(); ++i) {
+    FUZZ_CHECK(back.measurements[i].q == m.measurements[i].q);
+    FUZZ_CHECK(back.measurements[i].T_base_tool.p == m.measurements[i].T_base_tool.p);
+  }
+  return 0;
+}
