@@ -44,17 +44,14 @@ bench: configure
 	BUILD=$(BUILD) BENCH_OUT=$(BENCH_OUT) BENCH_FILTER='$(BENCH_FILTER)' bash bench/run.sh
 
 # Sanitizers (CI runs this after `make check`): clang with AddressSanitizer and UndefinedBehaviorSanitizer
-# (float-cast-overflow included, no recovery), the whole test suite except four tests that cannot run
+# (float-cast-overflow included, no recovery), the whole test suite except three tests that cannot run
 # under them: package_consumer (the consumer would need the sanitizer runtime at link time),
 # ThreadThatCannotBeCreatedDoesNotAbort and OutOfMemoryIsOneLine (they limit virtual memory, and ASan
-# reserves terabytes), and
-# Se3Exp.SweepAgainstLongDoubleReference (its ulp bounds are GCC's measured rounding; clang's expSE3
-# translation reaches 4.9 ulp against the asserted 4). LOWPAIR_SANITIZE=1: the random-robot property tests
-# run a tenth of their robots (tests/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a
-# looped URDF.
+# reserves terabytes). LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their robots
+# (tests/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
-SAN_SKIP := ^(package_consumer|HostileInput.ThreadThatCannotBeCreatedDoesNotAbort|HostileInput.OutOfMemoryIsOneLine|Se3Exp.SweepAgainstLongDoubleReference)$$
+SAN_SKIP := ^(package_consumer|HostileInput.ThreadThatCannotBeCreatedDoesNotAbort|HostileInput.OutOfMemoryIsOneLine)$$
 .PHONY: sanitize
 sanitize: deps
 	@test -f $(SAN_BUILD)/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) \

@@ -2,6 +2,7 @@
 // fell outside tolerance, 2 bad input or usage (one line on stderr: "error: FILE: what is wrong").
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -60,6 +61,35 @@ RobotFile loadRobot(const RobotSource& source) {
   return file;
 }
 
+namespace {
+
+// The one error line: "error: " and the message with every control character (a newline in a file name,
+// a YAML key or a --tip value) folded into a space, so the contract holds whatever the input held.
+int reportError(const std::string& message) {
+  std::string line = "error: ";
+  for (const char ch : message) {
+    const bool control = static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f;
+    if (!control) {
+      line += ch;
+    } else if (line.back() != ' ') {
+      line += ' ';
+    }
+  }
+  std::cerr << line << "\n";
+  return 2;
+}
+
+// Standard output that could not be written (a full disk, /dev/full, a closed pipe) is a failed command:
+// exit 2 with one line, never exit 0 with the output lost. (The reason is not named: the write that failed
+// may lie behind other calls, so errno no longer tells it.)
+int checkedExit(int status) {
+  std::cout.flush();
+  const bool failed = !std::cout || std::fflush(stdout) != 0 || std::ferror(stdout);
+  return failed ? reportError("stdout: cannot write") : status;
+}
+
+}  // namespace
+
 }  // namespace lowpair
 
 int main(int argc, char** argv) {
@@ -83,24 +113,23 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {  // prints "lowpair X.Y.Z" on stdout, exit 0
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "error: " << e.what() << " (see lowpair --help)\n";
-    return 2;
+    return reportError(std::string(e.what()) + " (see lowpair --help)");
   }
   try {
     for (const auto& [sub, run] : commands) {
-      if (sub->parsed()) return run();
+      if (sub->parsed()) return checkedExit(run());
     }
   } catch (const RobotFileError& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    return reportError(e.what());
   } catch (const UsageError& e) {
-    std::cerr << "error: " << e.subject() << ": " << e.what() << "\n";
+    return reportError(e.subject() + ": " + e.what());
   } catch (const std::filesystem::filesystem_error& e) {  // "FILE: what", the path std::filesystem names
-    std::cerr << "error: " << (e.path1().empty() ? std::string("filesystem") : e.path1().string()) << ": "
-              << e.code().message() << "\n";
+    return reportError((e.path1().empty() ? std::string("filesystem") : e.path1().string()) + ": " +
+                       e.code().message());
   } catch (const std::bad_alloc&) {  // the subcommand's input is the subject: it asked for the memory
-    std::cerr << "error: " << (argc > 2 ? argv[2] : argv[1]) << ": out of memory\n";
+    return reportError(std::string(argc > 2 ? argv[2] : argv[1]) + ": out of memory");
   } catch (const std::exception& e) {  // std::invalid_argument from the library, a report that failed
-    std::cerr << "error: " << e.what() << "\n";
+    return reportError(e.what());
   }
   return 2;
 }

@@ -13,6 +13,7 @@
 #include <set>
 
 #include "lowpair/se3.hpp"
+#include "lowpair/tolerances.hpp"
 #include "model_copy.hpp"
 #include "robot_file.hpp"
 
@@ -256,6 +257,21 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
 
   std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
   mj_kinematics(m, d.get());
+  // MuJoCo 2.2.2 keeps a zero `quat` as a zero quaternion: MuJoCo's own kinematics of the body is then
+  // meaningless (its joints do not move it), so the model is bad input, not a failed validation
+  std::vector<int> framed = bodies;
+  if (base_body_ != 0) framed.push_back(base_body_);
+  for (int b : framed) {
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->xmat + 9 * b);
+    const double defect = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+    // the compiled body quat, which MuJoCo keeps as given when it cannot normalize it: at qpos0 the frame
+    // then looks like the identity, and every joint motion of the body is lost in the product with it
+    const Eigen::Map<const Eigen::Vector4d> quat(m->body_quat + 4 * b);
+    if (!(defect <= kRotationOrthonormal) || !(std::abs(quat.norm() - 1.0) <= kRotationOrthonormal)) {
+      fail(path, "body '" + nameOf(m, mjOBJ_BODY, b, "body") +
+                     "': its orientation is not a rotation (a zero quat, or an orientation MuJoCo cannot normalize)");
+    }
+  }
   const Pose T_world_base =
       base_body_ == 0 ? Pose() : poseFrom(d->xpos + 3 * base_body_, d->xmat + 9 * base_body_);
   T_base_world_ = T_world_base.inverse();

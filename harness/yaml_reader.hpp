@@ -6,7 +6,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <array>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -99,10 +101,21 @@ class YamlReader {
 
   /// A whole number in [lo, hi].
   long long integer(const YAML::Node& node, const std::string& what, long long lo, long long hi) const {
-    const double x = number(node, what);
-    if (x != std::floor(x) || x < static_cast<double>(lo) || x > static_cast<double>(hi)) {
+    const auto fail = [&] {
       yamlError(path_, node, what + " must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    };
+    // digits are read exactly (a seed of 2^53 + 1 must not round to 2^53 and pass); 1e3 and 10.0 as numbers
+    const std::string text = node.IsScalar() ? node.Scalar() : std::string();
+    const size_t first = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
+    if (first < text.size() && text.find_first_not_of("0123456789", first) == std::string::npos) {
+      errno = 0;
+      char* end = nullptr;
+      const long long v = std::strtoll(text.c_str(), &end, 10);
+      if (errno == ERANGE || *end != '\0' || v < lo || v > hi) fail();
+      return v;
     }
+    const double x = number(node, what);
+    if (x != std::floor(x) || x < static_cast<double>(lo) || x > static_cast<double>(hi)) fail();
     return static_cast<long long>(x);
   }
 

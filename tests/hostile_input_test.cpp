@@ -222,6 +222,120 @@ TEST(HostileInput, OutOfRangeSeedIsRejected) {
   EXPECT_EQ(runCli("validate " + shellQuote(scenario) + " --samples 10 --seed 9007199254740992").status, 0);
 }
 
+// Finding 12: the scenario's sample count was cast to int unchecked (undefined behaviour for 1e300, which
+// clang's float-cast-overflow reports; GCC's build wrapped it).
+TEST(HostileInput, HugeSampleCountIsRejected) {
+  for (const char* samples : {"1e300", "1e9", "-5", "2.5"}) {
+    const std::string scenario = writeScratchFile(
+        "huge_samples.yaml", "model: " + modelPath("elbow_mls.xml") + "\ntip: tool\nsamples: " + samples + "\n");
+    expectRejected("validate " + shellQuote(scenario), "samples must be a whole number in [0, 100000000]", scenario);
+  }
+}
+
+// Finding 6: the magnitudes a model may have (kMaxMagnitude): beyond them, one line naming what is out of
+// range; at the edge (lengths 1e90), finite output from every command, D-H conversion included.
+TEST(HostileInput, ModelMagnitudesAreBoundedAndNamed) {
+  auto robot = [](const std::string& name, const std::string& joints, const std::string& tool) {
+    return writeScratchFile(name + ".yaml", "name: t\nlength_unit: m\npoe:\n  joints:\n" + joints + "  tool: " + tool + "\n");
+  };
+  const std::string big_w = robot("big_w", "    - {twist: [0, 0, 1e200, 0, 0, 0]}\n", "[0, 0, 0, 1, 0, 0]");
+  expectRejected("fk " + shellQuote(big_w) + " --q 0.3", "joint 1: scale 1e+200 outside [1e-100, 1e100]", big_w);
+  // |w| = 1e-308 was silently a prismatic joint; |w| = 1e-159 gave L = inf
+  for (const char* w : {"1e-308", "1e-159"}) {
+    const std::string tiny_w =
+        robot(std::string("tiny_w") + w, std::string("    - {twist: [0, 0, ") + w + ", 1, 0, 0]}\n", "[0, 0, 0, 1, 0, 0]");
+    expectRejected("poe2dh " + shellQuote(tiny_w), "joint 1: scale", tiny_w);
+  }
+  const std::string tiny = robot("tiny", "    - {twist: [0, 0, 1, 0, 1e-200, 0]}\n    - {twist: [1, 0, 0, 0, 0, 1e-200]}\n",
+                                 "[0, 0, 0, 1e-200, 0, 0]");
+  expectRejected("singular " + shellQuote(tiny) + " --q 0.1,0.2", "robot size L = ", tiny);
+  const std::string far = robot("far", "    - {twist: [0, 0, 1, 0, 1e101, 0]}\n", "[0, 0, 0, 1, 0, 0]");
+  expectRejected("fk " + shellQuote(far) + " --q 0", "above 1e100", far);
+  const std::string range = writeScratchFile(
+      "huge_range_robot.yaml",
+      "name: t\nlength_unit: m\npoe:\n  joints:\n    - {twist: [0, 0, 2, 0, 0, 0], range: [-1e305, 1]}\n  tool: [0, 0, 0, 1, 0, 0]\n");
+  expectRejected("fk " + shellQuote(range) + " --q 0", "range end above 1e100 / scale", range);
+
+  const std::string edge = robot("edge", "    - {twist: [0, 0, 1, 0, 1e90, 0]}\n    - {twist: [0, 1, 0, 1e90, 0, 3e89]}\n",
+                                 "[0, 0, 0, 1e90, 0, 2e90]");
+  for (const std::string command : {"fk", "jacobian", "singular"}) {
+    const CliRun r = runCli(command + " " + shellQuote(edge) + " --q 0.3,-1.2 --json");
+    ASSERT_EQ(r.status, 0) << command << ": " << r.err;
+    EXPECT_FALSE(hasNull(nlohmann::json::parse(r.out))) << command << ":\n" << r.out;
+  }
+  const CliRun r = runCli("poe2dh " + shellQuote(edge) + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(hasNull(j)) << r.out;
+  // the D-H table's FK equals the POE FK to rounding of lengths 1e90 (design: c eps L)
+  EXPECT_LE(j["fk_check"]["max_translation"].get<double>(), 1e3 * 2.2e-16 * 1e90) << r.out;
+}
+
+// Finding 11 (rest): a newline in a name, a key or an argument split the error over two lines.
+TEST(HostileInput, NewlinesInInputStayOnTheErrorLine) {
+  const std::string key = writeScratchFile("newline_key.yaml", "\"bad\\nkey\": 1\nname: a\n");
+  expectRejected("fk " + shellQuote(key) + " --q 0", "bad key", key);
+  expectRejected("fk " + shellQuote(modelPath("elbow_mls.xml")) + " --tip " + shellQuote("no\nsuch") + " --q 0",
+                 "'no such'", modelPath("elbow_mls.xml"));
+  const std::string dir = scratch() + "/new\nline";
+  fs::create_directories(dir);
+  expectRejected("fk " + shellQuote(dir + "/robot.yaml") + " --q 0", "", scratch() + "/new line/robot.yaml");
+}
+
+// Output that cannot be written (a full disk) gave exit 0 with the output lost, like finding 7's report.
+TEST(HostileInput, StdoutThatCannotBeWrittenFails) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const std::string err = scratch() + "/full_stderr.txt";
+  const std::string robot = modelPath("puma560_okamura_nominal.yaml");
+  for (const std::string& args : {"poe2dh " + shellQuote(robot) + " --json", "fk " + shellQuote(robot) + " --q 0,0,0,0,0,0",
+                                 "simulate " + shellQuote(robot) + " --poses 1000"}) {
+    const std::string cmd = std::string(LOWPAIR_CLI) + " " + args + " >/dev/full 2>" + shellQuote(err);
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(err);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    ASSERT_TRUE(WIFEXITED(status)) << args;
+    EXPECT_EQ(WEXITSTATUS(status), 2) << args << ": " << text;
+    EXPECT_EQ(text, "error: stdout: cannot write\n") << args;
+  }
+}
+
+// Finding 8, through the CLI: models MuJoCo cannot represent as a serial chain are bad input (exit 2, one
+// line), not failed validations (exit 1); a body whose quat is zero is one of them (MuJoCo keeps it).
+TEST(HostileInput, UnrepresentableModelsAreRejectedByTheCli) {
+  const std::string data = LOWPAIR_TEST_DATA;
+  expectRejected("validate " + shellQuote(data + "/mjcf/two_slides_one_hinge.xml") + " --tip tool --samples 10",
+                 "already drives the slide", data + "/mjcf/two_slides_one_hinge.xml");
+  expectRejected("validate " + shellQuote(data + "/mjcf/huge_ref.xml") + " --tip tool --samples 10",
+                 "is no usable zero", data + "/mjcf/huge_ref.xml");
+  for (const char* quat : {"0 0 0 0", "1e-300 0 0 0"}) {
+    const std::string model = writeScratchFile(
+        "zero_quat.xml", std::string("<mujoco><worldbody><body name=\"a\" quat=\"") + quat +
+                             "\"><joint type=\"hinge\"/><site name=\"t\" pos=\"1 0 0\"/></body></worldbody></mujoco>\n");
+    expectRejected("validate " + shellQuote(model) + " --tip t --samples 10", "body 'a': its orientation is not a rotation",
+                   model);
+    expectRejected("fk " + shellQuote(model) + " --tip t --q 0.3", "body 'a'", model);
+  }
+}
+
+// Finding 9, through the CLI: a loop closed through the chain is rejected naming the element.
+TEST(HostileInput, ClosedLoopIsRejectedByTheCli) {
+  const std::string model = std::string(LOWPAIR_TEST_DATA) + "/mjcf/connect_loop.xml";
+  expectRejected("validate " + shellQuote(model) + " --tip tool --samples 10", "<equality><connect", model);
+  expectRejected("poe2dh " + shellQuote(model) + " --tip tool", "closes a loop through the chain joint", model);
+}
+
+// Finding 13: a scenario seed was read as a double, so 2^53 + 1 became 2^53 and passed.
+TEST(HostileInput, ScenarioSeedIsReadExactly) {
+  for (const char* seed : {"9007199254740993", "99999999999999999999", "-1"}) {
+    const std::string scenario = writeScratchFile(
+        "seed.yaml", "model: " + modelPath("elbow_mls.xml") + "\ntip: tool\nsamples: 10\nseed: " + seed + "\n");
+    expectRejected("validate " + shellQuote(scenario), "seed must be a whole number in [0, 9007199254740992]", scenario);
+  }
+  const std::string ok = writeScratchFile(
+      "seed_ok.yaml", "model: " + modelPath("elbow_mls.xml") + "\ntip: tool\nsamples: 10\nseed: 9007199254740992\n");
+  EXPECT_EQ(runCli("validate " + shellQuote(ok)).status, 0);
+}
+
 }  // namespace
 
 // Finding 11 (rest): a name that is not valid UTF-8 made --json fail with the JSON library's raw message.

@@ -152,12 +152,16 @@ TEST(Se3Exp, SweepAgainstLongDoubleReference) {
               worst_general.translation);
   std::printf("expUnitTwist: worst %.2f ulp (rotation), %.2f ulp (translation)\n", worst_joint.rotation,
               worst_joint.translation);
-  // The reference's own input is the double twist, so the bound is the rounding of the closed forms:
-  // a few operations per entry, each within half an ulp.
-  EXPECT_LE(worst_general.rotation, 4.0);
-  EXPECT_LE(worst_general.translation, 4.0);
-  EXPECT_LE(worst_joint.rotation, 4.0);
-  EXPECT_LE(worst_joint.translation, 4.0);
+  // The reference's own input is the double twist, so the error is the rounding of the closed forms: the
+  // coefficients' relative error (at most 4 eps, the test above; sin and cos of the joint form within 1 ulp)
+  // plus the roundings along an entry's path (an entry of w x (w x v) or of b w w^T + a W passes through at
+  // most 8 operations of u = eps / 2 each: 4 eps), on entries of size at most max(1, |x_ref|) for these unit
+  // inputs (|v| = 1, |w| <= pi, coefficients <= 1): 8 eps. (GCC measures 4, clang 4.9: FMA contraction.)
+  constexpr double kBound = 8.0;
+  EXPECT_LE(worst_general.rotation, kBound);
+  EXPECT_LE(worst_general.translation, kBound);
+  EXPECT_LE(worst_joint.rotation, kBound);
+  EXPECT_LE(worst_joint.translation, kBound);
 }
 
 TEST(Se3Exp, ZeroAndPureTranslation) {

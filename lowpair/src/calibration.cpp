@@ -690,6 +690,16 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
   for (size_t r = 0; r < out.conversion.rows.size(); ++r) {
     if (out.conversion.rows[r].parallel) variance[r == 0 ? 1 : 4 + 6 * static_cast<Eigen::Index>(r - 1) + 1] = kInf;
   }
+  // a D-H number is not known better than its rounding (eps times its size or unit): a noise-free fit's
+  // one-sigma steps below that move it by exactly 0, which must not read as "+- 0"
+  for (Eigen::Index k = 0; k < center.size(); ++k) {
+    const bool pitch_entry = k >= 4 && k < 4 + 6 * n && (k - 4) % 6 == 4;
+    if (pitch_entry && out.conversion.model.joint(static_cast<int>((k - 4) / 6)).type != JointType::Helical) {
+      continue;  // no pitch: its standard deviation stays 0
+    }
+    const double resolution = kEps * std::max(std::abs(center[k]), dh_unit[k]);
+    variance[k] = std::max(variance[k], resolution * resolution);
+  }
   // no redundancy and no stated noise: the covariance is unknown
   if (!result.noise_stated && !(result.variance_factor >= 0.0)) variance.setConstant(kInf);
   const VecX sd = variance.cwiseSqrt();

@@ -206,6 +206,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
 /// central differences of one standard deviation along the covariance's principal axes (angle differences
 /// wrapped; a row whose `a` changes sign is compared on the central table's branch, `(theta - pi, d, -alpha,
 /// -a)` with pi moved to the next theta). A D-H number that moves along an undetermined direction is +inf.
+/// No standard deviation is below the number's rounding, `eps max(|value|, unit)` (unit: L for lengths and
+/// pitches, 1 for angles and scales): a noise-free fit gives that floor, never an exact 0.
 struct DhUncertainty {
   DhConversion conversion;              ///< of the calibrated model
   DhParams base;                        ///< standard deviations
