@@ -88,6 +88,18 @@ int checkedExit(int status) {
   return failed ? reportError("stdout: cannot write") : status;
 }
 
+// The subject of an error the library raised about the subcommand's input: its first positional argument
+// (the robot, scenario or model file), whatever order the options came in.
+std::string inputOf(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands()) {
+    for (const CLI::Option* opt : sub->get_options([](const CLI::Option* o) { return o->get_positional(); })) {
+      if (!opt->results().empty()) return opt->results().front();
+    }
+    return sub->get_name();
+  }
+  return "lowpair";
+}
+
 }  // namespace
 
 }  // namespace lowpair
@@ -127,8 +139,11 @@ int main(int argc, char** argv) {
     return reportError((e.path1().empty() ? std::string("filesystem") : e.path1().string()) + ": " +
                        e.code().message());
   } catch (const std::bad_alloc&) {  // the subcommand's input is the subject: it asked for the memory
-    return reportError(std::string(argc > 2 ? argv[2] : argv[1]) + ": out of memory");
-  } catch (const std::exception& e) {  // std::invalid_argument from the library, a report that failed
+    return reportError(inputOf(app) + ": out of memory");
+  } catch (const std::invalid_argument& e) {  // the library about the subcommand's input
+    const std::string subject = inputOf(app), what = e.what();
+    return reportError(what.rfind(subject + ":", 0) == 0 ? what : subject + ": " + what);
+  } catch (const std::exception& e) {  // a report that failed ("report: ..."): the message names its subject
     return reportError(e.what());
   }
   return 2;

@@ -255,6 +255,14 @@ TEST(HostileInput, ModelMagnitudesAreBoundedAndNamed) {
       "huge_range_robot.yaml",
       "name: t\nlength_unit: m\npoe:\n  joints:\n    - {twist: [0, 0, 2, 0, 0, 0], range: [-1e305, 1]}\n  tool: [0, 0, 0, 1, 0, 0]\n");
   expectRejected("fk " + shellQuote(range) + " --q 0", "range end above 1e100 / scale", range);
+  // a helical pitch sets L like any length (fuzz regressions numeric/helical_pitch_*: pitch 4e291 with the
+  // axis through the origin gave L = 1 and an FK of inf)
+  const std::string pitch = robot("huge_pitch", "    - {twist: [0, 0, 1, 0, 0, 1e200]}\n", "[0, 0, 0, 1, 0, 0]");
+  expectRejected("fk " + shellQuote(pitch) + " --q 0", "robot size L = 1e+200 above 1e100", pitch);
+  // an offset whose slide moves the D-H frames beyond the limits: poe2dh names it, exit 2
+  const std::string slide = robot("offset_slide", "    - {twist: [0, 0, 1, 0, 0, 1e99], offset: 1e99}\n", "[0, 0, 0, 1, 0, 0]");
+  expectRejected("poe2dh " + shellQuote(slide), "poeToDh: the D-H table, its offsets folded, is beyond the magnitude limits",
+                 slide);
 
   const std::string edge = robot("edge", "    - {twist: [0, 0, 1, 0, 1e90, 0]}\n    - {twist: [0, 1, 0, 1e90, 0, 3e89]}\n",
                                  "[0, 0, 0, 1e90, 0, 2e90]");

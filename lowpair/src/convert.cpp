@@ -1,3 +1,4 @@
+#include <optional>
 #include "lowpair/convert.hpp"
 
 #include <algorithm>
@@ -185,7 +186,15 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
     }
   }
 
-  DhModel dh(rows[0], std::move(joints), tool_theta, tool_d, model.name());
+  // folded offsets move the frames: a model near the magnitude limits can have a D-H equivalent beyond them
+  std::optional<DhModel> built;
+  try {
+    built.emplace(rows[0], std::move(joints), tool_theta, tool_d, model.name());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("poeToDh: the D-H table, its offsets folded, is beyond the magnitude limits: ") +
+                                e.what());
+  }
+  DhModel& dh = *built;
   auto consider = [&](const DhParams& r, int row_index) {
     DhRowReport& rep = reports[static_cast<size_t>(row_index)];
     rep.row = row_index;

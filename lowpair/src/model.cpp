@@ -192,6 +192,9 @@ double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose) {
       if (j.range) size = std::max({size, std::abs((*j.range)[0]), std::abs((*j.range)[1])});
     } else {
       size = std::max(size, safeNorm(j.axis().cross(j.moment())));
+      // a helical joint's motion covers |pitch| length per radian: a pitch far above every other length
+      // must set L, or the lengths it produces would be unbounded relative to L (fuzz regressions numeric/)
+      if (j.type == JointType::Helical) size = std::max(size, std::abs(j.pitch));
     }
   }
   return size > 0.0 ? size : 1.0;

@@ -2,6 +2,10 @@
 
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
+#include "lowpair/tolerances.hpp"
+
+#include <cstring>
+#include <optional>
 
 namespace lowpair_fuzz {
 
@@ -22,9 +26,21 @@ void checkPoeModel(const PoeModel& model) {
   }
 }
 
-void checkConversion(const PoeModel& model) {
-  if (model.dof() == 0) return;
-  const DhConversion conv = poeToDh(model);
+bool checkConversion(const PoeModel& model) {
+  if (model.dof() == 0) return false;
+  // poeToDh may reject a table beyond the magnitude limits only when the folded offsets can move the frames
+  // that far: (2n + 1) L (rotations about axes within L of the origin) plus every joint's offset slide
+  std::optional<DhConversion> converted;
+  try {
+    converted.emplace(poeToDh(model));
+  } catch (const std::invalid_argument& e) {
+    double reach = (2.0 * model.dof() + 1.0) * model.size();
+    for (const Joint& j : model.joints()) reach += std::abs(j.slideRate() * j.motion(0.0));
+    if (!(reach > kMaxMagnitude)) std::fprintf(stderr, "poeToDh threw: %s (reach %g)\n", e.what(), reach);
+    FUZZ_CHECK(reach > kMaxMagnitude && std::strncmp(e.what(), "poeToDh: ", 9) == 0);
+    return false;
+  }
+  const DhConversion& conv = *converted;
   const DhModel& dh = conv.model;
   FUZZ_CHECK(finite(dh.base()) && std::isfinite(dh.toolTheta()) && std::isfinite(dh.toolD()));
   for (const DhJoint& j : dh.joints()) FUZZ_CHECK(finite(j.link) && std::isfinite(j.pitch) && std::isfinite(j.scale));
@@ -35,6 +51,7 @@ void checkConversion(const PoeModel& model) {
                  check.max_translation, check.scale);
   FUZZ_CHECK(std::isfinite(check.max_rotation) && std::isfinite(check.max_translation) && std::isfinite(check.scale));
   for (const VecX& q : fixedConfigurations(rangesOf(dh.joints()))) FUZZ_CHECK(finite(dhForwardKinematics(dh, q)));
+  return true;
 }
 
 }  // namespace lowpair_fuzz

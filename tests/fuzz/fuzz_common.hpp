@@ -102,7 +102,8 @@ std::vector<std::optional<std::array<double, 2>>> rangesOf(const JointList& join
 
 /// FK of `model` finite at every fixed configuration.
 void checkPoeModel(const lowpair::PoeModel& model);
-/// poeToDh (and the FK check of the table) finite.
-void checkConversion(const lowpair::PoeModel& model);
+/// poeToDh (and the FK check of the table) finite; false when there is no table (no joints, or one
+/// beyond the magnitude limits, which poeToDh may reject only when the offsets can move frames that far).
+bool checkConversion(const lowpair::PoeModel& model);
 
 }  // namespace lowpair_fuzz

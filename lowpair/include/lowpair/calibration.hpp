@@ -146,6 +146,8 @@ struct Identifiability {
   RankAnalysis dh;                  ///< dhIdentificationJacobian of poeToDh(model)
 };
 
+/// @throws std::invalid_argument for poses of the wrong size or non-finite, and as poeToDh when the model's
+/// D-H table is beyond the magnitude limits (its `dh` rank cannot be computed)
 Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
                                        bool free_pitch = false);
 

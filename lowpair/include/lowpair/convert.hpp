@@ -55,7 +55,10 @@ struct DhConversion {
 /// snapped to 0, `a >= 0` in every row placed by a joint axis (alpha >= 0 when a = 0), the last row
 /// from Lemma 4 with alpha in [0, pi]. Offsets are folded into theta/d with the joint's scale.
 /// Runs no FK check: call checkDhConversion where one is wanted.
-/// @throws std::invalid_argument for a model without joints or a threshold outside [0, 1)
+/// @throws std::invalid_argument for a model without joints, a threshold outside [0, 1), or a table beyond
+/// the magnitude limits (kMaxMagnitude): folded offsets move the D-H frames, so a model within a factor
+/// (2n + 1) of the limit on L, or whose offsets slide a joint (|slideRate * scale * offset|) that far, can
+/// have a D-H equivalent larger than any accepted model ("poeToDh: ..." names it)
 DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options = {});
 
 /// Seeded configurations of the FK check beyond the zero configuration (`poe2dh` prints the check over
