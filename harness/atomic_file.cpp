@@ -43,7 +43,11 @@ int writeAll(int fd, const std::string& content) {
 
 }  // namespace
 
-void writeFileAtomically(const std::string& path, const std::string& content) {
+namespace {
+
+// Writes `content` to an exclusive temporary beside `path`; returns the temporary's path.
+// @throws RobotFileError (the temporary removed)
+std::string writeTemporary(const std::string& path, const std::string& content) {
   auto failure = [&path](const std::string& reason) { return RobotFileError(path + ": cannot write: " + reason); };
   const fs::path target(path);
   if (path.empty() || !target.has_filename()) throw failure("not a file name");
@@ -64,16 +68,37 @@ void writeFileAtomically(const std::string& path, const std::string& content) {
   int error = writeAll(fd, content);
   // close reports delayed write errors (NFS, quotas); its failure is a failure of the write
   if (::close(fd) != 0 && error == 0) error = errno;
-  std::string reason;
-  if (error != 0) {
-    reason = errorText(error);
-  } else {
-    fs::rename(temporary, target, ec);
-    if (!ec) return;
-    reason = ec.message();
-  }
+  if (error == 0) return temporary.string();
   fs::remove(temporary, ec);
-  throw failure(reason);
+  throw failure(errorText(error));
+}
+
+}  // namespace
+
+void writeFileAtomically(const std::string& path, const std::string& content) {
+  StagedFiles files;
+  files.stage(path, content);
+  files.commit();
+}
+
+StagedFiles::~StagedFiles() {
+  std::error_code ec;
+  for (const Entry& e : entries_) fs::remove(e.temporary, ec);
+}
+
+void StagedFiles::stage(const std::string& path, const std::string& content) {
+  entries_.reserve(entries_.size() + 1);  // the push_back below cannot throw once the temporary exists
+  entries_.push_back(Entry{path, writeTemporary(path, content)});
+}
+
+void StagedFiles::commit() {
+  while (!entries_.empty()) {
+    const Entry& e = entries_.front();
+    std::error_code ec;
+    fs::rename(e.temporary, e.target, ec);
+    if (ec) throw RobotFileError(e.target + ": cannot write: " + ec.message());  // the destructor cleans up
+    entries_.erase(entries_.begin());
+  }
 }
 
 }  // namespace lowpair

@@ -7,6 +7,7 @@
 /// this protects against failed writes, not against a system crash.
 
 #include <string>
+#include <vector>
 
 namespace lowpair {
 
@@ -15,5 +16,27 @@ namespace lowpair {
 /// `path` (a file or a symbolic link) is replaced, not written through.
 /// @throws RobotFileError `PATH: cannot write: REASON`
 void writeFileAtomically(const std::string& path, const std::string& content);
+
+/// Several files all or nothing: each is written to its temporary when staged (a failure throws and
+/// leaves every target as it was: the temporaries are removed by the destructor), and `commit()` renames
+/// them onto their targets in order. Only a rename failing after the first has succeeded (the targets'
+/// directory removed between two renames) can leave some targets replaced; commit names it.
+class StagedFiles {
+ public:
+  StagedFiles() = default;
+  StagedFiles(const StagedFiles&) = delete;
+  StagedFiles& operator=(const StagedFiles&) = delete;
+  ~StagedFiles();
+  /// @throws RobotFileError `PATH: cannot write: REASON`
+  void stage(const std::string& path, const std::string& content);
+  /// @throws RobotFileError `PATH: cannot write: REASON`
+  void commit();
+
+ private:
+  struct Entry {
+    std::string target, temporary;
+  };
+  std::vector<Entry> entries_;
+};
 
 }  // namespace lowpair

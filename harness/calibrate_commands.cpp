@@ -8,9 +8,11 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <tuple>
 
 #include "atomic_file.hpp"
 #include "calibration_output.hpp"
+#include "lowpair/tolerances.hpp"
 #include "commands.hpp"
 #include "lowpair/calibration.hpp"
 #include "lowpair/convert.hpp"
@@ -78,7 +80,10 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
 
   auto* cal = app.add_subcommand("calibrate", "identify a POE model from measurements; calibrated D-H table with "
                                               "standard deviations");
-  cal->add_option("NOMINAL", o->robot.path, "nominal robot file (.yaml)")->required();
+  cal->add_option("NOMINAL", o->robot.path, "nominal robot file (.yaml), or a model (.xml MJCF, .urdf) with --tip")
+      ->required();
+  cal->add_option("--tip", o->robot.tip, "model file: the tip site or body");
+  cal->add_option("--base", o->robot.base, "model file: the base body (default: the world)");
   cal->add_option("--measurements", o->measurements, "measurement CSV (lowpair simulate, docs/file_formats.md)")
       ->required();
   cal->add_option("--validation", o->validation, "held-out measurement CSV: residuals before and after");
@@ -110,11 +115,14 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
       validation = readMeasurements(o->validation);
       check_dof(*validation);
     }
-    for (const auto& [value, flag] : {std::pair{o->noise_position, "--noise-position"},
-                                      std::pair{o->noise_rotation, "--noise-rotation"}}) {
-      if (value && !(*value > 0.0 && std::isfinite(*value))) {
-        throw UsageError(flag, "must be a positive finite number, got " + std::to_string(*value));
+    for (const auto& [value, flag, limit] : {std::tuple{o->noise_position, "--noise-position", kMaxMagnitude},
+                                             std::tuple{o->noise_rotation, "--noise-rotation", M_PI}}) {
+      if (value && !(*value > 0.0 && *value <= limit)) {
+        throw UsageError(flag, "must be a positive number up to " + shortest(limit) + ", got " + shortest(*value));
       }
+    }
+    if (o->noise_rotation && fit.measure == Measure::Position) {
+      throw UsageError("--noise-rotation", fit.path + " holds position measurements: there is no rotation to weigh");
     }
     CalibrationOptions options;
     options.measure = fit.measure;

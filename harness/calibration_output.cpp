@@ -214,7 +214,12 @@ json calibrationJson(const CalibrationReport& r) {
   // the weights are noise only when stated; otherwise they are relative weights (1/L, 1/rad)
   o["noise"] = {{"position", c.noise_stated ? json(c.sigma_position) : json(nullptr)},
                 {"rotation", c.noise_stated ? json(c.sigma_rotation) : json(nullptr)},
-                {"stated", c.noise_stated}};
+                {"stated", c.noise_stated},
+                // the weight of a stated pair that was not given itself: sigma_position / L or sigma_rotation L
+                {"derived", !c.noise_stated                                      ? json(nullptr)
+                            : !c.sigma_rotation_stated && r.fit.measure == Measure::Pose ? json("rotation")
+                            : !c.sigma_position_stated                            ? json("position")
+                                                                                  : json(nullptr)}};
   o["variance_factor"] = finiteOrNull(c.variance_factor);  // null: no redundancy (rows <= rank)
   o["before"] = statisticsJson(c.before);
   o["after"] = statisticsJson(c.after);
@@ -272,7 +277,11 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   const std::string vf = std::isfinite(c.variance_factor) ? fixed(c.variance_factor, 3) : std::string("none (no redundancy)");
   if (c.noise_stated) {
     out << "noise (stated): position " << deviation(c.sigma_position) << " " << u;
-    if (r.fit.measure == Measure::Pose) out << ", rotation " << deviation(c.sigma_rotation) << " rad";
+    if (!c.sigma_position_stated) out << " (derived: sigma_rotation L)";
+    if (r.fit.measure == Measure::Pose) {
+      out << ", rotation " << deviation(c.sigma_rotation) << " rad";
+      if (!c.sigma_rotation_stated) out << " (derived: sigma_position / L)";
+    }
     out << "; variance factor " << vf << "\n";
   } else {
     out << "noise: not stated (position weighted 1/L, rotation 1/rad; standard deviations from the residuals, "

@@ -6,6 +6,7 @@
 /// RobotFileError / UsageError / std::invalid_argument for bad input.
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,12 @@ using Runner = std::function<int()>;
 using Commands = std::vector<std::pair<CLI::App*, Runner>>;
 
 /// A usage error about an argument (not a file): printed as "error: SUBJECT: message".
+/// The shortest text that reads back as x ("0.01", "1e+100", "nan"): numbers quoted in messages.
+inline std::string shortest(double x) {
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, x).ptr);
+}
+
 struct UsageError : std::runtime_error {
   UsageError(std::string subject, const std::string& message)
       : std::runtime_error(message), subject_(std::move(subject)) {}

@@ -414,7 +414,20 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
     result.text = formatDhRobotFile(conversion.model, file, name, file.description, comments);
     return result;
   }
+  // URDF lengths are metres (the spec; ROS and every URDF reader assume them): a robot file in another unit
+  // is converted, its prismatic joint variables keep their unit (the scales absorb the factor)
+  if (format == ExportFormat::Urdf && !file.length_unit.empty() && file.length_unit != "m") {
+    const RobotFile metres = inMetres(file);  // throws for a unit lowpair does not convert, naming it
+    std::vector<std::string> converted = comments;
+    converted.push_back("Lengths converted from " + file.length_unit + " to m (x " + num(*metresPerUnit(file.length_unit)) +
+                        "; a prismatic joint variable q keeps " + file.length_unit + ", its scale holds the factor).");
+    return exportRobot(metres, format, converted);
+  }
   std::vector<std::string> header = comments;
+  if (format == ExportFormat::Urdf && file.length_unit.empty()) {
+    result.notes.push_back(file.path + " states no length_unit: its lengths are written as they are, and a URDF "
+                           "reader takes them as metres");
+  }
   const std::string unit = file.length_unit.empty() ? "the robot file's length unit" : file.length_unit;
   header.push_back("Lengths in " + unit + ", angles in rad" +
                    (file.length_unit == "m" ? "." : " (lengths are not converted to metres)."));

@@ -50,25 +50,29 @@ int runExport(const ExportOptions& o) {
                                   "'s joint variable is the motion x = scale (q + offset), so export also writes the "
                                   "robot file of q next to the output; give --out FILE");
   }
-  for (const std::string& note : exported.notes) std::cerr << "note: " << note << "\n";
+  // notes after the files are written: a failed export prints its one error line and nothing else
+  auto notes = [&] {
+    for (const std::string& note : exported.notes) std::cerr << "note: " << note << "\n";
+  };
   if (o.out.empty()) {
+    notes();
     std::cout << exported.text;
     return 0;
   }
   if (!exported.joint_variables) {
     writeFileAtomically(o.out, exported.text);
+    notes();
     std::cout << exportFormatName(format) << " written to " << o.out << "\n";
     return 0;
   }
-  // both or neither: the joint-variable file goes first and is removed again if the model cannot be written
+  // both or neither: both are written to temporaries before either target is replaced, so a failed export
+  // leaves an existing pair (or any file of those names) as it was
   const std::string variables = jointVariablesPath(o.out);
-  writeFileAtomically(variables, *exported.joint_variables);
-  try {
-    writeFileAtomically(o.out, exported.text);
-  } catch (...) {
-    std::remove(variables.c_str());
-    throw;
-  }
+  StagedFiles files;
+  files.stage(variables, *exported.joint_variables);
+  files.stage(o.out, exported.text);
+  files.commit();
+  notes();
   std::cout << exportFormatName(format) << " written to " << o.out << "; its joint variable is x = scale (q + offset) of "
             << variables << "'s q (written too); ";
   if (exported.mujoco_readable) {

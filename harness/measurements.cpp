@@ -13,6 +13,7 @@
 #include <system_error>
 #include <utility>
 
+#include "lowpair/tolerances.hpp"
 #include "robot_file.hpp"
 
 namespace lowpair {
@@ -140,6 +141,7 @@ double parseNumber(const std::string& token, const Fail& fail) {
                        : std::strtod(token.c_str(), &end);
   if (end != token.c_str() + token.size() || token.empty()) fail(quoted(token) + " is not a number");
   if (!std::isfinite(x)) fail(quoted(token) + " is not a finite number");
+  if (std::abs(x) > kMaxMagnitude) fail(quoted(token) + " is above 1e100 in magnitude (kMaxMagnitude)");
   return x;
 }
 

@@ -16,6 +16,42 @@
 namespace lowpair {
 
 
+std::optional<double> metresPerUnit(const std::string& length_unit) {
+  static const std::pair<const char*, double> kUnits[] = {{"m", 1.0},   {"mm", 1e-3}, {"cm", 1e-2},   {"dm", 1e-1},
+                                                          {"um", 1e-6}, {"km", 1e3},  {"in", 0.0254}, {"ft", 0.3048}};
+  for (const auto& [name, metres] : kUnits) {
+    if (length_unit == name) return metres;
+  }
+  return std::nullopt;
+}
+
+RobotFile inMetres(const RobotFile& file) {
+  const std::optional<double> f = metresPerUnit(file.length_unit);
+  if (!f) {
+    throw RobotFileError(file.path + ": " +
+                         (file.length_unit.empty() ? std::string("states no length_unit")
+                                                   : "length_unit '" + file.length_unit + "' is not one lowpair converts") +
+                         ": give length_unit (m, mm, cm, dm, um, km, in or ft) to write lengths in metres");
+  }
+  const PoeModel model = file.poeModel();
+  std::vector<Joint> joints = model.joints();
+  for (Joint& j : joints) {
+    if (j.type == JointType::Prismatic) {
+      j.scale *= *f;  // x [m] = f scale (q + offset): q keeps its unit
+    } else {
+      j.twist.tail<3>() *= *f;
+      j.pitch *= *f;
+    }
+  }
+  Pose tool = model.toolPose();
+  tool.p *= *f;
+  RobotFile out = file;
+  out.length_unit = "m";
+  out.dh.reset();
+  out.poe = PoeModel(std::move(joints), tool, model.name());
+  return out;
+}
+
 double RobotFile::angleFactor() const { return angle_unit == "deg" ? M_PI / 180.0 : 1.0; }
 
 PoeModel RobotFile::poeModel() const { return poe ? *poe : dhToPoe(*dh); }

@@ -35,6 +35,16 @@ struct RobotFile {
 /// @throws RobotFileError
 RobotFile readRobotFile(const std::string& path);
 
+/// Metres per length unit for the units lowpair converts: m, mm, cm, dm, um, km, in, ft; nullopt for
+/// any other label (and for none).
+std::optional<double> metresPerUnit(const std::string& length_unit);
+
+/// `file` with every length in metres (what a URDF holds): a POE file (a D-H file converted) whose twist
+/// moments, pitches and tool position are multiplied by metresPerUnit(length_unit), whose prismatic scales
+/// absorb the factor (q, its offset and range keep the file's unit), and whose length_unit is "m".
+/// @throws RobotFileError when the file states no length unit or one lowpair does not convert
+RobotFile inMetres(const RobotFile& file);
+
 /// A POE robot file holding `model` (readRobotFile reads it back to rounding: twists `scale * unit twist`
 /// with 17 significant digits, the tool as `tool_pose`), with `like`'s length and angle units (offsets and
 /// revolute ranges converted to its angle_unit), `name`, `description` and `comments` as leading `#` lines.

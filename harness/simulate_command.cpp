@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
+#include "lowpair/tolerances.hpp"
 #include "measurements.hpp"
 #include "mujoco_robot.hpp"
 #include "output.hpp"
@@ -46,12 +47,6 @@ struct Truth {
   std::string variable;     // whose joint variable q is
   std::string length_unit;  // "" when unknown
 };
-
-// The shortest text that reads back as x ("0.01", "nan").
-std::string shortest(double x) {
-  char buffer[32];
-  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, x).ptr);
-}
 
 // Sampling range of a joint nothing else gives one for: a turn (revolute, helical) or [-L, L] (prismatic).
 std::array<double, 2> defaultRange(JointType type, double L) {
@@ -118,8 +113,9 @@ Truth modelTruth(const SimulateOptions& o) {
   return truth;
 }
 
-void checkNoise(const char* option, double sd) {
+void checkNoise(const char* option, double sd, double limit) {
   if (!std::isfinite(sd) || sd < 0) throw UsageError(option, "expected a finite number >= 0, got " + shortest(sd));
+  if (sd > limit) throw UsageError(option, shortest(sd) + " is above " + shortest(limit));
 }
 
 std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth) {
@@ -147,8 +143,10 @@ std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth) 
 }
 
 int simulate(const SimulateOptions& o) {
-  checkNoise("--noise-position", o.noise_position);
-  checkNoise("--noise-rotation", o.noise_rotation);
+  // a rotation noise above pi rad is a uniformly random rotation; a position noise up to 1e100 keeps every
+  // coordinate within what the measurement reader takes (checked per measurement below)
+  checkNoise("--noise-position", o.noise_position, kMaxMagnitude);
+  checkNoise("--noise-rotation", o.noise_rotation, M_PI);
   const std::string ext = fs::path(o.robot.path).extension().string();
   const bool model_file = ext == ".xml" || ext == ".urdf";
   if (!model_file && !o.joint_variables.empty()) {
@@ -165,6 +163,10 @@ int simulate(const SimulateOptions& o) {
     randomSample(seed, k, truth.ranges, m.q);
     m.T_base_tool = truth.tipPose(m.q);
     addMeasurementNoise(seed, k, o.noise_position, o.noise_rotation, m.T_base_tool);
+    if (!(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
+      throw UsageError("--noise-position", "measurement " + std::to_string(k + 1) +
+                                               " has a coordinate above 1e100 in magnitude, which no reader takes");
+    }
   }
   const std::string text = formatMeasurements(measure, measurements, describe(o, truth));
   if (o.out.empty()) {

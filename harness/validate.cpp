@@ -256,12 +256,15 @@ Setup prepare(const Scenario& scenario) {
   const double tr = scenario.tol_rotation, tt = scenario.tol_translation * L;
   setup.comparisons.push_back(poseComparison("poe_vs_mujoco", poe, tr, tt));
   setup.comparisons.push_back(poseComparison("dh_vs_mujoco", poeToDh(poe).model, tr, tt));
-  if (fs::path(scenario.model).extension() == ".urdf") {  // the URDF's own reading (urdfdom) against MuJoCo's
+  const bool urdf = fs::path(scenario.model).extension() == ".urdf";
+  if (urdf) {  // the URDF's own reading (urdfdom) against MuJoCo's
     setup.comparisons.push_back(poseComparison(
         "urdfdom_vs_mujoco", matchingModel(readUrdf(scenario.model, scenario.tip, scenario.base), robot, scenario.model, scenario.tip), tr, tt));
   }
   for (const auto& path : scenario.robot_files) {
     RobotFile file = readRobotFile(path);
+    // a URDF is in metres: a robot file in another unit is compared in metres (as export converts it)
+    if (urdf && !file.length_unit.empty() && file.length_unit != "m") file = inMetres(file);
     const PoeModel m = matchingModel(file, robot, scenario.model, scenario.tip);
     std::string name = "robot_file_vs_mujoco:" + fs::path(path).filename().string();
     if (file.poe) {

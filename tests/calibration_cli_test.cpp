@@ -452,3 +452,53 @@ TEST(CalibrateRejects, MoreMeasurementsThanItFits) {
   std::ofstream(one_joint) << "poe:\n  joints:\n    - {twist: [0, 0, 1, 0, 0, 0]}\n  tool: [0, 0, 0, 1, 0, 0]\n";
   expectRejected("calibrate " + shellQuote(one_joint) + " --measurements " + shellQuote(big), "at most 10000", big);
 }
+
+// Review findings: numbers at the edge of double end as one line, never a hang, inf or NaN. A stated noise
+// of 1e-160 squared the weighted residuals past overflow and the damping loop never ended; a joint value of
+// 1e155 in a CSV did the same; simulate with noise 1e308 wrote inf into the file.
+TEST(CalibrateRejects, NumbersBeyondDoubleEndCleanly) {
+  const std::string good = simulateTo("edge.csv", shellQuote(kActualYaml) + " --poses 20 --seed 4");
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(good) + " --noise-position 1e-160",
+                 "calibrate: the weighted residuals or Jacobian overflow (sigma_position 1e-160", kNominal);
+  std::ifstream in(good);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const size_t data = text.find("\n", text.find("q1,")) + 1;  // the first data line
+  const std::string big = scratch() + "/edge_big.csv";
+  std::ofstream(big) << text.substr(0, data) << "1e155" << text.substr(text.find(',', data));
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(big),
+                 "'1e155' is above 1e100 in magnitude", big + ":");
+  expectRejected("simulate " + shellQuote(kNominal) + " --poses 3 --noise-position 1e308", "is above 1e+100",
+                 "--noise-position");
+  expectRejected("simulate " + shellQuote(kNominal) + " --poses 3 --noise-rotation 4", "is above 3.14159",
+                 "--noise-rotation");
+  // a rotation noise for position measurements weighs nothing: rejected, not silently ignored
+  const std::string position = simulateTo("edge_position.csv", shellQuote(kNominal) + " --poses 20 --measure position");
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(position) +
+                     " --noise-rotation 1e-4",
+                 "holds position measurements", "--noise-rotation");
+  // one stated noise: the other is derived and says so
+  const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(good) +
+                          " --noise-position 0.01 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["noise"]["derived"], "rotation") << r.out;
+  const CliRun dh = runCli("poe2dh " + shellQuote(kNominal) + " --json");  // its "size" is L
+  ASSERT_EQ(dh.status, 0) << dh.err;
+  EXPECT_DOUBLE_EQ(j["noise"]["rotation"].get<double>(), 0.01 / nlohmann::json::parse(dh.out)["size"].get<double>())
+      << r.out;
+}
+
+// Review finding: a failed export removed an existing joint-variable file (it was written first and removed
+// again when the model could not be written). Both are staged now; a failure leaves both names as they were.
+TEST(ExportRejects, FailedExportKeepsExistingFiles) {
+  const std::string out = scratch() + "/kept.urdf";  // a directory: the model cannot be written
+  fs::create_directories(out);
+  const std::string variables = scratch() + "/kept.joint_variables.yaml";
+  std::ofstream(variables) << "keep me\n";
+  expectRejected("export " + shellQuote(kActualYaml) + " --format urdf --out " + shellQuote(out), "is a directory", out);
+  std::ifstream in(variables);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), {}), "keep me\n");
+  EXPECT_TRUE(fs::is_directory(out));
+  for (const auto& e : fs::directory_iterator(scratch()))  // no temporary left behind
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}

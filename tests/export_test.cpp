@@ -182,14 +182,21 @@ void roundTrip(const RobotFile& file, const std::string& tag, bool mujoco, std::
     }
   }
 
-  // URDF and MJCF: the motion x
+  // URDF and MJCF: the motion x. The URDF is in metres (a robot file in mm or cm converted): its reference
+  // is the model in metres, at the same q
+  const PoeModel metres = file.length_unit.empty() || file.length_unit == "m" ? model : inMetres(file).poeModel();
+  const double L_metres = metres.size();
+  std::vector<Pose> reference_metres;
+  for (const VecX& q : qs) reference_metres.push_back(fk(metres, q));
   const std::string urdf = scratch().write(tag + ".urdf", exportRobot(file, ExportFormat::Urdf, comments).text);
   {
     const RobotFile back = readUrdf(urdf, "tool");
     const PoeModel& m = *back.poe;
     ASSERT_EQ(m.dof(), model.dof()) << urdf;
     for (int i = 0; i < model.dof(); ++i) EXPECT_EQ(m.joint(i).type, model.joint(i).type) << urdf << " joint " << i + 1;
-    for (size_t k = 0; k < qs.size(); ++k) expectPose(reference[k], fk(m, motionOf(model, qs[k])), L, out.urdf_dom, urdf);
+    for (size_t k = 0; k < qs.size(); ++k) {
+      expectPose(reference_metres[k], fk(m, motionOf(metres, qs[k])), L_metres, out.urdf_dom, urdf);
+    }
   }
   if (!mujoco) return;
   const std::string mjcf = scratch().write(tag + ".xml", exportRobot(file, ExportFormat::Mjcf, comments).text);
@@ -224,7 +231,11 @@ void roundTrip(const RobotFile& file, const std::string& tag, bool mujoco, std::
     }
     MujocoRobot::Evaluator evaluator(*robot);
     for (size_t k = 0; k < qs.size(); ++k) {
-      expectPose(reference[k], evaluator.tipPose(motionOf(model, qs[k])), L, path == mjcf ? out.mjcf : out.urdf_mujoco, path);
+      if (path == mjcf) {
+        expectPose(reference[k], evaluator.tipPose(motionOf(model, qs[k])), L, out.mjcf, path);
+      } else {
+        expectPose(reference_metres[k], evaluator.tipPose(motionOf(metres, qs[k])), L_metres, out.urdf_mujoco, path);
+      }
     }
   }
 }
@@ -495,12 +506,16 @@ TEST(ExportTwins, RobotFileMjcfAndUrdfGiveTheSameFk) {
       ASSERT_EQ(urdf_robot->dof(), model.dof());
       urdf_eval = std::make_unique<MujocoRobot::Evaluator>(*urdf_robot);
     }
+    // the URDF is in metres (a mm or cm robot file converted), the MJCF in the robot file's unit
+    const RobotFile source = readRobotFile(e.path().string());
+    const PoeModel metres = source.length_unit == "m" ? model : inMetres(source).poeModel();
+    const double L_metres = metres.size();
     for (const VecX& q : configurations(model, rng)) {
-      const Pose T = fk(model, q);
-      const VecX x = motionOf(model, q);
-      expectPose(T, fk(from_urdf, x), L, urdf_dom, urdf.string());
+      const Pose T = fk(model, q), T_metres = fk(metres, q);
+      const VecX x = motionOf(model, q), x_metres = motionOf(metres, q);
+      expectPose(T_metres, fk(from_urdf, x_metres), L_metres, urdf_dom, urdf.string());
       if (urdf_eval) {
-        expectPose(T, urdf_eval->tipPose(x), L, urdf_mujoco, urdf.string());
+        expectPose(T_metres, urdf_eval->tipPose(x_metres), L_metres, urdf_mujoco, urdf.string());
       }
       expectPose(T, mjcf_eval.tipPose(x), L, mjcf, xml.string());
     }
@@ -518,6 +533,49 @@ TEST(ExportTwins, RobotFileMjcfAndUrdfGiveTheSameFk) {
   }
   EXPECT_GE(twins, 8);
   for (const Worst* w : {&urdf_dom, &urdf_mujoco, &mjcf}) w->print();
+}
+
+}  // namespace
+}  // namespace lowpair
+
+namespace lowpair {
+namespace {
+
+// Review finding: a mm robot was exported as a URDF with its millimetres written as metres. URDF lengths
+// are metres: known units are converted (prismatic q keeps its unit, the scale absorbs the factor), an
+// unknown one is refused naming it, a file without a unit gets a note.
+TEST(ExportUnits, UrdfLengthsAreMetres) {
+  constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+  EXPECT_EQ(metresPerUnit("mm"), 1e-3);
+  EXPECT_EQ(metresPerUnit("in"), 0.0254);
+  EXPECT_FALSE(metresPerUnit("").has_value());
+  EXPECT_FALSE(metresPerUnit("MM").has_value());
+  const RobotFile rhino = readRobotFile(std::string(LOWPAIR_MODELS) + "/rhino_xr3_slide.yaml");  // cm, a slide
+  ASSERT_EQ(rhino.length_unit, "cm");
+  const RobotFile metres = inMetres(rhino);
+  EXPECT_EQ(metres.length_unit, "m");
+  const PoeModel cm = rhino.poeModel(), m = metres.poeModel();
+  std::mt19937_64 rng(3);
+  for (const VecX& q : configurations(cm, rng)) {
+    const Pose a = fk(cm, q), b = fk(m, q);
+    // the same pose, positions / 100: rounding of lengths L (cm) carried through a 1e-2 multiplication
+    EXPECT_LE((a.R - b.R).cwiseAbs().maxCoeff(), 64 * kEpsilon);
+    EXPECT_LE((a.p * 1e-2 - b.p).cwiseAbs().maxCoeff(), 64 * kEpsilon * m.size());
+  }
+  RobotFile odd = rhino;
+  odd.length_unit = "furlong";
+  try {
+    exportRobot(odd, ExportFormat::Urdf, {});
+    ADD_FAILURE() << "a unit lowpair cannot convert was exported";
+  } catch (const RobotFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("length_unit 'furlong' is not one lowpair converts"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(exportRobot(odd, ExportFormat::Mjcf, {}));  // MuJoCo has no unit: the MJCF keeps the file's
+  RobotFile none = rhino;
+  none.length_unit.clear();
+  const ExportedRobot unlabelled = exportRobot(none, ExportFormat::Urdf, {});
+  ASSERT_FALSE(unlabelled.notes.empty());
+  EXPECT_NE(unlabelled.notes.front().find("states no length_unit"), std::string::npos) << unlabelled.notes.front();
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <sstream>
 
 #include "lowpair/check.hpp"
 #include "lowpair/kinematics.hpp"
@@ -499,11 +501,21 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   };
   auto usable = [&](const VecX& s, int i) { return s[i] > kRankFactor * rank * kEps * s[0]; };
 
-  double lambda = -1.0, lambda_start = 0.0;  // set from sigma_1 at the first iteration
+  // Levenberg-Marquardt with the damping relative to sigma_1^2 (mu): no sigma_1^2 is ever formed, so a
+  // Jacobian near the overflow limit (a tiny stated noise) damps like any other, and mu's bounds end the
+  // inner loop after at most log10(kMuMax / kMuMin) + 1 rejections.
+  constexpr double kMuStart = 1e-6, kMuMin = 1e-12, kMuMax = 1e16, kMuStep = 10.0;
+  constexpr double kRelativeDecrease = 1e-10;  // converged when an undamped step gains less than this
+  auto overflow = [&] {
+    std::ostringstream text;
+    text << "calibrate: the weighted residuals or Jacobian overflow (sigma_position " << w.position
+         << " for a robot of size L = " << L << "): state the noise and the measurements in the robot's length unit";
+    return std::invalid_argument(text.str());
+  };
+  if (!std::isfinite(cost)) throw overflow();
+  double mu = kMuStart;
   int iterations = 0;
   bool converged = false;
-  constexpr double kRelativeDecrease = 1e-10;  // converged when an undamped step gains less than this
-  constexpr double kLambdaUp = 10.0, kLambdaDown = 10.0, kLambdaMax = 1e16;  // relative to sigma_1^2
   while (!converged && iterations < options.max_iterations) {
     ++iterations;
     if (rank == 0 || cost == 0.0) {
@@ -512,37 +524,38 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
     }
     const Eigen::JacobiSVD<MatX> svd = reduced(em);
     const VecX& s = svd.singularValues();
+    const VecX g = svd.matrixU().transpose() * r;
+    if (!s.allFinite() || !g.allFinite()) throw overflow();
     const double s1 = s[0];
     if (!(s1 > 0.0)) {
       converged = true;
       break;
     }
-    const VecX g = svd.matrixU().transpose() * r;
-    if (lambda < 0.0) lambda = lambda_start = 1e-6 * s1 * s1;
     bool accepted = false;
-    while (!accepted && lambda <= kLambdaMax * s1 * s1) {
+    for (; !accepted && mu <= kMuMax; mu = std::max(mu, kMuMin) * kMuStep) {
+      // y = sum_i v_i s_i g_i / (s_i^2 + mu s_1^2), in units of s_1: (s_i/s_1) g_i / ((s_i/s_1)^2 + mu) / s_1
       VecX y = VecX::Zero(rank);
       for (int i = 0; i < s.size(); ++i) {
-        if (usable(s, i)) y += svd.matrixV().col(i) * (s[i] * g[i] / (s[i] * s[i] + lambda));
+        const double t = s[i] / s1;
+        if (usable(s, i)) y += svd.matrixV().col(i) * (t * g[i] / (t * t + mu) / s1);
       }
+      if (!y.allFinite()) continue;
       VecX r_new;
       double cost_new = kInf;
       std::optional<PoeModel> candidate;
       try {
         candidate.emplace(em.apply(basis * y));
         cost_new = residual(*candidate, measurements, measure, w, r_new);
-      } catch (const std::invalid_argument&) {  // a step through a non-positive scale: damp more
+      } catch (const std::invalid_argument&) {  // a step through a non-positive scale or beyond the limits
       }
       if (cost_new < cost) {
         accepted = true;
         // a small gain counts only for an undamped-enough step (a heavily damped one is small anyway)
-        converged = cost - cost_new <= kRelativeDecrease * cost && lambda <= lambda_start;
+        converged = cost - cost_new <= kRelativeDecrease * cost && mu <= kMuStart;
         cost = cost_new;
         r = std::move(r_new);
         em = em.rebased(*candidate);
-        lambda /= kLambdaDown;
-      } else {
-        lambda = std::max(lambda, 1e-12 * s1 * s1) * kLambdaUp;
+        mu /= kMuStep * kMuStep;  // the loop's increment follows: net one step down
       }
     }
     if (!accepted) converged = true;  // no step decreases the cost: the rounding floor
@@ -580,6 +593,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
                         residualStatistics(nominal, measurements, measure),
                         residualStatistics(em.model(), measurements, measure), iterations, converged,
                         w.position, w.rotation, stated, variance_factor, axes * axes.transpose(), sd, axes, null};
+  out.sigma_position_stated = options.sigma_position.has_value();
+  out.sigma_rotation_stated = options.sigma_rotation.has_value();
   return out;
 }
 

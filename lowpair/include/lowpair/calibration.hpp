@@ -177,7 +177,7 @@ struct CalibrationResult {
   PoeModel model;                    ///< calibrated
   ErrorModel error_model;            ///< the local coordinates at the calibrated model
   ParameterCount expected;
-  RankAnalysis rank;                 ///< of the weighted identification Jacobian at the result
+  RankAnalysis rank;                 ///< of the weighted identification Jacobian at the nominal (fixes the subspace)
   ResidualStatistics before, after;  ///< on the measurements
   int iterations = 0;
   bool converged = false;
@@ -193,6 +193,9 @@ struct CalibrationResult {
   MatX principal_axes;
   /// Parameter directions the measurements do not determine (columns, parameter units; empty at full rank).
   MatX undetermined_directions;
+  /// Which weight was stated; the other of a stated pair is derived (sigma_rotation = sigma_position / L or
+  /// sigma_position = sigma_rotation L).
+  bool sigma_position_stated = false, sigma_rotation_stated = false;
 };
 
 /// Levenberg–Marquardt in the error model's coordinates (directions fixed at the nominal, re-centred at
