@@ -163,9 +163,20 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
   const std::vector<std::string> names = parameterNames(c.error_model.parameters());
   if (c.rank.rank < c.expected.total()) {
     std::ostringstream s;
+    // the tool rotation is a column of the error model but not of the count for position measurements
+    const int tool_rotation = r.fit.measure == Measure::Position ? 3 : 0;
     s << "rank " << c.rank.rank << " < " << c.expected.total() << ": these measurements do not determine "
-      << c.rank.undetermined.size() << " parameter direction(s), left at the nominal:";
+      << c.rank.undetermined.size() - static_cast<size_t>(tool_rotation) << " parameter direction(s) of the count"
+      << (tool_rotation ? " (and the tool rotation, which position measurements never determine)" : "")
+      << ", left at the nominal:";
     for (const auto& d : c.rank.undetermined) s << " [" << directionText(d, names) << "]";
+    s << ". The fit is confined to the directions the nominal determines: an error of the robot along the others "
+         "stays in the residuals (after: "
+      << fixed(c.after.rms_position, 4) << " " << lengthUnit(r.nominal)
+      << " RMS); more varied poses, "
+      << (r.fit.measure == Measure::Position ? "pose measurements or a tool point off the wrist axes"
+                                             : "or a nominal without the degenerate geometry")
+      << " determine them";
     w.push_back(s.str());
   }
   if (!c.converged) w.push_back("did not converge in " + std::to_string(c.iterations) + " iterations");
