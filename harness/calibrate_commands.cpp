@@ -56,10 +56,10 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     const PoeModel model = file.poeModel();
     const Measure measure = parseMeasure(o->measure);
     // the full error model has 8 columns per joint + pitches + 6; the D-H one 6 per joint + 6
-    if (6.0 * o->poses * (9.0 * model.dof() + 6.0) > kMaxJacobianEntries) {
+    if (identificationEntries(o->poses, model.dof(), 9.0) > kMaxJacobianEntries) {
       throw UsageError("--poses", std::to_string(o->poses) + " poses of a " + std::to_string(model.dof()) +
-                                      "-joint robot exceed the Jacobian size limit (" + fixed(kMaxJacobianEntries, 0) +
-                                      " entries)");
+                                      "-joint robot exceed the identification size limit (" + shortest(kMaxJacobianEntries) +
+                                      " numbers: the Jacobian and the SVD's V, columns squared)");
     }
     const auto ranges = samplingRanges(model);
     std::vector<VecX> q(static_cast<size_t>(o->poses), VecX(model.dof()));
@@ -104,11 +104,13 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     };
     check_dof(fit);
     if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
-        6.0 * static_cast<double>(fit.measurements.size()) * (6.0 * nominal.dof() + 6.0) > kMaxJacobianEntries) {
+        identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) > kMaxJacobianEntries) {
       throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
                            " measurements of " + std::to_string(nominal.dof()) + " joints; calibrate fits at most " +
-                           std::to_string(kMaxCalibrationMeasurements) + " and at most " + fixed(kMaxJacobianEntries, 0) +
-                           " Jacobian entries (use the rest with --validation)");
+                           std::to_string(kMaxCalibrationMeasurements) + " measurements and at most " +
+                           shortest(kMaxJacobianEntries) +
+                           " numbers at once (the Jacobian, 6 rows per measurement, and the SVD's V, columns squared: "
+                           "fit fewer measurements and put the rest in --validation; a robot this long cannot be fitted)");
     }
     std::optional<MeasurementFile> validation;
     if (!o->validation.empty()) {

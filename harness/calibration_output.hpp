@@ -18,12 +18,18 @@ namespace lowpair {
 /// Upper bound on `identifiability --poses` (the Jacobian has 6 rows per pose).
 constexpr int kMaxIdentifiabilityPoses = 10000;
 /// Upper bound on the measurements `calibrate` fits (and a scenario's `poses`): the weighted Jacobian and its
-/// SVD hold 6 rows per measurement, about 40 MB at this limit for 7 joints. Validation files are streamed
-/// and only bounded by the CSV reader's limit.
+/// SVD hold 6 rows per measurement, about 40 MB at this limit for 7 joints. Validation files are read whole
+/// (bounded by the CSV reader's limits) and only evaluated.
 constexpr int kMaxCalibrationMeasurements = 10000;
 /// Upper bound on the entries of an identification Jacobian the CLI builds (rows x columns, bounded for a
 /// many-joint robot too: 2e7 doubles, 160 MB, and its SVD about as much again).
 constexpr double kMaxJacobianEntries = 2e7;
+/// The numbers an identification of `poses` measurements of a `joints`-joint robot holds at once: the
+/// Jacobian (6 rows per pose, `columns_per_joint` per joint + 6) and the SVD's full V (columns squared).
+inline double identificationEntries(double poses, double joints, double columns_per_joint) {
+  const double columns = columns_per_joint * joints + 6.0;
+  return 6.0 * poses * columns + columns * columns;
+}
 
 /// Everything `calibrate` prints.
 struct CalibrationReport {

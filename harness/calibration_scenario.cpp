@@ -61,7 +61,7 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
                          std::to_string(config.noise_position) + " exceeds the robot size L = " +
                          std::to_string(nominal.size()));
   }
-  if (6.0 * config.poses * (6.0 * nominal.dof() + 6.0) > kMaxJacobianEntries) {
+  if (identificationEntries(config.poses, nominal.dof(), 7.0) > kMaxJacobianEntries) {
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': " + std::to_string(config.poses) +
                          " poses of a " + std::to_string(nominal.dof()) + "-joint robot exceed the Jacobian size limit");
   }

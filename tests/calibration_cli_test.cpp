@@ -519,3 +519,16 @@ TEST(Calibrate, PositionOnlyRankWarningCountsAgainstTheFormula) {
   EXPECT_NE(warning.find("the tool rotation"), std::string::npos) << warning;
   EXPECT_NE(warning.find("confined to the directions the nominal determines"), std::string::npos) << warning;
 }
+
+// Review finding: the SVD's full V grows as the columns squared, which the Jacobian limit did not count
+// (800 joints, one pose: V alone 4,806^2 numbers). Bounded now, naming the limit, before any allocation.
+TEST(CalibrateRejects, LongChainsWithinTheMemoryLimit) {
+  std::string text = "name: long\nlength_unit: m\npoe:\n  joints:\n";
+  for (int i = 0; i < 800; ++i) text += "    - {twist: [0, 0, 1, 0, " + std::to_string(i * 1e-3) + ", 0]}\n";
+  text += "  tool: [0, 0, 0, 1, 0, 0]\n";
+  const std::string robot = scratch() + "/long_chain.yaml";
+  std::ofstream(robot) << text;
+  const std::string m = simulateTo("long_chain.csv", shellQuote(robot) + " --poses 1");
+  expectRejected("calibrate " + shellQuote(robot) + " --measurements " + shellQuote(m), "numbers at once", m);
+  expectRejected("identifiability " + shellQuote(robot) + " --poses 1", "identification size limit", "--poses");
+}
