@@ -57,7 +57,10 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     const Measure measure = parseMeasure(o->measure);
     // the full error model has 8 columns per joint + pitches + 6; the D-H one 6 per joint + 6
     if (identificationEntries(o->poses, model.dof(), 9.0) > kMaxJacobianEntries) {
-      throw UsageError("--poses", std::to_string(o->poses) + " poses of a " + std::to_string(model.dof()) +
+      // one pose over the limit: the robot is too long whatever --poses says
+      const bool robot = identificationEntries(1, model.dof(), 9.0) > kMaxJacobianEntries;
+      throw UsageError(robot ? file.path : std::string("--poses"),
+                       std::to_string(o->poses) + " poses of a " + std::to_string(model.dof()) +
                                       "-joint robot exceed the identification size limit (" + shortest(kMaxJacobianEntries) +
                                       " numbers: the Jacobian and the SVD's V, columns squared)");
     }
@@ -96,13 +99,18 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     const RobotFile file = loadRobot(o->robot);
     const PoeModel nominal = file.poeModel();
     const MeasurementFile fit = readMeasurements(o->measurements);
-    auto check_dof = [&](const MeasurementFile& m) {
+    // the measurements must be of this robot: its joint count, and its length unit when both state one
+    auto check_matches = [&](const MeasurementFile& m) {
       if (m.dof != nominal.dof()) {
         throw RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + file.path + " has " +
                              std::to_string(nominal.dof()) + " joints");
       }
+      if (!m.length_unit.empty() && !file.length_unit.empty() && m.length_unit != file.length_unit) {
+        throw RobotFileError(m.path + ": lengths in " + m.length_unit + " (its length_unit comment) but " + file.path +
+                             " is in " + file.length_unit + ": measure in the nominal's unit");
+      }
     };
-    check_dof(fit);
+    check_matches(fit);
     if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
         identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) > kMaxJacobianEntries) {
       throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
@@ -115,7 +123,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     std::optional<MeasurementFile> validation;
     if (!o->validation.empty()) {
       validation = readMeasurements(o->validation);
-      check_dof(*validation);
+      check_matches(*validation);
     }
     for (const auto& [value, flag, limit] : {std::tuple{o->noise_position, "--noise-position", kMaxMagnitude},
                                              std::tuple{o->noise_rotation, "--noise-rotation", M_PI}}) {

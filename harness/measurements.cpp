@@ -99,6 +99,24 @@ bool isComment(const std::string& line) {
   return true;  // blank
 }
 
+// A `# length_unit: U` comment sets `unit` (the first one; a second must agree). @param fail throws
+// "FILE:LINE: what"
+template <class Fail>
+void readUnitComment(const std::string& line, std::string& unit, const Fail& fail) {
+  const size_t hash = line.find('#');
+  if (hash == std::string::npos) return;  // blank
+  size_t k = line.find_first_not_of(" \t", hash + 1);
+  static const std::string key = "length_unit:";
+  if (k == std::string::npos || line.compare(k, key.size(), key) != 0) return;
+  const size_t begin = line.find_first_not_of(" \t", k + key.size());
+  const size_t end = begin == std::string::npos ? begin : line.find_last_not_of(" \t\r") + 1;
+  const std::string value = begin == std::string::npos ? "" : line.substr(begin, end - begin);
+  if (!isUnitLabel(value)) fail("length_unit " + quoted(value) + " is not a unit label (one token of 1-16 printable ASCII characters)");
+  const std::string& previous = unit;  // (const: std::quoted would take a non-const string by ADL)
+  if (!previous.empty() && previous != value) fail("length_unit " + quoted(value) + " after length_unit " + quoted(previous));
+  unit = value;
+}
+
 struct Columns {
   int dof = 0;
   Measure measure = Measure::Pose;
@@ -153,6 +171,10 @@ void appendNumber(std::string& out, double x) {
 
 }  // namespace
 
+bool isUnitLabel(const std::string& unit) {
+  return !unit.empty() && unit.size() <= 16 && std::all_of(unit.begin(), unit.end(), [](char c) { return c > ' ' && c < 127; });
+}
+
 MeasurementFile readMeasurements(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
@@ -170,7 +192,10 @@ MeasurementFile readMeasurements(const std::string& path) {
   bool have_header = false;
   Columns columns;
   while (lines.next(line)) {
-    if (isComment(line)) continue;
+    if (isComment(line)) {
+      readUnitComment(line, file.length_unit, fail);
+      continue;
+    }
     splitFields(line, fields);
     if (!have_header) {
       columns = parseHeader(fields, fail);

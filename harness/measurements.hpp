@@ -6,6 +6,9 @@
 /// Format:
 /// - Text, comma separated, lines ending in LF or CRLF; a UTF-8 byte order mark at the start is skipped.
 /// - Comments: blank lines, and lines whose first character other than spaces and tabs is `#`, anywhere.
+///   One comment may state the length unit of `x,y,z`: `# length_unit: U` (U one token of 1-16 printable
+///   ASCII characters, e.g. `mm`; `lowpair simulate` writes it when the unit is known). A second one with
+///   another unit is an error. `calibrate` rejects measurements whose stated unit is not the nominal's.
 /// - Header: the first other line names the columns, exactly in this order (names trimmed of spaces and
 ///   tabs): `q1,...,qn,x,y,z` (position measurements) or `q1,...,qn,x,y,z,qw,qx,qy,qz` (pose measurements),
 ///   with 1 <= n <= 1000 joints numbered contiguously from q1.
@@ -40,6 +43,7 @@ struct MeasurementFile {
   Measure measure = Measure::Pose;  ///< Position when the file has no quaternion columns
   int dof = 0;                      ///< n, the number of joint columns
   std::vector<Measurement> measurements;  ///< rotation = identity for position measurements
+  std::string length_unit;  ///< from a `# length_unit: U` comment; "" when the file states none
 };
 
 /// Limits of the reader (see the file comment).
@@ -47,6 +51,9 @@ constexpr int kMaxMeasurements = 1000000;
 constexpr int kMaxMeasurementJoints = 1000;
 constexpr size_t kMaxMeasurementLineBytes = 65536;
 constexpr long long kMaxMeasurementJointValues = 100000000;
+
+/// A unit label a `# length_unit: U` comment can hold: one token of 1-16 printable ASCII characters.
+bool isUnitLabel(const std::string& unit);
 
 /// Reads a measurement CSV. @throws RobotFileError (see the file comment)
 MeasurementFile readMeasurements(const std::string& path);

@@ -92,6 +92,8 @@ Truth modelTruth(const SimulateOptions& o) {
     truth.variable = file.path + " (motion x = scale (q + offset))";
     truth.length_unit = file.length_unit;
   }
+  // MuJoCo reads a URDF's lengths as URDF fixes them, in metres, whatever the joint-variable file states
+  if (fs::path(o.robot.path).extension() == ".urdf") truth.length_unit = "m";
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<size_t>(i);
     const MujocoJoint& j = robot->joints()[k];
@@ -133,13 +135,15 @@ std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth) 
   }
   ranges << "q: the joint variable of " << truth.variable << ", uniform in";
   for (const auto& r : truth.ranges) ranges << " [" << shortest(r[0]) << ", " << shortest(r[1]) << "]";
-  return {command.str(),
-          "tool frame: " + truth.source,
+  std::vector<std::string> comments{command.str(), "tool frame: " + truth.source,
           std::to_string(o.poses) + " " + o.measure + " measurements, seed " + std::to_string(o.seed),
           noise.str(),
           ranges.str(),
           "x,y,z: tool position in the base frame (" + unit + ")" +
               (o.measure == "pose" ? "; qw,qx,qy,qz: its rotation, unit quaternion" : "")};
+  // read back by readMeasurements, checked by calibrate against the nominal's unit
+  if (isUnitLabel(truth.length_unit)) comments.push_back("length_unit: " + truth.length_unit);
+  return comments;
 }
 
 int simulate(const SimulateOptions& o) {
@@ -162,8 +166,15 @@ int simulate(const SimulateOptions& o) {
     m.q.resize(static_cast<Eigen::Index>(truth.ranges.size()));
     randomSample(seed, k, truth.ranges, m.q);
     m.T_base_tool = truth.tipPose(m.q);
+    // every number written must be one the measurement reader takes (|x| <= 1e100): the robot's own
+    // reach and joint values first, then what the noise adds
+    const auto beyond = [](const auto& v) { return !(v.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
+    if (beyond(m.q) || beyond(m.T_base_tool.p)) {
+      throw UsageError(o.robot.path, "measurement " + std::to_string(k + 1) + " has a joint value or coordinate above "
+                                     "1e100 in magnitude, which no reader takes (the robot's ranges or size)");
+    }
     addMeasurementNoise(seed, k, o.noise_position, o.noise_rotation, m.T_base_tool);
-    if (!(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
+    if (beyond(m.T_base_tool.p)) {
       throw UsageError("--noise-position", "measurement " + std::to_string(k + 1) +
                                                " has a coordinate above 1e100 in magnitude, which no reader takes");
     }

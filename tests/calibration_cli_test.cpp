@@ -396,6 +396,12 @@ TEST(Calibrate, TooFewPosesReportsTheUndeterminedParameters) {
 
 TEST(CalibrateRejects, BadMeasurementFilesWithFileAndLineAndWriteNothing) {
   const std::string good = simulateTo("good.csv", shellQuote(kActualYaml) + " --poses 5 --seed 1");
+  // measurements of the nominal itself: residuals at rounding level stay finite at 1e-160 (1e-13 / 1e-160),
+  // the Jacobian's columns (L / 1e-160 ~ 1e163) do not once squared for their norms; an unscaled column took
+  // the whole rank (exit 0 with a wrong rank warning)
+  const std::string exact = simulateTo("edge_exact.csv", shellQuote(kNominal) + " --poses 20 --seed 4");
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(exact) + " --noise-position 1e-160",
+                 "calibrate: the weighted residuals or Jacobian overflow (sigma_position 1e-160", kNominal);
   std::ifstream in(good);
   std::string text((std::istreambuf_iterator<char>(in)), {});
   const std::string cal = scratch() + "/never.yaml";
@@ -460,6 +466,12 @@ TEST(CalibrateRejects, NumbersBeyondDoubleEndCleanly) {
   const std::string good = simulateTo("edge.csv", shellQuote(kActualYaml) + " --poses 20 --seed 4");
   expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(good) + " --noise-position 1e-160",
                  "calibrate: the weighted residuals or Jacobian overflow (sigma_position 1e-160", kNominal);
+  // measurements of the nominal itself: residuals at rounding level stay finite at 1e-160 (1e-13 / 1e-160),
+  // the Jacobian's columns (L / 1e-160 ~ 1e163) do not once squared for their norms; an unscaled column took
+  // the whole rank (exit 0 with a wrong rank warning)
+  const std::string exact = simulateTo("edge_exact.csv", shellQuote(kNominal) + " --poses 20 --seed 4");
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(exact) + " --noise-position 1e-160",
+                 "calibrate: the weighted residuals or Jacobian overflow (sigma_position 1e-160", kNominal);
   std::ifstream in(good);
   std::string text((std::istreambuf_iterator<char>(in)), {});
   const size_t data = text.find("\n", text.find("q1,")) + 1;  // the first data line
@@ -467,6 +479,13 @@ TEST(CalibrateRejects, NumbersBeyondDoubleEndCleanly) {
   std::ofstream(big) << text.substr(0, data) << "1e155" << text.substr(text.find(',', data));
   expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(big),
                  "'1e155' is above 1e100 in magnitude", big + ":");
+  // a slide of scale 1e-3 over [-1e102, 1e102] reaches 1e99 (accepted), but its joint values are beyond
+  // what the reader takes: the robot is named, not the noise (review)
+  const std::string wide = writeScratchFile(
+      "wide_slide.yaml",
+      "name: t\nlength_unit: m\npoe:\n  joints:\n    - {twist: [0, 0, 0, 0, 0, 1e-3], range: [-1e102, 1e102]}\n"
+      "  tool: [0, 0, 0, 1, 0, 0]\n");
+  expectRejected("simulate " + shellQuote(wide) + " --poses 3", "has a joint value or coordinate above 1e100", wide);
   expectRejected("simulate " + shellQuote(kNominal) + " --poses 3 --noise-position 1e308", "is above 1e+100",
                  "--noise-position");
   expectRejected("simulate " + shellQuote(kNominal) + " --poses 3 --noise-rotation 4", "is above 3.14159",
@@ -530,5 +549,25 @@ TEST(CalibrateRejects, LongChainsWithinTheMemoryLimit) {
   std::ofstream(robot) << text;
   const std::string m = simulateTo("long_chain.csv", shellQuote(robot) + " --poses 1");
   expectRejected("calibrate " + shellQuote(robot) + " --measurements " + shellQuote(m), "numbers at once", m);
-  expectRejected("identifiability " + shellQuote(robot) + " --poses 1", "identification size limit", "--poses");
+  expectRejected("identifiability " + shellQuote(robot) + " --poses 1", "identification size limit", robot);
+}
+
+// Review finding: measurements in metres (simulated from a URDF) fitted to a nominal in mm were a silently
+// wrong calibration. simulate states the unit (`# length_unit: U`), calibrate compares it with the nominal's.
+TEST(CalibrateRejects, MeasurementsInAnotherLengthUnit) {
+  const std::string urdf = modelPath("puma560_okamura_nominal.urdf");
+  const std::string metres = simulateTo("metres.csv", shellQuote(urdf) + " --tip tool --poses 30 --seed 5");
+  std::ifstream in(metres);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("\n# length_unit: m\n"), std::string::npos) << text.substr(0, 600);
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(metres),
+                 "lengths in m (its length_unit comment) but " + kNominal + " is in mm", metres);
+  const std::string mm = simulateTo("millimetres.csv", shellQuote(kNominal) + " --poses 30 --seed 5");
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(mm) + " --validation " +
+                     shellQuote(metres),
+                 "lengths in m", metres);
+  // the same measurements with the URDF (urdfdom, metres) as the nominal: units agree, a noise-free fit
+  const CliRun r = runCli("calibrate " + shellQuote(urdf) + " --tip tool --measurements " + shellQuote(metres) + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["converged"].get<bool>()) << r.out;
 }

@@ -263,6 +263,20 @@ TEST(HostileInput, ModelMagnitudesAreBoundedAndNamed) {
   const std::string slide = robot("offset_slide", "    - {twist: [0, 0, 1, 0, 0, 1e99], offset: 1e99}\n", "[0, 0, 0, 1, 0, 0]");
   expectRejected("poe2dh " + shellQuote(slide), "poeToDh: the D-H table, its offsets folded, is beyond the magnitude limits",
                  slide);
+  // nearly parallel axes meeting far out: joint 2's line crosses the z axis at 1e90 / sin(1e-13) = 1e103, a
+  // D-H d beyond the model limits. That is a number of the table, not a frame of the chain (its links sit on
+  // the joint lines, within L): accepted, finite, and its FK equals the POE FK to c eps max|d| (conversion.md)
+  const std::string tilted = robot("nearly_parallel_far",
+                                   "    - {twist: [0, 0, 1, 0, 0, 0]}\n    - {twist: [0, 1e-13, 1, 1e90, 0, 0]}\n",
+                                   "[0, 0, 0, 1, 0, 0]");
+  const CliRun far_dh = runCli("poe2dh " + shellQuote(tilted) + " --json");
+  ASSERT_EQ(far_dh.status, 0) << far_dh.err;
+  const auto tilted_json = nlohmann::json::parse(far_dh.out);
+  EXPECT_FALSE(hasNull(tilted_json)) << far_dh.out;
+  EXPECT_GE(tilted_json["fk_check"]["scale"].get<double>(), 0.99e103) << far_dh.out;
+  EXPECT_LE(tilted_json["fk_check"]["max_translation"].get<double>(),
+            1e3 * 2.2e-16 * tilted_json["fk_check"]["scale"].get<double>())
+      << far_dh.out;
 
   const std::string edge = robot("edge", "    - {twist: [0, 0, 1, 0, 1e90, 0]}\n    - {twist: [0, 1, 0, 1e90, 0, 3e89]}\n",
                                  "[0, 0, 0, 1e90, 0, 2e90]");

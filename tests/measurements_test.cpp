@@ -258,6 +258,27 @@ TEST(MeasurementCsv, CommentsBlankLinesCrlfAndByteOrderMark) {
   EXPECT_EQ(file.measurements[2].T_base_tool.p, Vec3(8, 9, 10));
 }
 
+// `# length_unit: U` states the unit of x,y,z (calibrate compares it with the nominal's); the same unit
+// twice is fine, other comments that merely mention it are not read
+TEST(MeasurementCsv, LengthUnitComment) {
+  const std::string body = "q1,x,y,z\n0,1,2,3\n";
+  EXPECT_EQ(readMeasurements(writeText("u0.csv", body)).length_unit, "");
+  EXPECT_EQ(readMeasurements(writeText("u1.csv", "#   length_unit:  mm \r\n" + body + "# length_unit: mm\n")).length_unit, "mm");
+  EXPECT_EQ(readMeasurements(writeText("u2.csv", "# the length_unit: is stated below\n# length_unit: m\n" + body)).length_unit,
+            "m");
+  // what simulate writes reads back
+  Measurement m;
+  m.q = VecX::Constant(1, 0.5);
+  m.T_base_tool.p = Vec3(1, 2, 3);
+  const std::string written = writeText("u3.csv", formatMeasurements(Measure::Position, {m}, {"made here", "length_unit: cm"}));
+  EXPECT_EQ(readMeasurements(written).length_unit, "cm");
+  EXPECT_TRUE(isUnitLabel("mm"));
+  EXPECT_FALSE(isUnitLabel(""));
+  EXPECT_FALSE(isUnitLabel("a b"));
+  EXPECT_FALSE(isUnitLabel("\xC2\xB5m"));  // µm: not ASCII
+  EXPECT_FALSE(isUnitLabel(std::string(17, 'm')));
+}
+
 TEST(MeasurementCsv, QuaternionIsNormalized) {
   // norm 1 + 4e-7: within 1e-6 of 1
   const std::string path = writeText("quaternion.csv", "q1,x,y,z,qw,qx,qy,qz\n0,1,2,3,0.60000024,0,0.80000032,0\n");
@@ -298,6 +319,10 @@ TEST(MeasurementCsv, ErrorsNameFileAndLine) {
       {"# only a header\n" + header, ": no measurements"},
       {"", ": no header line (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
       {"# comments\n\n", ": no header line (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"# length_unit: mm\n" + header + good + "  #length_unit:cm\n", ":4: length_unit 'cm' after length_unit 'mm'"},
+      {header + "# length_unit:\n" + good, ":2: length_unit '' is not a unit label (one token of 1-16 printable ASCII characters)"},
+      {"# length_unit: milli metre\n" + header + good,
+       ":1: length_unit 'milli metre' is not a unit label (one token of 1-16 printable ASCII characters)"},
   };
   for (const Case& c : cases) {
     const std::string path = writeText("m.csv", c.text);

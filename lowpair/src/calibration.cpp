@@ -486,11 +486,20 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   ErrorModel em(nominal, options.free_pitch);
   VecX r;
   double cost = residual(nominal, measurements, measure, w, r);
+  auto overflow = [&] {
+    std::ostringstream text;
+    text << "calibrate: the weighted residuals or Jacobian overflow (sigma_position " << w.position
+         << " for a robot of size L = " << L << "): state the noise and the measurements in the robot's length unit";
+    return std::invalid_argument(text.str());
+  };
+  // (the column norms square the entries: a stated noise small enough to leave the residuals finite may
+  // still overflow them, and a column left unscaled would take the whole rank)
+  const MatX J_nominal = weightedJacobian(em, measurements, measure, w);
+  if (!std::isfinite(cost) || !J_nominal.colwise().squaredNorm().allFinite()) throw overflow();
   // the determined subspace, fixed at the nominal: steps are `basis * y`
   VecX D0;
   MatX V0;
-  RankAnalysis nominal_rank =
-      analyzeDimensionless(weightedJacobian(em, measurements, measure, w), poses, &D0, &V0);
+  RankAnalysis nominal_rank = analyzeDimensionless(J_nominal, poses, &D0, &V0);
   const int rank = nominal_rank.rank;
   const Eigen::Index n = em.size();
   const MatX basis = D0.asDiagonal() * V0.leftCols(rank);
@@ -506,13 +515,6 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   // inner loop after at most log10(kMuMax / kMuMin) + 1 rejections.
   constexpr double kMuStart = 1e-6, kMuMin = 1e-12, kMuMax = 1e16, kMuStep = 10.0;
   constexpr double kRelativeDecrease = 1e-10;  // converged when an undamped step gains less than this
-  auto overflow = [&] {
-    std::ostringstream text;
-    text << "calibrate: the weighted residuals or Jacobian overflow (sigma_position " << w.position
-         << " for a robot of size L = " << L << "): state the noise and the measurements in the robot's length unit";
-    return std::invalid_argument(text.str());
-  };
-  if (!std::isfinite(cost)) throw overflow();
   double mu = kMuStart;
   int iterations = 0;
   bool converged = false;

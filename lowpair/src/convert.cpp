@@ -1,9 +1,9 @@
-#include <optional>
 #include "lowpair/convert.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
 
 #include "lowpair/check.hpp"
@@ -187,6 +187,8 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   }
 
   // folded offsets move the frames: a model near the magnitude limits can have a D-H equivalent beyond them
+  // (nearly parallel axes do not: a d of L / sin(alpha) is a number of the table, not a frame of the chain,
+  // whose links sit on the joint lines)
   std::optional<DhModel> built;
   try {
     built.emplace(rows[0], std::move(joints), tool_theta, tool_d, model.name());

@@ -189,7 +189,9 @@ double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose) {
   double size = safeNorm(tool_pose.p);
   for (const Joint& j : joints) {
     if (j.type == JointType::Prismatic) {
-      if (j.range) size = std::max({size, std::abs((*j.range)[0]), std::abs((*j.range)[1])});
+      // the slide's length at the range ends, x = scale (q + offset): L is a length even when q is in
+      // another unit (a URDF export converts cm to m by the scale)
+      if (j.range) size = std::max({size, std::abs(j.motion((*j.range)[0])), std::abs(j.motion((*j.range)[1]))});
     } else {
       size = std::max(size, safeNorm(j.axis().cross(j.moment())));
       // a helical joint's motion covers |pitch| length per radian: a pitch far above every other length
