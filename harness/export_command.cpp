@@ -78,7 +78,11 @@ int runExport(const ExportOptions& o) {
   if (exported.mujoco_readable) {
     std::cout << "validate with: lowpair validate " << o.out << " --tip tool --robot " << o.robot.path << "\n";
   } else {
-    const std::string xml = (std::filesystem::path(o.out).parent_path() / (std::filesystem::path(o.out).stem().string() + ".xml")).string();
+    // beside the URDF, under a name that overwrites nothing (models/X.urdf often has a hand-written models/X.xml)
+    const std::filesystem::path out(o.out);
+    std::error_code ec;
+    std::string xml = (out.parent_path() / (out.stem().string() + ".xml")).string();
+    if (std::filesystem::exists(xml, ec) || ec) xml = (out.parent_path() / (out.stem().string() + ".export.xml")).string();
     std::cout << "MuJoCo cannot read its helical joints, validate the MJCF: lowpair export " << o.robot.path
               << " --format mjcf --out " << xml << ", then lowpair validate " << xml << " --tip tool --robot "
               << o.robot.path << "\n";

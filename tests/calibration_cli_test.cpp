@@ -522,6 +522,20 @@ TEST(ExportRejects, FailedExportKeepsExistingFiles) {
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
 }
 
+// The hint after a URDF with helical joints suggests an MJCF export beside it; where a file of that name
+// exists (models/X.urdf beside the hand-written models/X.xml) it names another file instead of overwriting it.
+TEST(Export, HelicalUrdfHintNeverNamesAnExistingFile) {
+  const std::string out = scratch() + "/hint/actual.urdf";
+  fs::create_directories(scratch() + "/hint");
+  const CliRun first = runCli("export " + shellQuote(kActualYaml) + " --format urdf --out " + shellQuote(out));
+  ASSERT_EQ(first.status, 0) << first.err;
+  EXPECT_NE(first.out.find("--out " + scratch() + "/hint/actual.xml,"), std::string::npos) << first.out;
+  std::ofstream(scratch() + "/hint/actual.xml") << "<mujoco/>\n";
+  const CliRun second = runCli("export " + shellQuote(kActualYaml) + " --format urdf --out " + shellQuote(out));
+  ASSERT_EQ(second.status, 0) << second.err;
+  EXPECT_NE(second.out.find("--out " + scratch() + "/hint/actual.export.xml,"), std::string::npos) << second.out;
+}
+
 // Review finding: position measurements of the PUMA (tool point on the wrist axes) said "rank 30 < 39 ...
 // 12 directions" (the 3 tool rotations are in the error model, not in the count) and nothing on why the fit
 // stays at 0.26 mm: the warning counts against the formula and says the fit is confined to the nominal's
