@@ -259,6 +259,11 @@ TEST(HostileInput, ModelMagnitudesAreBoundedAndNamed) {
   // axis through the origin gave L = 1 and an FK of inf)
   const std::string pitch = robot("huge_pitch", "    - {twist: [0, 0, 1, 0, 0, 1e200]}\n", "[0, 0, 0, 1, 0, 0]");
   expectRejected("fk " + shellQuote(pitch) + " --q 0", "robot size L = 1e+200 above 1e100", pitch);
+  // a helical range of 1e98 rad slides 1e5 x 1e98 = 1e103 along the axis: that slide sets L (fuzz regression
+  // numeric/helical_range_slide: FK of 1e194 and a D-H check of inf, accepted)
+  const std::string screw = robot("helical_range_slide", "    - {twist: [0, 0, 1, 0, 0, 1e5], range: [0, 1e98]}\n",
+                                  "[0, 0, 0, 1, 0, 0]");
+  expectRejected("poe2dh " + shellQuote(screw), "robot size L = 1e+103 above 1e100", screw);
   // an offset whose slide moves the D-H frames beyond the limits: poe2dh names it, exit 2
   const std::string slide = robot("offset_slide", "    - {twist: [0, 0, 1, 0, 0, 1e99], offset: 1e99}\n", "[0, 0, 0, 1, 0, 0]");
   expectRejected("poe2dh " + shellQuote(slide), "poeToDh: the D-H table, its offsets folded, is beyond the magnitude limits",

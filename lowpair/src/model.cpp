@@ -188,15 +188,15 @@ DhParams movedRow(const DhParams& row, const JointMotion& motion, double x) {
 double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose) {
   double size = safeNorm(tool_pose.p);
   for (const Joint& j : joints) {
-    if (j.type == JointType::Prismatic) {
-      // the slide's length at the range ends, x = scale (q + offset): L is a length even when q is in
-      // another unit (a URDF export converts cm to m by the scale)
-      if (j.range) size = std::max({size, std::abs(j.motion((*j.range)[0])), std::abs(j.motion((*j.range)[1]))});
-    } else {
-      size = std::max(size, safeNorm(j.axis().cross(j.moment())));
-      // a helical joint's motion covers |pitch| length per radian: a pitch far above every other length
-      // must set L, or the lengths it produces would be unbounded relative to L (fuzz regressions numeric/)
-      if (j.type == JointType::Helical) size = std::max(size, std::abs(j.pitch));
+    if (j.type != JointType::Prismatic) size = std::max(size, safeNorm(j.axis().cross(j.moment())));
+    // a helical joint's motion covers |pitch| length per radian: a pitch far above every other length
+    // must set L, or the lengths it produces would be unbounded relative to L (fuzz regressions numeric/)
+    if (j.type == JointType::Helical) size = std::max(size, std::abs(j.pitch));
+    // the slide at the range ends, k x with x = scale (q + offset) (prismatic k = 1, helical the pitch): L is
+    // a length even when q is in another unit (a URDF export converts cm to m by the scale), and a helical
+    // range of 1e98 rad slides far beyond its pitch (fuzz regressions numeric/helical_range_slide)
+    if (j.range && j.slideRate() != 0.0) {
+      for (const double q : *j.range) size = std::max(size, std::abs(j.slideRate() * j.motion(q)));
     }
   }
   return size > 0.0 ? size : 1.0;

@@ -69,8 +69,8 @@ class PoeModel {
   const Pose& toolPose() const { return tool_pose_; }
   const std::string& name() const { return name_; }
   /// Robot size `L` (docs/conventions.md): the largest of the tool position, each revolute/helical axis'
-  /// distance from the base origin, each helical `|pitch|` and each prismatic joint's largest slide
-  /// `|scale (q + offset)|` over its range; 1 if all 0.
+  /// distance from the base origin, each helical `|pitch|` and each prismatic or helical joint's largest
+  /// slide `|k scale (q + offset)|` at its range ends (k = 1 or the pitch); 1 if all 0.
   double size() const { return size_; }
   /// The compiled chain that forwardKinematics evaluates.
   const KinematicChain& chain() const { return chain_; }
