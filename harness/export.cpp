@@ -433,18 +433,11 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
                    (file.length_unit == "m" ? "." : " (lengths are not converted to metres)."));
   const bool mapped = needsJointVariables(model);
   if (!file.description.empty()) header.push_back("Robot: " + file.description);
-  if (mapped) {
-    const auto& joints = model.joints();
-    const bool scaled = std::any_of(joints.begin(), joints.end(), [](const Joint& j) { return j.scale != 1.0; });
-    const bool offset = std::any_of(joints.begin(), joints.end(), [](const Joint& j) { return j.offset != 0.0; });
-    header.push_back("Joint variable: the motion x = scale (q + offset) of the joint variable q of " + file.path + " (" +
-                     (scaled && offset ? "not every scale is 1, not every offset 0"
-                      : scaled         ? "not every scale is 1"
-                                       : "not every offset is 0") +
-                     "; lowpair export writes the robot file of q beside its output file as <stem>.joint_variables.yaml).");
-  } else {
-    header.push_back("Joint variable: the joint variable q of " + file.path + " (every scale 1, every offset 0).");
-  }
+  // (a length unit converted to metres puts its factor into the prismatic scales: mapped as well)
+  header.push_back(mapped ? "Joint variable: the motion x = scale (q + offset) of the joint variable q of " + file.path +
+                                " (a scale is not 1 or an offset not 0; lowpair export writes the robot file of q beside "
+                                "its output file as <stem>.joint_variables.yaml)."
+                          : "Joint variable: the joint variable q of " + file.path + " (every scale 1, every offset 0).");
   const ExportFrames frames = exportFrames(motionModel(model));
   header.push_back(frames.dh ? "Joint frames: the standard D-H frames of lowpair poe2dh (joint i about/along z of frame i-1)."
                              : "Joint frames: on each joint's line at its point nearest the base origin (the D-H "

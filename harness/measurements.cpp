@@ -109,7 +109,7 @@ void readUnitComment(const std::string& line, std::string& unit, const Fail& fai
   static const std::string key = "length_unit:";
   if (k == std::string::npos || line.compare(k, key.size(), key) != 0) return;
   const size_t begin = line.find_first_not_of(" \t", k + key.size());
-  const size_t end = begin == std::string::npos ? begin : line.find_last_not_of(" \t\r") + 1;
+  const size_t end = begin == std::string::npos ? begin : line.find_last_not_of(" \t") + 1;  // (no '\r': LineReader)
   const std::string value = begin == std::string::npos ? "" : line.substr(begin, end - begin);
   if (!isUnitLabel(value)) fail("length_unit " + quoted(value) + " is not a unit label (one token of 1-16 printable ASCII characters)");
   const std::string& previous = unit;  // (const: std::quoted would take a non-const string by ADL)

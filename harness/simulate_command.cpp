@@ -158,6 +158,14 @@ int simulate(const SimulateOptions& o) {
   }
   const Truth truth = model_file ? modelTruth(o) : robotFileTruth(o);
   const Measure measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
+  // every number written must be one the measurement reader takes (|x| <= 1e100): the joint values (within
+  // the ranges), the robot's reach, then what the noise adds
+  for (const auto& r : truth.ranges) {
+    if (!(std::max(std::abs(r[0]), std::abs(r[1])) <= kMaxMagnitude)) {
+      throw UsageError(o.robot.path, "a joint range reaches " + shortest(std::max(std::abs(r[0]), std::abs(r[1]))) +
+                                         ", above the 1e100 the measurement reader takes");
+    }
+  }
   const auto seed = static_cast<unsigned long long>(o.seed);
 
   std::vector<Measurement> measurements(static_cast<size_t>(o.poses));
@@ -166,15 +174,13 @@ int simulate(const SimulateOptions& o) {
     m.q.resize(static_cast<Eigen::Index>(truth.ranges.size()));
     randomSample(seed, k, truth.ranges, m.q);
     m.T_base_tool = truth.tipPose(m.q);
-    // every number written must be one the measurement reader takes (|x| <= 1e100): the robot's own
-    // reach and joint values first, then what the noise adds
-    const auto beyond = [](const auto& v) { return !(v.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
-    if (beyond(m.q) || beyond(m.T_base_tool.p)) {
-      throw UsageError(o.robot.path, "measurement " + std::to_string(k + 1) + " has a joint value or coordinate above "
-                                     "1e100 in magnitude, which no reader takes (the robot's ranges or size)");
+    const auto beyond = [&m] { return !(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
+    if (beyond()) {
+      throw UsageError(o.robot.path, "measurement " + std::to_string(k + 1) +
+                                         " has a coordinate above 1e100 in magnitude, which no reader takes");
     }
     addMeasurementNoise(seed, k, o.noise_position, o.noise_rotation, m.T_base_tool);
-    if (beyond(m.T_base_tool.p)) {
+    if (beyond()) {
       throw UsageError("--noise-position", "measurement " + std::to_string(k + 1) +
                                                " has a coordinate above 1e100 in magnitude, which no reader takes");
     }

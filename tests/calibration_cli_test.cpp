@@ -485,7 +485,7 @@ TEST(CalibrateRejects, NumbersBeyondDoubleEndCleanly) {
       "wide_slide.yaml",
       "name: t\nlength_unit: m\npoe:\n  joints:\n    - {twist: [0, 0, 0, 0, 0, 1e-3], range: [-1e102, 1e102]}\n"
       "  tool: [0, 0, 0, 1, 0, 0]\n");
-  expectRejected("simulate " + shellQuote(wide) + " --poses 3", "has a joint value or coordinate above 1e100", wide);
+  expectRejected("simulate " + shellQuote(wide) + " --poses 3", "a joint range reaches 1e+102, above the 1e100", wide);
   expectRejected("simulate " + shellQuote(kNominal) + " --poses 3 --noise-position 1e308", "is above 1e+100",
                  "--noise-position");
   expectRejected("simulate " + shellQuote(kNominal) + " --poses 3 --noise-rotation 4", "is above 3.14159",
