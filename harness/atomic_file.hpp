@@ -11,9 +11,12 @@
 
 namespace lowpair {
 
-/// Writes `content` to `path` atomically (see the file comment). The temporary is
-/// `<dir>/.<name>.tmp-<pid>-<counter>`, created exclusively (mode 0666 minus the umask). An existing
-/// `path` (a file or a symbolic link) is replaced, not written through.
+/// Writes `content` to `path` atomically (see the file comment) when `path` is a regular file or a new
+/// path. The temporary is `<dir>/.<name>.tmp-<pid>-<counter>`, created exclusively (mode 0666 minus the
+/// umask). A symbolic link is followed to its end, whose file is replaced (the link stays a link). An
+/// existing character device or FIFO (`/dev/null`, `/dev/full`, a named pipe) and a descriptor path
+/// (`/dev/stdout`, `/dev/fd/N`, `/proc/self/fd/N`: written to the descriptor itself, after what was printed
+/// to it) are written directly, never replaced: they are not all or nothing. Anything else (a directory, a socket, a block device) is refused.
 /// @throws RobotFileError `PATH: cannot write: REASON`
 void writeFileAtomically(const std::string& path, const std::string& content);
 
@@ -35,6 +38,9 @@ class StagedFiles {
  private:
   struct Entry {
     std::string target, temporary;
+    std::string content;  // for a direct write only, written by commit()
+    bool direct = false;
+    int descriptor = -1;  // this process's descriptor, for /dev/stdout and the like
   };
   std::vector<Entry> entries_;
 };

@@ -192,11 +192,16 @@ class Copier {
 
   // Parses `file` into `doc` and records every element's origin.
   void load(XMLDocument& doc, const std::string& file) {
+    requireBoundedModelFile(file);  // an include too: a FIFO would hang LoadFile, a 1 GB file cost 3 GB
     const tinyxml2::XMLError status = doc.LoadFile(file.c_str());
     if (status == tinyxml2::XML_ERROR_FILE_NOT_FOUND || status == tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED) {
       fail(file, "cannot open file");
     }
     if (status == tinyxml2::XML_ERROR_FILE_READ_ERROR) fail(file, "cannot read file");
+    if (status == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED) {
+      fail(file, "line " + std::to_string(doc.ErrorLineNum()) + ": not well-formed XML: elements nested deeper than " +
+                     std::to_string(TINYXML2_MAX_ELEMENT_DEPTH));
+    }
     if (status != tinyxml2::XML_SUCCESS) {
       fail(file, "line " + std::to_string(doc.ErrorLineNum()) + ": not well-formed XML (" + doc.ErrorName() + ")");
     }

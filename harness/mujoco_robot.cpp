@@ -121,6 +121,7 @@ std::string describeEquality(const mjModel* m, int e) {
 std::map<std::string, std::string> urdfMimics(const std::string& path) {
   std::map<std::string, std::string> mimics;
   tinyxml2::XMLDocument doc;
+  requireBoundedModelFile(path);
   if (doc.LoadFile(path.c_str()) != tinyxml2::XML_SUCCESS || !doc.RootElement()) return mimics;
   const tinyxml2::XMLElement* robot = doc.RootElement();
   if (std::string(robot->Name()) != "robot") return mimics;

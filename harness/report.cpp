@@ -401,6 +401,13 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
 void writeReport(const std::string& dir, const std::vector<ScenarioResult>& results, const RunOptions& options) {
   // build everything in a sibling temporary folder, then move the files in
   const fs::path target = fs::absolute(dir);
+  // only a folder (new or existing) takes a report, and only regular files in it are replaced: a device,
+  // FIFO or socket given as the folder or found under a report file's name is never replaced by a file
+  std::error_code status_error;
+  const fs::file_status target_status = fs::status(target, status_error);
+  if (fs::exists(target_status) && !fs::is_directory(target_status)) {
+    throw std::runtime_error(dir + ": report not written: not a folder");
+  }
   const fs::path parent = target.parent_path();
   fs::create_directories(parent);
   const fs::path tmp = parent / (target.filename().string() + ".partial-" + std::to_string(::getpid()));
@@ -447,6 +454,13 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
     }
     writeChecked(tmp / "summary.md", md.str());
     fs::create_directories(target);
+    for (const auto& entry : fs::directory_iterator(tmp)) {
+      const fs::file_status existing = fs::symlink_status(target / entry.path().filename(), status_error);
+      if (fs::exists(existing) && !fs::is_regular_file(existing)) {
+        throw std::runtime_error((target / entry.path().filename()).string() +
+                                 " exists and is not a regular file: not replaced");
+      }
+    }
     for (const auto& entry : fs::directory_iterator(tmp)) {
       fs::rename(entry.path(), target / entry.path().filename());
     }

@@ -56,10 +56,27 @@ double RobotFile::angleFactor() const { return angle_unit == "deg" ? M_PI / 180.
 
 PoeModel RobotFile::poeModel() const { return poe ? *poe : dhToPoe(*dh); }
 
+void requireBoundedModelFile(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status) || fs::is_directory(status)) return;  // the readers name these themselves
+  if (!fs::is_regular_file(status)) {
+    throw RobotFileError(path + ": not a regular file (a FIFO, device or socket is not read as a model file)");
+  }
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (ec) throw RobotFileError(path + ": cannot read file: " + ec.message());
+  if (bytes > kMaxModelFileBytes) {
+    throw RobotFileError(path + ": " + std::to_string(bytes) + " bytes: over the " +
+                         std::to_string(kMaxModelFileBytes >> 20) + " MiB a model file may have");
+  }
+}
+
 YAML::Node loadYamlFile(const std::string& path) {
   // a directory opens as a stream on Linux and fails inside yaml-cpp with a raw ios message (and a leak)
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
+  requireBoundedModelFile(path);
   if (!std::ifstream(path)) throw RobotFileError(path + ": cannot open file");
   try {
     return YAML::LoadFile(path);

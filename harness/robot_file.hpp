@@ -3,6 +3,7 @@
 /// Reading robot files (YAML, design.md "Robot file"): a POE or a D-H description. Every error is a
 /// RobotFileError whose message reads `FILE: what is wrong` (with the YAML line where there is one).
 
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,16 @@ class RobotFileError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// Largest model file read, in bytes: a robot file, a URDF, an MJCF and each file it includes (64 MiB;
+/// the largest published robot description we know, with meshes inline, is under 10 MiB). Checked by size
+/// before a byte is read.
+constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{64} << 20;
+
+/// For an existing `path`: throws unless it is a regular file (after symbolic links) of at most
+/// kMaxModelFileBytes. A path that does not exist passes (the reader names it as it always has).
+/// @throws RobotFileError `PATH: not a regular file ...` or `PATH: N bytes: over the 64 MiB ...`
+void requireBoundedModelFile(const std::string& path);
 
 struct RobotFile {
   std::string path;

@@ -2,6 +2,7 @@
 
 #include <console_bridge/console.h>
 #include <urdf_model/model.h>
+#include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
@@ -93,6 +94,7 @@ std::string readText(const std::string& path) {
   if (!fs::exists(status)) fail(path, "cannot open file: no such file");
   if (fs::is_directory(status)) fail(path, "is a directory, not a file");
   if (!fs::is_regular_file(status)) fail(path, "not a regular file");
+  requireBoundedModelFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open file");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -136,7 +138,19 @@ class CollectErrors : public console_bridge::OutputHandler {
   std::string errors_;
 };
 
+// urdfdom parses with TinyXML 1, which recurses once per nesting level and has no limit: a file of 40,000
+// nested elements overflows the stack. tinyxml2 parses iteratively with a depth limit
+// (TINYXML2_MAX_ELEMENT_DEPTH, 100; a URDF nests 4 deep) and names the line, so it reads every file first.
+void requireShallowXml(const std::string& path, const std::string& text) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(text.data(), text.size()) == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED) {
+    fail(path, "line " + std::to_string(doc.ErrorLineNum()) + ": not a valid URDF: elements nested deeper than " +
+                   std::to_string(TINYXML2_MAX_ELEMENT_DEPTH));
+  }
+}
+
 urdf::ModelInterfaceSharedPtr parse(const std::string& path, const std::string& text) {
+  requireShallowXml(path, text);
   static std::mutex mutex;
   const std::lock_guard<std::mutex> lock(mutex);
   std::string errors;

@@ -2,7 +2,10 @@
 // that had it. Input is data: it never becomes a command, and what was not measured never passes.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -398,4 +401,59 @@ TEST(HostileInput, OutOfMemoryIsOneLine) {
   if (WEXITSTATUS(status) == 0) GTEST_SKIP() << "the allocation did not fail under this limit";
   EXPECT_EQ(WEXITSTATUS(status), 2) << err_text;
   EXPECT_EQ(err_text, "error: " + robot + ": out of memory\n");
+}
+
+// Rough edges, high 2: a URDF of 40,000 nested elements (280 KB) crashed every command that reads a URDF
+// through urdfdom (TinyXML 1 recurses once per level: SIGSEGV). Every command now rejects it with the line
+// where the nesting passes tinyxml2's limit, well within a second each.
+TEST(HostileInput, DeeplyNestedUrdfIsRejectedByEveryCommand) {
+  std::string text = "<?xml version=\"1.0\"?>\n<robot name=\"deep\">\n<link name=\"base\"/>\n";
+  for (int k = 0; k < 40000; ++k) text += "<a>";
+  for (int k = 0; k < 40000; ++k) text += "</a>";
+  text += "\n</robot>\n";
+  const std::string urdf = writeScratchFile("deep.urdf", text);
+  const std::string measurements = writeScratchFile("deep.csv", "q1,x,y,z\n0,0,0,0\n");
+  const std::string file = shellQuote(urdf) + " --tip tool";
+  for (const std::string& command :
+       {"poe2dh " + file, "fk " + file + " --q 0", "jacobian " + file + " --q 0", "singular " + file + " --q 0",
+        "identifiability " + file + " --poses 10", "calibrate " + file + " --measurements " + shellQuote(measurements),
+        "export " + file + " --format poe", "validate " + file + " --samples 10", "simulate " + file + " --poses 3"}) {
+    const auto start = std::chrono::steady_clock::now();
+    expectRejected(command, "elements nested deeper than 100", urdf + ": line 4: ");
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0) << command;
+  }
+}
+
+// Rough edges, medium 3 and 4: a model file or an included file over 64 MiB is refused by its size before
+// a byte is read (a 1 GB include cost 3 GB and 40 s), and an include that is a FIFO is refused (it hung).
+TEST(HostileInput, ModelFilesAreBoundedAndRegular) {
+  const std::string big = scratch() + "/big.xml";
+  {
+    std::ofstream out(big);
+    out << "<mujoco/>";
+  }
+  fs::resize_file(big, (std::uintmax_t{1} << 30));  // 1 GiB, sparse: nothing to read if the size is checked first
+  const std::string main_file = writeScratchFile(
+      "includes_big.xml", "<mujoco><include file=\"big.xml\"/><worldbody><body name=\"a\"><joint type=\"hinge\"/>"
+                          "<site name=\"t\" pos=\"1 0 0\"/></body></worldbody></mujoco>\n");
+  const auto start = std::chrono::steady_clock::now();
+  expectRejected("validate " + shellQuote(main_file) + " --tip t --samples 10",
+                 "1073741824 bytes: over the 64 MiB a model file may have", big);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+  for (const std::string copy : {"big.urdf", "big.yaml"}) {
+    fs::copy_file(big, scratch() + "/" + copy, fs::copy_options::overwrite_existing);
+    fs::resize_file(scratch() + "/" + copy, std::uintmax_t{65} << 20);
+    const std::string tip = copy == "big.urdf" ? " --tip t" : "";
+    expectRejected("poe2dh " + shellQuote(scratch() + "/" + copy) + tip, "over the 64 MiB", scratch() + "/" + copy);
+    fs::remove(scratch() + "/" + copy);
+  }
+  fs::remove(big);
+
+  const std::string fifo = scratch() + "/fifo.xml";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string includes_fifo = writeScratchFile(
+      "includes_fifo.xml", "<mujoco><include file=\"fifo.xml\"/><worldbody><body name=\"a\"><joint type=\"hinge\"/>"
+                           "<site name=\"t\" pos=\"1 0 0\"/></body></worldbody></mujoco>\n");
+  expectRejected("validate " + shellQuote(includes_fifo) + " --tip t --samples 10", "not a regular file", fifo);
+  expectRejected("fk " + shellQuote(includes_fifo) + " --tip t --q 0", "not a regular file", fifo);
 }

@@ -31,7 +31,8 @@ options() {  # libFuzzer options of target $1
   case $1 in
     robot_file|scenario) echo "-dict=tests/fuzz/dict/yaml.dict -max_len=16384" ;;
     measurements) echo "-dict=tests/fuzz/dict/csv.dict -max_len=16384" ;;
-    urdf|mujoco) echo "-dict=tests/fuzz/dict/xml.dict -max_len=16384" ;;
+    # 512 KiB: long enough for nesting and size limits (a 40,000-level URDF is 280 KB)
+    urdf|mujoco) echo "-dict=tests/fuzz/dict/xml.dict -max_len=524288" ;;
     numeric) echo "-max_len=1024" ;;
   esac
 }
