@@ -10,7 +10,7 @@
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
-#include "robot_file.hpp"
+#include "io/robot_file.hpp"
 #if __has_include("lowpair/jacobian.hpp")
 #include "lowpair/jacobian.hpp"
 #define LOWPAIR_BENCH_HAS_JACOBIAN 1
@@ -50,7 +50,7 @@ const char* caseName(RobotId id) {
 
 std::unique_ptr<Entry> build(RobotId id) {
   const std::string stem = std::string(LOWPAIR_MODELS_DIR) + "/" + fileStem(id);
-  const RobotFile file = readRobotFile(stem + ".yaml");
+  const io::RobotFile file = io::readRobotFile(stem + ".yaml");
   PoeModel poe = file.poeModel();
   DhModel dh = file.dh ? *file.dh : poeToDh(poe).model;
   auto e = std::unique_ptr<Entry>(new Entry{RobotModels{poe, dh}, RobotCase{}});

@@ -24,15 +24,19 @@
 #include <string>
 #include <vector>
 
-#include "export.hpp"
+#include "io/export.hpp"
 #include "lowpair/calibration.hpp"
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
-#include "mujoco_robot.hpp"
+#include "mujoco/mujoco_robot.hpp"
 #include "random_robot.hpp"
-#include "robot_file.hpp"
-#include "urdf_reader.hpp"
+#include "io/robot_file.hpp"
+#include "io/urdf_reader.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
+using namespace lowpair::mujoco;
 
 namespace lowpair {
 namespace {

@@ -39,8 +39,12 @@
 #include "lowpair/convert.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
-#include "mujoco_robot.hpp"
-#include "robot_file.hpp"
+#include "mujoco/mujoco_robot.hpp"
+#include "io/robot_file.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
+using namespace lowpair::mujoco;
 
 using namespace lowpair;
 namespace fs = std::filesystem;

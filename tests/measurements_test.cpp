@@ -16,10 +16,13 @@
 #include <sstream>
 #include <string>
 
-#include "atomic_file.hpp"
+#include "io/atomic_file.hpp"
 #include "lowpair/se3.hpp"
-#include "measurements.hpp"
-#include "robot_file.hpp"
+#include "io/measurements.hpp"
+#include "io/robot_file.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
 
 namespace {
 

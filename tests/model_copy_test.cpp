@@ -14,9 +14,13 @@
 
 #include <unistd.h>
 
-#include "model_copy.hpp"
-#include "mujoco_robot.hpp"
-#include "robot_file.hpp"
+#include "mujoco/model_copy.hpp"
+#include "mujoco/mujoco_robot.hpp"
+#include "io/robot_file.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
+using namespace lowpair::mujoco;
 
 namespace lowpair {
 namespace {

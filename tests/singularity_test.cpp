@@ -17,7 +17,10 @@
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/singularity.hpp"
-#include "robot_file.hpp"
+#include "io/robot_file.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
 
 using namespace lowpair;
 

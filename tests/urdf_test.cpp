@@ -22,9 +22,13 @@
 
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
-#include "mujoco_robot.hpp"
-#include "robot_file.hpp"
-#include "urdf_reader.hpp"
+#include "mujoco/mujoco_robot.hpp"
+#include "io/robot_file.hpp"
+#include "io/urdf_reader.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
+using namespace lowpair::mujoco;
 
 namespace lowpair {
 namespace {

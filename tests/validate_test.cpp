@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <sstream>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -13,8 +15,15 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "comparison.hpp"
-#include "validate.hpp"
+#include "io/measurements.hpp"
+#include "validation/calibration_scenario.hpp"
+#include "validation/comparison.hpp"
+#include "validation/validate.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
+using namespace lowpair::mujoco;
+using namespace lowpair::validation;
 
 namespace {
 
@@ -272,3 +281,45 @@ TEST(RunWorkers, WorkerExceptionIsRethrownAfterTheJoin) {
 }
 
 }  // namespace
+
+// One sampling unit (sampling.hpp): a scenario's calibration case and `lowpair simulate` with the same
+// model, joint variable, seed and noise draw the same joint vectors and measure the same poses. (Before the
+// unit, simulate sampled a revolute joint within the MJCF limits and a calibration case over a full turn.)
+TEST(Sampling, SimulateAndCalibrationCaseDrawTheSamePoses) {
+  for (const char* name : {"puma560_okamura_actual.yaml", "stanford_corke_actual.yaml"}) {
+    const Scenario scenario = readScenario(std::string(LOWPAIR_SCENARIOS) + "/" + name);
+    ASSERT_FALSE(scenario.calibrations.empty()) << name;
+    const CalibrationCase& c = scenario.calibrations.back();
+    const MujocoRobot robot(scenario.model, scenario.tip, scenario.base);
+    const SampledVariable v =
+        sampledVariable(robot, scenario.joint_variables, scenario.model, scenario.tip, scenario.ranges, scenario.path);
+    MujocoRobot::Evaluator mujoco(robot);
+    constexpr int kPoses = 7;
+    const MeasurementFile expected = simulatedMeasurements(c, mujoco, v.motions, v.ranges, 0, kPoses, true, "case");
+
+    const std::string csv = testing::TempDir() + "/sampling_" + name + ".csv";
+    std::ostringstream command;
+    command.precision(17);
+    command << LOWPAIR_CLI << " simulate " << scenario.model << " --tip " << scenario.tip
+            << (scenario.joint_variables.empty() ? "" : " --joint-variables " + scenario.joint_variables)
+            << " --poses " << kPoses << " --seed " << c.seed << " --noise-position " << c.noise_position
+            << (c.position_only ? std::string() : " --noise-rotation " + std::to_string(c.noise_rotation))
+            << " --measure " << (c.position_only ? "position" : "pose") << " --out " << csv << " > /dev/null";
+    ASSERT_EQ(std::system(command.str().c_str()), 0) << command.str();
+    const MeasurementFile simulated = readMeasurements(csv);
+    ASSERT_EQ(simulated.measurements.size(), expected.measurements.size()) << name;
+    for (size_t k = 0; k < expected.measurements.size(); ++k) {
+      const Measurement& a = expected.measurements[k];
+      const Measurement& b = simulated.measurements[k];
+      // joint values and positions are written with 17 significant digits: they read back bit for bit
+      EXPECT_EQ(a.q, b.q) << name << " pose " << k;
+      EXPECT_EQ(a.T_base_tool.p, b.T_base_tool.p) << name << " pose " << k;
+      // the rotation passes through a quaternion printed with 17 digits: equal to rounding (position
+      // measurements carry none)
+      if (!c.position_only) {
+        EXPECT_LT((a.T_base_tool.R - b.T_base_tool.R).norm(), 8 * std::numeric_limits<double>::epsilon())
+            << name << " pose " << k;
+      }
+    }
+  }
+}

@@ -2,31 +2,34 @@
 // file's numbers are finite, its rotations orthonormal, its shape as documented; formatMeasurements of it
 // reads back to the same joint values and positions.
 #include "fuzz_common.hpp"
-#include "measurements.hpp"
-#include "robot_file.hpp"
+#include "io/measurements.hpp"
+#include "io/robot_file.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const lowpair_fuzz::TempFile file(".csv");
   static const lowpair_fuzz::TempFile again(".csv");
-  lowpair::MeasurementFile m;
+  lowpair::io::MeasurementFile m;
   try {
-    m = lowpair::readMeasurements(file.write(data, size));
-  } catch (const lowpair::RobotFileError&) {
+    m = lowpair::io::readMeasurements(file.write(data, size));
+  } catch (const lowpair::io::RobotFileError&) {
     return 0;
   }
-  FUZZ_CHECK(m.dof >= 1 && m.dof <= lowpair::kMaxMeasurementJoints);
-  FUZZ_CHECK(!m.measurements.empty() && m.measurements.size() <= size_t{lowpair::kMaxMeasurements});
+  FUZZ_CHECK(m.dof >= 1 && m.dof <= lowpair::io::kMaxMeasurementJoints);
+  FUZZ_CHECK(!m.measurements.empty() && m.measurements.size() <= size_t{lowpair::io::kMaxMeasurements});
   for (const lowpair::Measurement& x : m.measurements) {
     FUZZ_CHECK(x.q.size() == m.dof && x.q.allFinite());
     FUZZ_CHECK(lowpair_fuzz::finite(x.T_base_tool));
     FUZZ_CHECK((x.T_base_tool.R.transpose() * x.T_base_tool.R - lowpair::Mat3::Identity()).norm() < 1e-9);
   }
   // the writer's text reads back: joint values and positions bit for bit
-  const std::string text = lowpair::formatMeasurements(m.measure, m.measurements, {"fuzz"});
-  lowpair::MeasurementFile back;
+  const std::string text = lowpair::io::formatMeasurements(m.measure, m.measurements, {"fuzz"});
+  lowpair::io::MeasurementFile back;
   try {
-    back = lowpair::readMeasurements(again.write(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
-  } catch (const lowpair::RobotFileError& e) {
+    back = lowpair::io::readMeasurements(again.write(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  } catch (const lowpair::io::RobotFileError& e) {
     std::fprintf(stderr, "formatMeasurements output rejected: %s\n", e.what());
     std::abort();
   }

@@ -18,8 +18,12 @@
 #include "fuzz_common.hpp"
 #include "header_line.hpp"
 #include "lowpair/kinematics.hpp"
-#include "mujoco_robot.hpp"
-#include "robot_file.hpp"
+#include "mujoco/mujoco_robot.hpp"
+#include "io/robot_file.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
+using namespace lowpair::mujoco;
 
 namespace {
 struct MujocoFatal : std::runtime_error {
@@ -29,8 +33,8 @@ struct MujocoFatal : std::runtime_error {
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   try {
-    const lowpair::MujocoRobot robot("/nonexistent/lowpair_fuzz.xml", "tool");  // installs the handlers
-  } catch (const lowpair::RobotFileError&) {
+    const lowpair::mujoco::MujocoRobot robot("/nonexistent/lowpair_fuzz.xml", "tool");  // installs the handlers
+  } catch (const lowpair::io::RobotFileError&) {
   }
   const char* keep = std::getenv("LOWPAIR_FUZZ_MUJOCO_EXIT");
   if (!(keep && *keep == '1')) mju_user_error = [](const char* msg) { throw MujocoFatal(msg); };
@@ -42,17 +46,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const lowpair_fuzz::TempFile file(".xml");
   const lowpair_fuzz::HeaderLine in = lowpair_fuzz::splitHeaderLine(data, size);
   try {
-    const lowpair::MujocoRobot robot(file.write(in.data, in.size), in.tip, in.base);
+    const lowpair::mujoco::MujocoRobot robot(file.write(in.data, in.size), in.tip, in.base);
     const lowpair::PoeModel& model = robot.poeModel();
     FUZZ_CHECK(model.dof() == robot.dof());
     lowpair_fuzz::checkPoeModel(model);
-    lowpair::MujocoRobot::Evaluator eval(robot);
+    lowpair::mujoco::MujocoRobot::Evaluator eval(robot);
     const lowpair::VecX zero = lowpair::VecX::Zero(robot.dof());
     FUZZ_CHECK(lowpair_fuzz::finite(eval.tipPose(zero)));
     lowpair::Mat6X J(6, robot.dof());
     FUZZ_CHECK(lowpair_fuzz::finite(eval.tipJacobian(zero, J)));
     FUZZ_CHECK(J.allFinite());
-  } catch (const lowpair::RobotFileError&) {
+  } catch (const lowpair::io::RobotFileError&) {
   } catch (const MujocoFatal& e) {
     std::fprintf(stderr, "MuJoCo fatal error (the CLI exits 2): %s\n", e.what());
   }

@@ -6,12 +6,15 @@
 
 #include "fuzz_common.hpp"
 #include "lowpair/kinematics.hpp"
-#include "robot_file.hpp"
+#include "io/robot_file.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const lowpair_fuzz::TempFile file(".yaml");
   try {
-    const lowpair::RobotFile robot = lowpair::readRobotFile(file.write(data, size));
+    const lowpair::io::RobotFile robot = lowpair::io::readRobotFile(file.write(data, size));
     FUZZ_CHECK(robot.poe.has_value() != robot.dh.has_value());
     FUZZ_CHECK(std::isfinite(robot.angleFactor()));
     if (robot.dh) {
@@ -21,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const lowpair::PoeModel model = robot.poeModel();
     lowpair_fuzz::checkPoeModel(model);
     lowpair_fuzz::checkConversion(model);
-  } catch (const lowpair::RobotFileError&) {
+  } catch (const lowpair::io::RobotFileError&) {
   } catch (const std::invalid_argument&) {
   }
   return 0;

@@ -5,17 +5,20 @@
 
 #include "fuzz_common.hpp"
 #include "header_line.hpp"
-#include "urdf_reader.hpp"
+#include "io/urdf_reader.hpp"
+
+// the harness rooms this test reads through
+using namespace lowpair::io;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const lowpair_fuzz::TempFile file(".urdf");
   const lowpair_fuzz::HeaderLine in = lowpair_fuzz::splitHeaderLine(data, size);
   try {
-    const lowpair::RobotFile robot = lowpair::readUrdf(file.write(in.data, in.size), in.tip, in.base);
+    const lowpair::io::RobotFile robot = lowpair::io::readUrdf(file.write(in.data, in.size), in.tip, in.base);
     FUZZ_CHECK(robot.poe.has_value() && !robot.dh.has_value());
     lowpair_fuzz::checkPoeModel(*robot.poe);
     lowpair_fuzz::checkConversion(*robot.poe);
-  } catch (const lowpair::RobotFileError&) {
+  } catch (const lowpair::io::RobotFileError&) {
   }
   return 0;
 }

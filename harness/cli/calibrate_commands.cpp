@@ -1,0 +1,167 @@
+// identifiability, calibrate (docs/calibration.md).
+#include <chrono>
+#include <optional>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <tuple>
+
+#include "io/atomic_file.hpp"
+#include "validation/calibration_output.hpp"
+#include "lowpair/tolerances.hpp"
+#include "cli/commands.hpp"
+#include "lowpair/calibration.hpp"
+#include "lowpair/convert.hpp"
+#include "io/measurements.hpp"
+#include "io/output.hpp"
+#include "validation/scenario.hpp"
+#include "validation/validate.hpp"
+
+namespace lowpair::cli {
+
+using namespace lowpair::io;  // the rooms below
+using namespace lowpair::mujoco;
+using namespace lowpair::validation;
+
+using nlohmann::json;
+
+namespace {
+
+Measure parseMeasure(const std::string& text) { return text == "position" ? Measure::Position : Measure::Pose; }
+
+}  // namespace
+
+void addCalibrateCommands(CLI::App& app, Commands& commands) {
+  struct Options {
+    RobotSource robot;
+    std::string measure = "pose", measurements, validation, out;
+    int poses = 50;
+    long long seed = 1;
+    bool as_json = false, free_pitch = false;
+    std::optional<double> noise_position, noise_rotation;
+  };
+  auto o = std::make_shared<Options>();
+
+  auto* ident = app.add_subcommand("identifiability",
+                                   "rank of the identification Jacobian vs 5h+4r+2t+n+6, POE and D-H (Wu et al. §V)");
+  addRobotArgument(*ident, o->robot);
+  ident->add_option("--measure", o->measure, "pose (default) or position measurements of the tool")
+      ->check(CLI::IsMember({"pose", "position"}));
+  ident->add_option("--poses", o->poses, "random poses (default 50)")->check(CLI::Range(1, kMaxIdentifiabilityPoses));
+  ident->add_option("--seed", o->seed, "seed of the random poses (default 1)")->check(CLI::Range(0LL, kMaxSeed));
+  ident->add_flag("--free-pitch", o->free_pitch, "give revolute joints a pitch parameter");
+  ident->add_flag("--json", o->as_json, "print JSON");
+  commands.emplace_back(ident, [o] {
+    const RobotFile file = loadRobot(o->robot);
+    const PoeModel model = file.poeModel();
+    const Measure measure = parseMeasure(o->measure);
+    // the full error model has 8 columns per joint + pitches + 6; the D-H one 6 per joint + 6
+    if (identificationEntries(o->poses, model.dof(), 9.0) > kMaxJacobianEntries) {
+      // one pose over the limit: the robot is too long whatever --poses says
+      const bool robot = identificationEntries(1, model.dof(), 9.0) > kMaxJacobianEntries;
+      throw UsageError(robot ? file.path : std::string("--poses"),
+                       std::to_string(o->poses) + " poses of a " + std::to_string(model.dof()) +
+                                      "-joint robot exceed the identification size limit (" + shortest(kMaxJacobianEntries) +
+                                      " numbers: the Jacobian and the SVD's V, columns squared)");
+    }
+    const auto ranges = samplingRanges(model);
+    std::vector<VecX> q(static_cast<size_t>(o->poses), VecX(model.dof()));
+    for (int i = 0; i < o->poses; ++i) randomSample(static_cast<unsigned long long>(o->seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
+    const Identifiability id = analyzeIdentifiability(model, q, measure, o->free_pitch);
+    if (o->as_json) {
+      json j = identifiabilityJson(file, id);
+      j["poses"] = o->poses;
+      j["seed"] = o->seed;
+      std::cout << jsonText(j) << "\n";
+    } else {
+      std::cout << "identifiability of " << robotLabel(file) << " from " << o->poses << " random "
+                << measureName(measure) << " measurements (seed " << o->seed << ")\n";
+      printIdentifiability(std::cout, id);
+    }
+    return 0;
+  });
+
+  auto* cal = app.add_subcommand("calibrate", "identify a POE model from measurements; calibrated D-H table with "
+                                              "standard deviations");
+  cal->add_option("NOMINAL", o->robot.path, "nominal robot file (.yaml), or a model (.xml MJCF, .urdf) with --tip")
+      ->required();
+  cal->add_option("--tip", o->robot.tip, "model file: the tip site or body");
+  cal->add_option("--base", o->robot.base, "model file: the base body (default: the world)");
+  cal->add_option("--measurements", o->measurements, "measurement CSV (lowpair simulate, docs/file_formats.md)")
+      ->required();
+  cal->add_option("--validation", o->validation, "held-out measurement CSV: residuals before and after");
+  cal->add_option("--noise-position", o->noise_position, "measurement noise, standard deviation per coordinate (length)");
+  cal->add_option("--noise-rotation", o->noise_rotation, "measurement noise, standard deviation per axis (rad)");
+  cal->add_flag("--free-pitch", o->free_pitch, "identify a pitch on revolute joints too (they may come out helical)");
+  cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml)");
+  cal->add_flag("--json", o->as_json, "print JSON");
+  commands.emplace_back(cal, [o] {
+    const RobotFile file = loadRobot(o->robot);
+    const PoeModel nominal = file.poeModel();
+    const MeasurementFile fit = readMeasurements(o->measurements);
+    // the measurements must be of this robot: its joint count, and its length unit when both state one
+    auto check_matches = [&](const MeasurementFile& m) {
+      if (m.dof != nominal.dof()) {
+        throw RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + file.path + " has " +
+                             std::to_string(nominal.dof()) + " joints");
+      }
+      if (!m.length_unit.empty() && !file.length_unit.empty() && m.length_unit != file.length_unit) {
+        throw RobotFileError(m.path + ": lengths in " + m.length_unit + " (its length_unit comment) but " + file.path +
+                             " is in " + file.length_unit + ": measure in the nominal's unit");
+      }
+    };
+    check_matches(fit);
+    if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
+        identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) > kMaxJacobianEntries) {
+      throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
+                           " measurements of " + std::to_string(nominal.dof()) + " joints; calibrate fits at most " +
+                           std::to_string(kMaxCalibrationMeasurements) + " measurements and at most " +
+                           shortest(kMaxJacobianEntries) +
+                           " numbers at once (the Jacobian, 6 rows per measurement, and the SVD's V, columns squared: "
+                           "fit fewer measurements and put the rest in --validation; a robot this long cannot be fitted)");
+    }
+    std::optional<MeasurementFile> validation;
+    if (!o->validation.empty()) {
+      validation = readMeasurements(o->validation);
+      check_matches(*validation);
+    }
+    for (const auto& [value, flag, limit] : {std::tuple{o->noise_position, "--noise-position", kMaxMagnitude},
+                                             std::tuple{o->noise_rotation, "--noise-rotation", M_PI}}) {
+      if (value && !(*value > 0.0 && *value <= limit)) {
+        throw UsageError(flag, "must be a positive number up to " + shortest(limit) + ", got " + shortest(*value));
+      }
+    }
+    if (o->noise_rotation && fit.measure == Measure::Position) {
+      throw UsageError("--noise-rotation", fit.path + " holds position measurements: there is no rotation to weigh");
+    }
+    CalibrationOptions options;
+    options.measure = fit.measure;
+    options.free_pitch = o->free_pitch;
+    options.sigma_position = o->noise_position;
+    options.sigma_rotation = o->noise_rotation;
+    const auto start = std::chrono::steady_clock::now();
+    const CalibrationResult result = calibrate(nominal, fit.measurements, options);
+    const DhUncertainty dh = dhUncertainty(result);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    CalibrationReport report{file, fit, validation, result, dh, seconds};
+    if (!o->out.empty()) {
+      const std::string name = (file.name.empty() ? std::filesystem::path(file.path).stem().string() : file.name) +
+                               "-calibrated";
+      writeFileAtomically(o->out, formatPoeRobotFile(result.model, file, name,
+                                                     "calibrated by lowpair calibrate from " + fit.path,
+                                                     calibrationProvenance(report)));
+    }
+    if (o->as_json) {
+      std::cout << jsonText(calibrationJson(report)) << "\n";
+    } else {
+      printCalibration(std::cout, report);
+    }
+    return 0;
+  });
+}
+
+}  // namespace lowpair::cli

@@ -1,0 +1,63 @@
+#pragma once
+/// @file commands.hpp
+/// Subcommands of the `lowpair` CLI. Each `add...` registers its subcommands on the app and appends a
+/// runner per subcommand; main() parses, runs the one selected and maps errors to exit status 2.
+/// A runner returns the exit status (0 ok, 1 a validation fell outside tolerance) and throws
+/// io::RobotFileError / UsageError / std::invalid_argument for bad input.
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "lowpair/types.hpp"
+#include "io/robot_file.hpp"
+
+namespace lowpair::cli {
+
+using Runner = std::function<int()>;
+using Commands = std::vector<std::pair<CLI::App*, Runner>>;
+
+/// A usage error about an argument (not a file): printed as "error: SUBJECT: message".
+/// The shortest text that reads back as x ("0.01", "1e+100", "nan"): numbers quoted in messages.
+inline std::string shortest(double x) {
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, x).ptr);
+}
+
+struct UsageError : std::runtime_error {
+  UsageError(std::string subject, const std::string& message)
+      : std::runtime_error(message), subject_(std::move(subject)) {}
+  const std::string& subject() const { return subject_; }
+
+ private:
+  std::string subject_;
+};
+
+/// Parses "Q1,Q2,..." into `dof` finite numbers. @throws UsageError (subject: `subject`)
+VecX parseJointVector(const std::string& text, int dof, const std::string& subject);
+
+/// Where a subcommand's robot comes from: a robot file (.yaml), or an MJCF (.xml) / URDF (.urdf) model
+/// whose chain from `base` (default: the world) to `tip` (a site or body) is extracted through MuJoCo.
+struct RobotSource {
+  std::string path, tip, base;
+};
+
+/// Registers ROBOT, --tip and --base on a subcommand.
+void addRobotArgument(CLI::App& sub, RobotSource& source);
+
+/// Reads the robot: a robot file, or the POE model extracted from a model file (scale 1, no unit).
+/// @throws io::RobotFileError, UsageError (a model file without --tip)
+io::RobotFile loadRobot(const RobotSource& source);
+
+void addConvertCommands(CLI::App& app, Commands& out);   // poe2dh, dh2poe, fk (convert_commands.cpp)
+void addJacobianCommands(CLI::App& app, Commands& out);  // jacobian, singular (jacobian_commands.cpp)
+void addValidateCommand(CLI::App& app, Commands& out);   // validate (validate_command.cpp)
+void addSimulateCommand(CLI::App& app, Commands& out);   // simulate (simulate_command.cpp)
+void addCalibrateCommands(CLI::App& app, Commands& out);  // identifiability, calibrate (calibrate_commands.cpp)
+void addExportCommand(CLI::App& app, Commands& out);      // export (export_command.cpp)
+
+}  // namespace lowpair::cli

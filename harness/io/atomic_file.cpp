@@ -1,0 +1,212 @@
+// writeFileAtomically: an exclusive temporary beside the target, every write and the close checked, then
+// a rename onto the target.
+#include "io/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <system_error>
+
+#include "io/robot_file.hpp"
+
+namespace lowpair::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<unsigned long long> temporary_count{0};
+
+// Longest part of the target's name kept in the temporary's (NAME_MAX is 255 on common file systems).
+constexpr size_t kMaxTemporaryStem = 200;
+
+std::string errorText(int error) { return std::generic_category().message(error); }
+
+// Writes all of `content` to `fd`: 0, or the errno of the write that failed (ENOSPC, EFBIG, EIO, ...).
+int writeAll(int fd, const std::string& content) {
+  const char* data = content.data();
+  size_t left = content.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, data, left);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    data += n;
+    left -= static_cast<size_t>(n);
+  }
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
+// Writes `content` to an exclusive temporary beside `path`; returns the temporary's path.
+// @throws RobotFileError (the temporary removed)
+std::string writeTemporary(const std::string& path, const std::string& content) {
+  auto failure = [&path](const std::string& reason) { return RobotFileError(path + ": cannot write: " + reason); };
+  const fs::path target(path);
+  if (path.empty() || !target.has_filename()) throw failure("not a file name");
+  std::error_code ec;
+  if (fs::is_directory(target, ec)) throw failure("is a directory");
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string stem = "." + target.filename().string().substr(0, kMaxTemporaryStem) + ".tmp-" +
+                           std::to_string(::getpid()) + "-";
+
+  // O_EXCL: never write into a file that is not ours (a leftover or another process's temporary)
+  fs::path temporary;
+  int fd = -1;
+  for (int attempt = 0; fd < 0; ++attempt) {
+    temporary = dir / (stem + std::to_string(temporary_count++));
+    fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && (errno != EEXIST || attempt >= 100)) throw failure(errorText(errno));
+  }
+  int error = writeAll(fd, content);
+  // close reports delayed write errors (NFS, quotas); its failure is a failure of the write
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error == 0) return temporary.string();
+  fs::remove(temporary, ec);
+  throw failure(errorText(error));
+}
+
+}  // namespace
+
+namespace {
+
+// Where an output path is written: `path` is the file to replace atomically, or, when `direct`, the
+// device, FIFO or descriptor path to open and write.
+struct OutputTarget {
+  std::string path;
+  bool direct = false;
+  int descriptor = -1;  // this process's descriptor N for /dev/stdout, /dev/fd/N, /proc/self/fd/N
+};
+
+// N for this process's descriptor paths (/dev/stdin, /dev/stdout, /dev/stderr, /dev/fd/N,
+// /proc/self/fd/N, /proc/<our pid>/fd/N), else -1.
+int ownDescriptor(const std::string& path) {
+  if (path == "/dev/stdout") return 1;
+  if (path == "/dev/stderr") return 2;
+  if (path == "/dev/stdin") return 0;
+  for (const std::string& prefix :
+       {std::string("/dev/fd/"), std::string("/proc/self/fd/"), "/proc/" + std::to_string(::getpid()) + "/fd/"}) {
+    if (path.rfind(prefix, 0) != 0) continue;
+    const std::string digits = path.substr(prefix.size());
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+    return std::stoi(digits);
+  }
+  return -1;
+}
+
+// Longest chain of symbolic links followed (the kernel's own limit is 40).
+constexpr int kMaxSymlinkHops = 40;
+
+bool throughProc(const std::string& path) {
+  return path.rfind("/proc/", 0) == 0 || path.rfind("/dev/fd/", 0) == 0 || path == "/dev/stdout" ||
+         path == "/dev/stderr";
+}
+
+// Where and how `path` is written: the end of its chain of symbolic links (so a link to a regular file
+// keeps being a link and its target is replaced), written atomically when that is a regular file or does
+// not exist yet; written directly (opened, never replaced) when it is a character device, a FIFO or a
+// descriptor path (/dev/stdout, /proc/self/fd/N: replacing what they resolve to would not reach the
+// descriptor); refused otherwise.
+// @throws RobotFileError `PATH: cannot write: REASON`
+OutputTarget classifyOutput(const std::string& path) {
+  auto failure = [&path](const std::string& reason) { return RobotFileError(path + ": cannot write: " + reason); };
+  if (path.empty() || !fs::path(path).has_filename()) throw failure("not a file name");
+  bool descriptor = throughProc(path);
+  std::string end = path;
+  for (int hop = 0;; ++hop) {
+    struct stat link {};
+    if (::lstat(end.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) break;
+    if (hop >= kMaxSymlinkHops) throw failure("too many levels of symbolic links");
+    std::error_code ec;
+    const fs::path next = fs::read_symlink(end, ec);
+    if (ec) throw failure(ec.message());
+    // a descriptor's magic link ("pipe:[123]", "socket:[4]", "/dev/pts/0") is not a path to rename onto
+    if (descriptor || throughProc(end)) {
+      descriptor = true;
+      break;
+    }
+    end = next.is_absolute() ? next.string() : (fs::path(end).parent_path() / next).string();
+    descriptor = descriptor || throughProc(end);
+  }
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) {
+    if (errno == ENOENT && !descriptor) return OutputTarget{end, false};  // a new file (or a dangling link's target)
+    throw failure(errorText(errno));
+  }
+  if (S_ISDIR(info.st_mode)) throw failure("is a directory");
+  const int own = descriptor ? ownDescriptor(end) : -1;
+  if (S_ISCHR(info.st_mode) || S_ISFIFO(info.st_mode)) return OutputTarget{path, true, own};
+  if (S_ISREG(info.st_mode)) return OutputTarget{descriptor ? path : end, descriptor, own};
+  throw failure("not a regular file, a character device or a FIFO (a socket or a block device is not written)");
+}
+
+// Writes `content` to this process's descriptor `own` when the path names one (after what was printed to
+// it: the same file offset, as a shell redirection expects), else opens the existing character device,
+// FIFO or another process's descriptor path (O_APPEND: a file behind it keeps what it holds).
+// @throws RobotFileError `PATH: cannot write: REASON`
+void writeDirectly(const std::string& path, int own, const std::string& content) {
+  if (own >= 0) {
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    const int error = writeAll(own, content);
+    if (error != 0) throw RobotFileError(path + ": cannot write: " + errorText(error));
+    return;
+  }
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) throw RobotFileError(path + ": cannot write: " + errorText(errno));
+  int error = writeAll(fd, content);
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error != 0) throw RobotFileError(path + ": cannot write: " + errorText(error));
+}
+
+}  // namespace
+
+void writeFileAtomically(const std::string& path, const std::string& content) {
+  StagedFiles files;
+  files.stage(path, content);
+  files.commit();
+}
+
+StagedFiles::~StagedFiles() {
+  std::error_code ec;
+  for (const Entry& e : entries_) {
+    if (!e.direct) fs::remove(e.temporary, ec);
+  }
+}
+
+void StagedFiles::stage(const std::string& path, const std::string& content) {
+  entries_.reserve(entries_.size() + 1);  // the push_back below cannot throw once the temporary exists
+  const OutputTarget target = classifyOutput(path);
+  if (target.direct) {
+    entries_.push_back(Entry{target.path, std::string(), content, true, target.descriptor});
+  } else {
+    entries_.push_back(Entry{target.path, writeTemporary(target.path, content), std::string(), false});
+  }
+}
+
+void StagedFiles::commit() {
+  while (!entries_.empty()) {
+    const Entry& e = entries_.front();
+    if (e.direct) {
+      writeDirectly(e.target, e.descriptor, e.content);
+    } else {
+      std::error_code ec;
+      fs::rename(e.temporary, e.target, ec);
+      if (ec) throw RobotFileError(e.target + ": cannot write: " + ec.message());  // the destructor cleans up
+    }
+    entries_.erase(entries_.begin());
+  }
+}
+
+}  // namespace lowpair::io

@@ -1,0 +1,285 @@
+// The measurement CSV (measurements.hpp): a bounded line reader, the header and number rules, the writer.
+#include "io/measurements.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+#include "lowpair/tolerances.hpp"
+#include "io/robot_file.hpp"
+
+namespace lowpair::io {
+
+namespace {
+
+const char* const kExpectedColumns = "(expected q1..qn,x,y,z[,qw,qx,qy,qz])";
+constexpr double kUnitQuaternionTolerance = 1e-6;
+
+// Text from the file for a message: at most 40 bytes, anything but printable ASCII shown as '?'.
+std::string quoted(const std::string& text) {
+  constexpr size_t kMaxQuoted = 40;
+  std::string out = "'";
+  for (size_t i = 0; i < text.size() && i < kMaxQuoted; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    out += c >= 0x20 && c < 0x7f ? static_cast<char>(c) : '?';
+  }
+  if (text.size() > kMaxQuoted) out += "...";
+  return out + "'";
+}
+
+bool isBlank(char c) { return c == ' ' || c == '\t'; }
+
+// Splits at commas; each field trimmed of spaces and tabs.
+void splitFields(const std::string& line, std::vector<std::string>& fields) {
+  fields.clear();
+  size_t begin = 0;
+  while (true) {
+    const size_t comma = std::min(line.find(',', begin), line.size());
+    size_t a = begin, b = comma;
+    while (a < b && isBlank(line[a])) ++a;
+    while (b > a && isBlank(line[b - 1])) --b;
+    fields.emplace_back(line, a, b - a);
+    if (comma == line.size()) return;
+    begin = comma + 1;
+  }
+}
+
+// Lines of a stream without their LF or CRLF, at most kMaxMeasurementLineBytes each, read through a
+// fixed buffer (a file without line ends never grows memory).
+class LineReader {
+ public:
+  LineReader(std::istream& in, std::string path)
+      : in_(in), path_(std::move(path)), buffer_(kMaxMeasurementLineBytes + 2) {}  // room for '\r'
+
+  /// The next line (false at the end of the file). @throws RobotFileError for a longer line or a read error
+  bool next(std::string& line) {
+    in_.getline(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    const auto got = static_cast<size_t>(in_.gcount());
+    if (in_.bad()) throw RobotFileError(path_ + ": cannot read file");
+    if (in_.eof()) {
+      if (got == 0) return false;
+      line.assign(buffer_.data(), got);  // the last line, without a line end
+    } else if (in_.fail()) {             // the buffer filled before a line end
+      throw tooLong(number_ + 1);
+    } else {
+      line.assign(buffer_.data(), got - 1);  // gcount counts the '\n'
+    }
+    ++number_;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.size() > kMaxMeasurementLineBytes) throw tooLong(number_);
+    if (number_ == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 byte order mark
+    return true;
+  }
+  long long number() const { return number_; }
+
+ private:
+  RobotFileError tooLong(long long number) const {
+    return RobotFileError(path_ + ":" + std::to_string(number) + ": line longer than " +
+                          std::to_string(kMaxMeasurementLineBytes) + " bytes");
+  }
+
+  std::istream& in_;
+  std::string path_;
+  std::vector<char> buffer_;
+  long long number_ = 0;
+};
+
+bool isComment(const std::string& line) {
+  for (char c : line) {
+    if (!isBlank(c)) return c == '#';
+  }
+  return true;  // blank
+}
+
+// A `# length_unit: U` comment sets `unit` (the first one; a second must agree). @param fail throws
+// "FILE:LINE: what"
+template <class Fail>
+void readUnitComment(const std::string& line, std::string& unit, const Fail& fail) {
+  const size_t hash = line.find('#');
+  if (hash == std::string::npos) return;  // blank
+  size_t k = line.find_first_not_of(" \t", hash + 1);
+  static const std::string key = "length_unit:";
+  if (k == std::string::npos || line.compare(k, key.size(), key) != 0) return;
+  const size_t begin = line.find_first_not_of(" \t", k + key.size());
+  const size_t end = begin == std::string::npos ? begin : line.find_last_not_of(" \t") + 1;  // (no '\r': LineReader)
+  const std::string value = begin == std::string::npos ? "" : line.substr(begin, end - begin);
+  if (!isUnitLabel(value)) fail("length_unit " + quoted(value) + " is not a unit label (one token of 1-16 printable ASCII characters)");
+  const std::string& previous = unit;  // (const: std::quoted would take a non-const string by ADL)
+  if (!previous.empty() && previous != value) fail("length_unit " + quoted(value) + " after length_unit " + quoted(previous));
+  unit = value;
+}
+
+struct Columns {
+  int dof = 0;
+  Measure measure = Measure::Pose;
+  size_t count() const { return static_cast<size_t>(dof) + (measure == Measure::Pose ? 7 : 3); }
+};
+
+// The header's columns. @param fail throws "FILE:LINE: what"
+template <class Fail>
+Columns parseHeader(const std::vector<std::string>& fields, const Fail& fail) {
+  Columns columns;
+  size_t k = 0;
+  while (k < fields.size() && fields[k] == "q" + std::to_string(columns.dof + 1)) {
+    if (++columns.dof > kMaxMeasurementJoints) {
+      fail("more than " + std::to_string(kMaxMeasurementJoints) + " joint columns");
+    }
+    ++k;
+  }
+  // the name expected at column k, or an error naming what is there instead
+  auto expect = [&](const char* name) {
+    if (k >= fields.size()) fail("missing column '" + std::string(name) + "' " + kExpectedColumns);
+    if (fields[k] != name || columns.dof == 0) fail("unexpected column " + quoted(fields[k]) + " " + kExpectedColumns);
+    ++k;
+  };
+  for (const char* name : {"x", "y", "z"}) expect(name);
+  if (k == fields.size()) {
+    columns.measure = Measure::Position;
+    return columns;
+  }
+  for (const char* name : {"qw", "qx", "qy", "qz"}) expect(name);
+  if (k < fields.size()) fail("unexpected column " + quoted(fields[k]) + " " + kExpectedColumns);
+  return columns;
+}
+
+// A whole token as a finite number. @param fail throws "FILE:LINE: what"
+template <class Fail>
+double parseNumber(const std::string& token, const Fail& fail) {
+  char* end = nullptr;
+  const double x = token.empty() || std::isspace(static_cast<unsigned char>(token[0]))
+                       ? 0.0
+                       : std::strtod(token.c_str(), &end);
+  if (end != token.c_str() + token.size() || token.empty()) fail(quoted(token) + " is not a number");
+  if (!std::isfinite(x)) fail(quoted(token) + " is not a finite number");
+  if (std::abs(x) > kMaxMagnitude) fail(quoted(token) + " is above 1e100 in magnitude (kMaxMagnitude)");
+  return x;
+}
+
+void appendNumber(std::string& out, double x) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);  // %.17g
+  out.append(buffer, result.ptr);
+}
+
+}  // namespace
+
+bool isUnitLabel(const std::string& unit) {
+  return !unit.empty() && unit.size() <= 16 && std::all_of(unit.begin(), unit.end(), [](char c) { return c > ' ' && c < 127; });
+}
+
+MeasurementFile readMeasurements(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw RobotFileError(path + ": cannot open file");
+
+  MeasurementFile file;
+  file.path = path;
+  LineReader lines(in, path);
+  auto fail = [&](const std::string& what) {
+    throw RobotFileError(path + ":" + std::to_string(lines.number()) + ": " + what);
+  };
+  std::string line;
+  std::vector<std::string> fields;
+  bool have_header = false;
+  Columns columns;
+  while (lines.next(line)) {
+    if (isComment(line)) {
+      readUnitComment(line, file.length_unit, fail);
+      continue;
+    }
+    splitFields(line, fields);
+    if (!have_header) {
+      columns = parseHeader(fields, fail);
+      file.dof = columns.dof;
+      file.measure = columns.measure;
+      have_header = true;
+      continue;
+    }
+    if (fields.size() != columns.count()) {
+      fail("expected " + std::to_string(columns.count()) + " numbers, got " + std::to_string(fields.size()));
+    }
+    if (file.measurements.size() >= static_cast<size_t>(kMaxMeasurements)) {
+      fail("more than " + std::to_string(kMaxMeasurements) + " measurements");
+    }
+    if (static_cast<long long>(file.measurements.size() + 1) * columns.dof > kMaxMeasurementJointValues) {
+      fail("more than " + std::to_string(kMaxMeasurementJointValues) + " joint values in all (measurements x joints)");
+    }
+    Measurement m;
+    const int n = columns.dof;
+    m.q.resize(n);
+    for (int i = 0; i < n; ++i) m.q[i] = parseNumber(fields[static_cast<size_t>(i)], fail);
+    for (int i = 0; i < 3; ++i) m.T_base_tool.p[i] = parseNumber(fields[static_cast<size_t>(n + i)], fail);
+    if (columns.measure == Measure::Pose) {
+      double w[4];
+      for (int i = 0; i < 4; ++i) w[i] = parseNumber(fields[static_cast<size_t>(n + 3 + i)], fail);
+      Eigen::Quaterniond quaternion(w[0], w[1], w[2], w[3]);
+      const double norm = quaternion.norm();
+      if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.9g", norm);
+        fail(std::string("qw..qz is not a unit quaternion (norm ") + text + ")");
+      }
+      m.T_base_tool.R = quaternion.normalized().toRotationMatrix();
+    }
+    file.measurements.push_back(std::move(m));
+  }
+  if (!have_header) throw RobotFileError(path + ": no header line " + kExpectedColumns);
+  if (file.measurements.empty()) throw RobotFileError(path + ": no measurements");
+  return file;
+}
+
+std::string formatMeasurements(Measure measure, const std::vector<Measurement>& measurements,
+                               const std::vector<std::string>& comments) {
+  if (measurements.empty()) throw std::invalid_argument("formatMeasurements: no measurements");
+  const Eigen::Index n = measurements.front().q.size();
+  std::string out;
+  for (const std::string& comment : comments) {
+    size_t begin = 0;
+    while (true) {  // one "# " line per line of the comment
+      const size_t end = std::min(comment.find('\n', begin), comment.size());
+      std::string text = comment.substr(begin, end - begin);
+      if (!text.empty() && text.back() == '\r') text.pop_back();
+      out += text.empty() ? "#\n" : "# " + text + "\n";
+      if (end == comment.size()) break;
+      begin = end + 1;
+    }
+  }
+  for (Eigen::Index i = 0; i < n; ++i) out += "q" + std::to_string(i + 1) + ",";
+  out += measure == Measure::Pose ? "x,y,z,qw,qx,qy,qz\n" : "x,y,z\n";
+  for (const Measurement& m : measurements) {
+    if (m.q.size() != n) {
+      throw std::invalid_argument("formatMeasurements: joint vectors of " + std::to_string(n) + " and " +
+                                  std::to_string(m.q.size()) + " values");
+    }
+    for (Eigen::Index i = 0; i < n; ++i) {
+      appendNumber(out, m.q[i]);
+      out += ',';
+    }
+    for (int i = 0; i < 3; ++i) {
+      if (i > 0) out += ',';
+      appendNumber(out, m.T_base_tool.p[i]);
+    }
+    if (measure == Measure::Pose) {
+      Eigen::Quaterniond quaternion(m.T_base_tool.R);
+      quaternion.normalize();
+      if (quaternion.w() < 0) quaternion.coeffs() *= -1.0;
+      for (double c : {quaternion.w(), quaternion.x(), quaternion.y(), quaternion.z()}) {
+        out += ',';
+        appendNumber(out, c);
+      }
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace lowpair::io

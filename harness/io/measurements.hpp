@@ -1,0 +1,68 @@
+#pragma once
+/// @file measurements.hpp
+/// The measurement CSV: joint variables and the measured tool frame, one measurement per line (written by
+/// `lowpair simulate`, read by `lowpair calibrate`).
+///
+/// Format:
+/// - Text, comma separated, lines ending in LF or CRLF; a UTF-8 byte order mark at the start is skipped.
+/// - Comments: blank lines, and lines whose first character other than spaces and tabs is `#`, anywhere.
+///   One comment may state the length unit of `x,y,z`: `# length_unit: U` (U one token of 1-16 printable
+///   ASCII characters, e.g. `mm`; `lowpair simulate` writes it when the unit is known). A second one with
+///   another unit is an error. `calibrate` rejects measurements whose stated unit is not the nominal's.
+/// - Header: the first other line names the columns, exactly in this order (names trimmed of spaces and
+///   tabs): `q1,...,qn,x,y,z` (position measurements) or `q1,...,qn,x,y,z,qw,qx,qy,qz` (pose measurements),
+///   with 1 <= n <= 1000 joints numbered contiguously from q1.
+///   - `q1..qn`: the robot's joint variables (rad for revolute and helical joints, length for prismatic);
+///   - `x,y,z`: the position of the tool frame in the base frame (`T_base_tool.p`), in the robot's length
+///     unit;
+///   - `qw,qx,qy,qz`: the rotation of `T_base_tool` as a unit quaternion, scalar first. A norm within 1e-6
+///     of 1 is accepted (and normalized); q and -q are the same rotation (the writer makes qw >= 0).
+/// - Data: every other line is one measurement, exactly one number per column. A number is a whole token
+///   (trimmed of spaces and tabs) read by strtod in the C locale (e.g. `-1.5`, `2e-3`, `0x1p-3`) and must
+///   be finite.
+/// - Limits: at least one and at most 1,000,000 measurements, lines of at most 65,536 bytes (without the
+///   line end), at most 100,000,000 joint values in all (measurements times joints: 800 MB in memory).
+///
+/// Errors (RobotFileError) are one line, `FILE:LINE: what` with the 1-based line, or `FILE: what` for the
+/// file as a whole (`cannot open file`, `is a directory, not a file`, `no header line ...`,
+/// `no measurements`). Text quoted from the file is cut to 40 bytes, with every byte outside printable
+/// ASCII shown as '?'.
+///
+/// The writer prints numbers with 17 significant digits, so joint values and positions read back bit for
+/// bit; the rotation reads back to rounding (it passes through a quaternion).
+
+#include <string>
+#include <vector>
+
+#include "lowpair/calibration.hpp"
+
+namespace lowpair::io {
+
+struct MeasurementFile {
+  std::string path;
+  Measure measure = Measure::Pose;  ///< Position when the file has no quaternion columns
+  int dof = 0;                      ///< n, the number of joint columns
+  std::vector<Measurement> measurements;  ///< rotation = identity for position measurements
+  std::string length_unit;  ///< from a `# length_unit: U` comment; "" when the file states none
+};
+
+/// Limits of the reader (see the file comment).
+constexpr int kMaxMeasurements = 1000000;
+constexpr int kMaxMeasurementJoints = 1000;
+constexpr size_t kMaxMeasurementLineBytes = 65536;
+constexpr long long kMaxMeasurementJointValues = 100000000;
+
+/// A unit label a `# length_unit: U` comment can hold: one token of 1-16 printable ASCII characters.
+bool isUnitLabel(const std::string& unit);
+
+/// Reads a measurement CSV. @throws RobotFileError (see the file comment)
+MeasurementFile readMeasurements(const std::string& path);
+
+/// The CSV text of `measurements`: `comments` as `# ...` lines (a comment holding line breaks becomes
+/// several), the header, then one line per measurement (17 significant digits; quaternion with qw >= 0
+/// for Pose).
+/// @throws std::invalid_argument for no measurement, or joint vectors of different sizes
+std::string formatMeasurements(Measure measure, const std::vector<Measurement>& measurements,
+                               const std::vector<std::string>& comments);
+
+}  // namespace lowpair::io

@@ -1,0 +1,43 @@
+#pragma once
+/// @file output.hpp
+/// JSON and human-readable renderings of models, conversions and poses (the CLI's contract, README).
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "lowpair/convert.hpp"
+#include "io/robot_file.hpp"
+
+namespace lowpair::io {
+
+/// `j` as indented JSON text (one space). Strings that are not valid UTF-8 (a name read from a file) are
+/// written with U+FFFD in place of the invalid bytes instead of failing the command.
+std::string jsonText(const nlohmann::json& j);
+
+nlohmann::json poseJson(const Pose& T);
+/// The table with its conditioning, the FK check `check` of it and the warnings (conversionWarnings).
+nlohmann::json dhJson(const RobotFile& file, const DhConversion& conversion, const FkCheck& check);
+nlohmann::json modifiedDhJson(const RobotFile& file, const DhConversion& conversion, const FkCheck& check);
+nlohmann::json poeJson(const RobotFile& file, const PoeModel& model);
+
+void printDh(std::ostream& out, const RobotFile& file, const DhConversion& conversion, const FkCheck& check);
+void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversion& conversion, const FkCheck& check);
+void printPoe(std::ostream& out, const RobotFile& file, const PoeModel& model);
+void printPose(std::ostream& out, const Pose& T, const std::string& length_unit);
+
+/// The conversion's conditioning in sentences (conversion.md, "Accuracy and conditioning"): one per
+/// ill-conditioned row, one for an ill-conditioned tool, one for a parallel threshold above rounding level
+/// (with the deviation `check` measured).
+std::vector<std::string> conversionWarnings(const DhConversion& conversion, const FkCheck& check);
+
+/// The robot's name, or its file when it has none.
+std::string robotLabel(const RobotFile& file);
+/// A vector as a JSON-ready std::vector.
+std::vector<double> toVector(const Eigen::Ref<const VecX>& x);
+
+/// "12.3456" for moderate magnitudes, "1.2346e+07" beyond; never "-0.0000".
+std::string fixed(double x, int decimals = 4);
+
+}  // namespace lowpair::io

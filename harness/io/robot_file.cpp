@@ -1,0 +1,299 @@
+#include "io/robot_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "lowpair/convert.hpp"
+#include "lowpair/se3.hpp"
+#include "io/yaml_reader.hpp"
+
+namespace lowpair::io {
+
+
+std::optional<double> metresPerUnit(const std::string& length_unit) {
+  static const std::pair<const char*, double> kUnits[] = {{"m", 1.0},   {"mm", 1e-3}, {"cm", 1e-2},   {"dm", 1e-1},
+                                                          {"um", 1e-6}, {"km", 1e3},  {"in", 0.0254}, {"ft", 0.3048}};
+  for (const auto& [name, metres] : kUnits) {
+    if (length_unit == name) return metres;
+  }
+  return std::nullopt;
+}
+
+RobotFile inMetres(const RobotFile& file) {
+  const std::optional<double> f = metresPerUnit(file.length_unit);
+  if (!f) {
+    throw RobotFileError(file.path + ": " +
+                         (file.length_unit.empty() ? std::string("states no length_unit")
+                                                   : "length_unit '" + file.length_unit + "' is not one lowpair converts") +
+                         ": give length_unit (m, mm, cm, dm, um, km, in or ft) to write lengths in metres");
+  }
+  const PoeModel model = file.poeModel();
+  std::vector<Joint> joints = model.joints();
+  for (Joint& j : joints) {
+    if (j.type == JointType::Prismatic) {
+      j.scale *= *f;  // x [m] = f scale (q + offset): q keeps its unit
+    } else {
+      j.twist.tail<3>() *= *f;
+      j.pitch *= *f;
+    }
+  }
+  Pose tool = model.toolPose();
+  tool.p *= *f;
+  RobotFile out = file;
+  out.length_unit = "m";
+  out.dh.reset();
+  out.poe = PoeModel(std::move(joints), tool, model.name());
+  return out;
+}
+
+double RobotFile::angleFactor() const { return angle_unit == "deg" ? M_PI / 180.0 : 1.0; }
+
+PoeModel RobotFile::poeModel() const { return poe ? *poe : dhToPoe(*dh); }
+
+void requireBoundedModelFile(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status) || fs::is_directory(status)) return;  // the readers name these themselves
+  if (!fs::is_regular_file(status)) {
+    throw RobotFileError(path + ": not a regular file (a FIFO, device or socket is not read as a model file)");
+  }
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (ec) throw RobotFileError(path + ": cannot read file: " + ec.message());
+  if (bytes > kMaxModelFileBytes) {
+    throw RobotFileError(path + ": " + std::to_string(bytes) + " bytes: over the " +
+                         std::to_string(kMaxModelFileBytes >> 20) + " MiB a model file may have");
+  }
+}
+
+YAML::Node loadYamlFile(const std::string& path) {
+  // a directory opens as a stream on Linux and fails inside yaml-cpp with a raw ios message (and a leak)
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
+  requireBoundedModelFile(path);
+  if (!std::ifstream(path)) throw RobotFileError(path + ": cannot open file");
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::ParserException& e) {
+    throw RobotFileError(path + ": line " + std::to_string(e.mark.line + 1) + ", column " +
+                         std::to_string(e.mark.column + 1) + ": YAML syntax error: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw RobotFileError(path + ": " + e.what());
+  }
+}
+
+RobotFile readRobotFile(const std::string& path) {
+  const YAML::Node root = loadYamlFile(path);
+  YamlReader in(path);
+  if (!root.IsMap()) yamlError(path, root, "a robot file must be a mapping with 'poe:' or 'dh:'");
+  in.allowOnly(root, "the robot file", {"name", "length_unit", "angle_unit", "description", "poe", "dh"});
+
+  RobotFile file;
+  file.path = path;
+  if (root["name"]) file.name = in.string(root["name"], "name");
+  if (root["length_unit"]) file.length_unit = in.string(root["length_unit"], "length_unit");
+  if (root["description"]) file.description = in.string(root["description"], "description");
+  if (root["angle_unit"]) {
+    file.angle_unit = in.string(root["angle_unit"], "angle_unit");
+    if (file.angle_unit != "rad" && file.angle_unit != "deg") {
+      yamlError(path, root["angle_unit"], "angle_unit must be rad or deg, got '" + file.angle_unit + "'");
+    }
+  }
+  const double k = file.angleFactor();
+  const bool has_poe = root["poe"].IsDefined(), has_dh = root["dh"].IsDefined();
+  if (has_poe == has_dh) yamlError(path, root, "a robot file needs exactly one of 'poe:' and 'dh:'");
+
+  try {
+    if (has_poe) {
+      const YAML::Node poe = root["poe"];
+      in.allowOnly(poe, "poe", {"joints", "tool", "tool_pose"});
+      const YAML::Node joints = poe["joints"];
+      if (!joints.IsDefined() || !joints.IsSequence() || joints.size() == 0) {
+        yamlError(path, joints.IsDefined() ? joints : poe, "poe.joints must be a non-empty list");
+      }
+      std::vector<JointSpec> specs;
+      for (size_t i = 0; i < joints.size(); ++i) {
+        const YAML::Node j = joints[i];
+        const std::string where = "poe.joints[" + std::to_string(i) + "]";
+        in.allowOnly(j, where, {"name", "type", "twist", "offset", "range"});
+        if (!j["twist"]) yamlError(path, j, where + ": missing 'twist'");
+        JointSpec spec;
+        if (j["name"]) spec.name = in.string(j["name"], where + ".name");
+        spec.type = in.type(j["type"], where + ".type");
+        const auto t = in.vector(j["twist"], 6, where + ".twist");
+        spec.twist = Eigen::Map<const Vec6>(t.data());
+        const bool prismatic = spec.twist.head<3>().isZero(0.0);
+        const double unit = prismatic ? 1.0 : k;
+        spec.offset = in.numberOr(j, "offset", 0.0, where) * unit;
+        spec.range = in.range(j["range"], where + ".range", unit);
+        specs.push_back(spec);
+      }
+      if (poe["tool"] && poe["tool_pose"]) yamlError(path, poe, "give either poe.tool (a twist) or poe.tool_pose, not both");
+      Pose tool;
+      if (poe["tool"]) {
+        const auto t = in.vector(poe["tool"], 6, "poe.tool");
+        tool = expSE3(Eigen::Map<const Vec6>(t.data()));
+      } else if (poe["tool_pose"]) {
+        const YAML::Node tp = poe["tool_pose"];
+        if (!tp.IsSequence() || tp.size() != 4) yamlError(path, tp, "poe.tool_pose must be 4 rows of 4 numbers");
+        Mat4 T;
+        for (int r = 0; r < 4; ++r) {
+          const auto row = in.vector(tp[r], 4, "poe.tool_pose[" + std::to_string(r) + "]");
+          for (int c = 0; c < 4; ++c) T(r, c) = row[static_cast<size_t>(c)];
+        }
+        if (T(3, 0) != 0.0 || T(3, 1) != 0.0 || T(3, 2) != 0.0 || T(3, 3) != 1.0) {
+          yamlError(path, tp, "poe.tool_pose: the last row must be [0, 0, 0, 1]");
+        }
+        tool = Pose::fromMatrix(T);
+      }
+      file.poe.emplace(specs, tool, file.name);
+    } else {
+      const YAML::Node dh = root["dh"];
+      in.allowOnly(dh, "dh", {"base", "joints", "tool"});
+      auto params = [&](const YAML::Node& node, const std::string& where) {
+        DhParams r;
+        r.theta = in.numberOr(node, "theta", 0.0, where) * k;
+        r.d = in.numberOr(node, "d", 0.0, where);
+        r.alpha = in.numberOr(node, "alpha", 0.0, where) * k;
+        r.a = in.numberOr(node, "a", 0.0, where);
+        return r;
+      };
+      DhParams base;
+      if (dh["base"]) {
+        in.allowOnly(dh["base"], "dh.base", {"theta", "d", "alpha", "a"});
+        base = params(dh["base"], "dh.base");
+      }
+      const YAML::Node joints = dh["joints"];
+      if (!joints.IsDefined() || !joints.IsSequence() || joints.size() == 0) {
+        yamlError(path, joints.IsDefined() ? joints : dh, "dh.joints must be a non-empty list");
+      }
+      std::vector<DhJoint> list;
+      for (size_t i = 0; i < joints.size(); ++i) {
+        const YAML::Node j = joints[i];
+        const std::string where = "dh.joints[" + std::to_string(i) + "]";
+        in.allowOnly(j, where, {"name", "type", "theta", "d", "alpha", "a", "pitch", "scale", "range"});
+        DhJoint dj;
+        if (j["name"]) dj.name = in.string(j["name"], where + ".name");
+        const auto type = in.type(j["type"], where + ".type");
+        if (!type) yamlError(path, j, where + ": missing 'type' (revolute, prismatic or helical)");
+        dj.type = *type;
+        dj.link = params(j, where);
+        if (j["pitch"]) {
+          if (dj.type != JointType::Helical) {
+            yamlError(path, j["pitch"], where + ": 'pitch' is only for helical joints (this one is " +
+                                       jointTypeName(dj.type) + ")");
+          }
+          dj.pitch = in.number(j["pitch"], where + ".pitch") / k;  // length per angle_unit -> per rad
+        }
+        dj.scale = in.numberOr(j, "scale", 1.0, where);
+        if (!(dj.scale > 0.0)) yamlError(path, j["scale"], where + ".scale must be positive");
+        dj.range = in.range(j["range"], where + ".range", dj.type == JointType::Prismatic ? 1.0 : k);
+        list.push_back(dj);
+      }
+      double tool_theta = 0.0, tool_d = 0.0;
+      if (dh["tool"]) {
+        in.allowOnly(dh["tool"], "dh.tool", {"theta", "d"});
+        tool_theta = in.numberOr(dh["tool"], "theta", 0.0, "dh.tool") * k;
+        tool_d = in.numberOr(dh["tool"], "d", 0.0, "dh.tool");
+      }
+      file.dh.emplace(base, std::move(list), tool_theta, tool_d, file.name);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw RobotFileError(path + ": " + e.what());
+  } catch (const YAML::Exception& e) {
+    throw RobotFileError(path + ": " + e.what());
+  }
+  return file;
+}
+
+namespace {
+
+// The part every written robot file shares: `#` comments (one line each), then name, description and units,
+// leaving the top-level map open. 17 significant digits: every number reads back to the same double.
+void beginRobotFile(YAML::Emitter& out, const RobotFile& like, const std::string& name, const std::string& description,
+                    const std::vector<std::string>& comments) {
+  out.SetDoublePrecision(17);
+  for (std::string c : comments) {
+    std::replace_if(c.begin(), c.end(), [](char ch) { return ch == '\n' || ch == '\r'; }, ' ');
+    out << YAML::Comment(c) << YAML::Newline;
+  }
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << name;
+  if (!description.empty()) out << YAML::Key << "description" << YAML::Value << description;
+  if (!like.length_unit.empty()) out << YAML::Key << "length_unit" << YAML::Value << like.length_unit;
+  out << YAML::Key << "angle_unit" << YAML::Value << like.angle_unit;
+}
+
+}  // namespace
+
+std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
+                               const std::string& description, const std::vector<std::string>& comments) {
+  const double k = like.angleFactor();
+  YAML::Emitter out;
+  beginRobotFile(out, like, name, description, comments);
+  out << YAML::Key << "poe" << YAML::Value << YAML::BeginMap << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
+  for (const Joint& j : model.joints()) {
+    const double unit = j.type == JointType::Prismatic ? 1.0 : k;  // joint-variable unit of offset and range
+    const Vec6 xi = j.twist * j.scale;
+    out << YAML::Flow << YAML::BeginMap;
+    if (!j.name.empty()) out << YAML::Key << "name" << YAML::Value << j.name;
+    out << YAML::Key << "type" << YAML::Value << jointTypeName(j.type);
+    out << YAML::Key << "twist" << YAML::Value << YAML::Flow
+        << std::vector<double>(xi.data(), xi.data() + 6);
+    if (j.offset != 0.0) out << YAML::Key << "offset" << YAML::Value << j.offset / unit;
+    if (j.range) {
+      out << YAML::Key << "range" << YAML::Value << YAML::Flow
+          << std::vector<double>{(*j.range)[0] / unit, (*j.range)[1] / unit};
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "tool_pose" << YAML::Value << YAML::BeginSeq;
+  const Mat4 T = model.toolPose().matrix();
+  for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{T(r, 0), T(r, 1), T(r, 2), T(r, 3)};
+  out << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const std::string& name,
+                              const std::string& description, const std::vector<std::string>& comments) {
+  const double k = like.angleFactor();
+  YAML::Emitter out;
+  beginRobotFile(out, like, name, description, comments);
+  auto row = [&](const DhParams& r) {
+    out << YAML::Key << "theta" << YAML::Value << r.theta / k << YAML::Key << "d" << YAML::Value << r.d;
+    out << YAML::Key << "alpha" << YAML::Value << r.alpha / k << YAML::Key << "a" << YAML::Value << r.a;
+  };
+  out << YAML::Key << "dh" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "base" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  row(model.base());
+  out << YAML::EndMap;
+  out << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
+  for (const DhJoint& j : model.joints()) {
+    const double unit = j.type == JointType::Prismatic ? 1.0 : k;  // joint-variable unit of the range
+    out << YAML::Flow << YAML::BeginMap;
+    if (!j.name.empty()) out << YAML::Key << "name" << YAML::Value << j.name;
+    out << YAML::Key << "type" << YAML::Value << jointTypeName(j.type);
+    row(movedRow(j.link, j, j.motion(0.0)));  // the offset folded (conventions.md, D-H model)
+    if (j.type == JointType::Helical) out << YAML::Key << "pitch" << YAML::Value << j.pitch * k;  // per angle_unit
+    out << YAML::Key << "scale" << YAML::Value << j.scale;
+    if (j.range) {
+      out << YAML::Key << "range" << YAML::Value << YAML::Flow
+          << std::vector<double>{(*j.range)[0] / unit, (*j.range)[1] / unit};
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+  out << YAML::Key << "tool" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "theta" << YAML::Value << model.toolTheta() / k << YAML::Key << "d" << YAML::Value << model.toolD();
+  out << YAML::EndMap << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace lowpair::io

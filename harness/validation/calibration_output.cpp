@@ -1,0 +1,391 @@
+#include "validation/calibration_output.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "lowpair/se3.hpp"
+#include "io/output.hpp"
+
+namespace lowpair::validation {
+
+using namespace lowpair::io;  // the rooms below
+
+using nlohmann::json;
+
+namespace {
+
+constexpr double kDeg = 180.0 / M_PI;
+// Weighted residuals this many times the stated variance (or less than its inverse) draw a warning: with
+// 100 or more residual degrees of freedom the variance factor of a correct noise model is within 1 +- 0.3.
+constexpr double kVarianceFactorWarning = 4.0;
+
+json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+std::string lengthUnit(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
+
+std::string pitchUnit(const RobotFile& file) { return lengthUnit(file) + "/" + file.angle_unit; }
+
+// "1.2e-05", or "undetermined" for +inf
+std::string deviation(double sd) {
+  if (!std::isfinite(sd)) return "undetermined";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", sd);
+  return buf;
+}
+
+std::vector<std::string> parameterNames(const std::vector<Parameter>& parameters) {
+  std::vector<std::string> names;
+  for (const Parameter& p : parameters) names.push_back(p.name);
+  return names;
+}
+
+json undeterminedJson(const RankAnalysis& a, const std::vector<std::string>& names) {
+  json out = json::array();
+  for (const auto& direction : a.undetermined) {
+    json terms = json::array();
+    for (const auto& [column, coefficient] : direction) {
+      terms.push_back({{"parameter", names[static_cast<size_t>(column)]}, {"coefficient", coefficient}});
+    }
+    out.push_back(terms);
+  }
+  return out;
+}
+
+json countJson(const ParameterCount& c) {
+  return {{"revolute", c.revolute}, {"prismatic", c.prismatic}, {"helical", c.helical}, {"scales", c.scales},
+          {"tool", c.tool}};
+}
+
+std::string countFormula(const ParameterCount& c) {
+  std::ostringstream s;
+  s << "5h + 4r + 2t + n + " << c.tool << " = 5x" << c.helical << " + 4x" << c.revolute << " + 2x" << c.prismatic
+    << " + " << c.scales << " + " << c.tool << " = " << c.total();
+  return s.str();
+}
+
+json statisticsJson(const ResidualStatistics& s) {
+  return {{"count", s.count}, {"rms_position", s.rms_position}, {"max_position", s.max_position},
+          {"rms_rotation", s.rms_rotation}, {"max_rotation", s.max_rotation}};
+}
+
+void printUndetermined(std::ostream& out, const std::string& what, const RankAnalysis& a,
+                       const std::vector<std::string>& names) {
+  if (a.undetermined.empty()) {
+    out << what << ": every parameter is determined\n";
+    return;
+  }
+  out << what << ": " << a.undetermined.size() << " direction(s) not determined (null vectors of the column-scaled "
+      << "Jacobian):\n";
+  for (size_t k = 0; k < a.undetermined.size(); ++k) {
+    out << "  " << k + 1 << ": " << directionText(a.undetermined[k], names) << "\n";
+  }
+}
+
+}  // namespace
+
+std::string directionText(const std::vector<std::pair<int, double>>& direction, const std::vector<std::string>& names) {
+  constexpr size_t kMaxTerms = 6;
+  auto terms = direction;
+  std::sort(terms.begin(), terms.end(), [](const auto& a, const auto& b) { return std::abs(a.second) > std::abs(b.second); });
+  std::ostringstream s;
+  for (size_t k = 0; k < terms.size() && k < kMaxTerms; ++k) {
+    const double c = terms[k].second;
+    s << (k == 0 ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + ")) << fixed(std::abs(c), 2) << " "
+      << names[static_cast<size_t>(terms[k].first)];
+  }
+  if (terms.size() > kMaxTerms) s << " + ... (" << terms.size() - kMaxTerms << " more)";
+  return s.str();
+}
+
+// --- identifiability --------------------------------------------------------------------------------------
+
+json identifiabilityJson(const RobotFile& file, const Identifiability& id) {
+  const std::vector<std::string> names = parameterNames(id.parameters);
+  json o;
+  auto obs = json::object();
+  for (int k = 0; k < 5; ++k) obs["O" + std::to_string(k + 1)] = id.poe.observability[static_cast<size_t>(k)];
+  o["name"] = robotLabel(file);
+  o["source"] = file.path;
+  o["measure"] = measureName(id.measure);
+  o["free_pitch"] = id.free_pitch;
+  o["joints"] = countJson(id.expected);
+  o["expected"] = id.expected.total();
+  o["rank"] = id.poe.rank;
+  o["parameters"] = names;
+  o["singular_values"] = toVector(id.poe.singular_values);
+  o["rank_tolerance"] = id.poe.tolerance;
+  o["condition"] = finiteOrNull(id.poe.condition);
+  o["observability"] = obs;
+  o["undetermined"] = undeterminedJson(id.poe, names);
+  o["full_model"] = {{"rank", id.full_model_rank}, {"columns", id.full_model_columns}};
+  o["dh"] = {{"rank", id.dh.rank},
+             {"condition", finiteOrNull(id.dh.condition)},
+             {"parameters", id.dh_parameters},
+             {"singular_values", toVector(id.dh.singular_values)},
+             {"undetermined", undeterminedJson(id.dh, id.dh_parameters)}};
+  return o;
+}
+
+void printIdentifiability(std::ostream& out, const Identifiability& id) {
+  const std::vector<std::string> names = parameterNames(id.parameters);
+  auto cond = [](double c) { return std::isfinite(c) ? fixed(c, 2) : std::string("inf"); };
+  out << "expected (Wu et al. §V):  " << countFormula(id.expected) << (id.free_pitch ? "  (free pitch: revolute counted as helical)" : "") << "\n";
+  out << "POE, minimal parameters:  rank " << id.poe.rank << " of " << id.poe.columns << ", condition "
+      << cond(id.poe.condition) << "\n";
+  out << "POE, full error model:    rank " << id.full_model_rank << " of " << id.full_model_columns
+      << " columns (6 per joint + pitch + scale + offset, 6 tool: redundant by construction)\n";
+  out << "D-H parameterization:     rank " << id.dh.rank << " of " << id.dh.columns << ", condition "
+      << cond(id.dh.condition) << "\n";
+  out << "observability (POE):      O1 " << deviation(id.poe.observability[0]) << "  O2 "
+      << deviation(id.poe.observability[1]) << "  O3 " << deviation(id.poe.observability[2]) << "  O4 "
+      << deviation(id.poe.observability[3]) << "  O5 " << deviation(id.poe.observability[4]) << "\n";
+  out << "rank rule: singular values of the column-scaled Jacobian (position rows / L) above 1000 cols eps sigma_1 "
+         "(POE: "
+      << deviation(id.poe.tolerance) << "); smallest POE " << deviation(id.poe.singular_values.minCoeff())
+      << ", D-H " << deviation(id.dh.singular_values.minCoeff()) << "\n";
+  printUndetermined(out, "POE", id.poe, names);
+  printUndetermined(out, "D-H", id.dh, id.dh_parameters);
+}
+
+// --- calibrate -------------------------------------------------------------------------------------------
+
+ValidationResiduals validationResiduals(const CalibrationReport& r) {
+  ValidationResiduals v;
+  if (!r.validation) return v;
+  v.before = residualStatistics(r.nominal.poeModel(), r.validation->measurements, r.validation->measure);
+  v.after = residualStatistics(r.result.model, r.validation->measurements, r.validation->measure);
+  return v;
+}
+
+std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  std::vector<std::string> w;
+  const std::vector<std::string> names = parameterNames(c.error_model.parameters());
+  if (c.rank.rank < c.expected.total()) {
+    std::ostringstream s;
+    // the tool rotation is a column of the error model but not of the count for position measurements
+    const int tool_rotation = r.fit.measure == Measure::Position ? 3 : 0;
+    s << "rank " << c.rank.rank << " < " << c.expected.total() << ": these measurements do not determine "
+      << c.rank.undetermined.size() - static_cast<size_t>(tool_rotation) << " parameter direction(s) of the count"
+      << (tool_rotation ? " (and the tool rotation, which position measurements never determine)" : "")
+      << ", left at the nominal:";
+    for (const auto& d : c.rank.undetermined) s << " [" << directionText(d, names) << "]";
+    s << ". The fit is confined to the directions the nominal determines: an error of the robot along the others "
+         "stays in the residuals (after: "
+      << fixed(c.after.rms_position, 4) << " " << lengthUnit(r.nominal)
+      << " RMS); more varied poses, "
+      << (r.fit.measure == Measure::Position ? "pose measurements or a tool point off the wrist axes"
+                                             : "or a nominal without the degenerate geometry")
+      << " determine them";
+    w.push_back(s.str());
+  }
+  if (!c.converged) w.push_back("did not converge in " + std::to_string(c.iterations) + " iterations");
+  if (!std::isfinite(c.variance_factor)) {
+    w.push_back("no redundancy: " + std::to_string(c.rank.rank) + " determined parameters from as many residuals "
+                "or fewer, so the fit passes through the noise" +
+                (c.noise_stated ? std::string("; the standard deviations come from the stated noise alone")
+                                : std::string("; without stated noise there are no standard deviations")));
+  } else if (c.noise_stated &&
+             (c.variance_factor > kVarianceFactorWarning || c.variance_factor < 1.0 / kVarianceFactorWarning)) {
+    std::ostringstream s;
+    s << "the weighted residuals are " << fixed(std::sqrt(c.variance_factor), 2)
+      << " times the stated noise (variance factor " << fixed(c.variance_factor, 3) << "): "
+      << (c.variance_factor > 1.0 ? "the noise is understated or the robot has an error the model cannot represent; "
+                                    "the standard deviations are too small"
+                                  : "the noise is overstated; the standard deviations are too large");
+    w.push_back(s.str());
+  }
+  for (const auto& s : conversionWarnings(r.dh.conversion, checkDhConversion(c.model, r.dh.conversion.model))) {
+    w.push_back("D-H: " + s);
+  }
+  return w;
+}
+
+std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  const std::string u = lengthUnit(r.nominal);
+  std::vector<std::string> lines;
+  lines.push_back("calibrated by lowpair calibrate from " + r.nominal.path + " and " + r.fit.path + " (" +
+                  std::to_string(r.fit.measurements.size()) + " " + measureName(r.fit.measure) + " measurements)");
+  lines.push_back("rank " + std::to_string(c.rank.rank) + " of " + std::to_string(c.expected.total()) +
+                  (r.result.error_model.freePitch() ? ", free pitch" : "") + ", " + std::to_string(c.iterations) +
+                  " iterations" + (c.converged ? "" : " (not converged)"));
+  lines.push_back("RMS position error on the measurements: before " + fixed(c.before.rms_position, 6) + " " + u +
+                  ", after " + fixed(c.after.rms_position, 6) + " " + u);
+  return lines;
+}
+
+json calibrationJson(const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  json o;
+  o["name"] = robotLabel(r.nominal);
+  o["nominal"] = r.nominal.path;
+  o["measurements"] = {{"path", r.fit.path}, {"count", r.fit.measurements.size()}, {"measure", measureName(r.fit.measure)}};
+  o["free_pitch"] = c.error_model.freePitch();
+  // the weights are noise only when stated; otherwise they are relative weights (1/L, 1/rad)
+  o["noise"] = {{"position", c.noise_stated ? json(c.sigma_position) : json(nullptr)},
+                {"rotation", c.noise_stated ? json(c.sigma_rotation) : json(nullptr)},
+                {"stated", c.noise_stated},
+                // the weight of a stated pair that was not given itself: sigma_position / L or sigma_rotation L
+                {"derived", !c.noise_stated                                      ? json(nullptr)
+                            : !c.sigma_rotation_stated && r.fit.measure == Measure::Pose ? json("rotation")
+                            : !c.sigma_position_stated                            ? json("position")
+                                                                                  : json(nullptr)}};
+  o["variance_factor"] = finiteOrNull(c.variance_factor);  // null: no redundancy (rows <= rank)
+  o["before"] = statisticsJson(c.before);
+  o["after"] = statisticsJson(c.after);
+  if (r.validation) {
+    const ValidationResiduals v = validationResiduals(r);
+    o["validation"] = {{"path", r.validation->path}, {"measure", measureName(r.validation->measure)},
+                       {"before", statisticsJson(v.before)}, {"after", statisticsJson(v.after)}};
+  }
+  o["iterations"] = c.iterations;
+  o["converged"] = c.converged;
+  o["rank"] = c.rank.rank;
+  o["expected"] = c.expected.total();
+  o["joints"] = countJson(c.expected);
+  json params = json::array();
+  const auto& ps = c.error_model.parameters();
+  for (size_t k = 0; k < ps.size(); ++k) {
+    params.push_back({{"name", ps[k].name}, {"unit", ps[k].unit},
+                      {"standard_deviation", finiteOrNull(c.standard_deviation[static_cast<Eigen::Index>(k)])}});
+  }
+  o["parameters"] = params;
+  o["undetermined"] = undeterminedJson(c.rank, parameterNames(ps));
+  // the calibrated D-H table with standard deviations (angles rad, pitch length/rad; null = undetermined)
+  auto row = [](const DhParams& v, const DhParams& sd) {
+    return json{{"theta", v.theta}, {"d", v.d}, {"alpha", v.alpha}, {"a", v.a},
+                {"sd", {{"theta", finiteOrNull(sd.theta)}, {"d", finiteOrNull(sd.d)}, {"alpha", finiteOrNull(sd.alpha)},
+                        {"a", finiteOrNull(sd.a)}}}};
+  };
+  const DhModel& m = r.dh.conversion.model;
+  json joints = json::array();
+  for (int i = 0; i < m.dof(); ++i) {
+    const auto k = static_cast<size_t>(i);
+    json j = row(m.joint(i).link, r.dh.links[k]);
+    j["type"] = jointTypeName(m.joint(i).type);
+    j["pitch"] = m.joint(i).type == JointType::Helical ? m.joint(i).pitch : 0.0;
+    j["scale"] = m.joint(i).scale;
+    j["sd"]["pitch"] = finiteOrNull(r.dh.pitch[k]);
+    j["sd"]["scale"] = finiteOrNull(r.dh.scale[k]);
+    joints.push_back(j);
+  }
+  o["dh"] = {{"base", row(m.base(), r.dh.base)},
+             {"joints", joints},
+             {"tool", {{"theta", m.toolTheta()}, {"d", m.toolD()},
+                       {"sd", {{"theta", finiteOrNull(r.dh.tool_theta)}, {"d", finiteOrNull(r.dh.tool_d)}}}}}};
+  o["warnings"] = calibrationWarnings(r);
+  o["seconds"] = r.seconds;
+  return o;
+}
+
+void printCalibration(std::ostream& out, const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  const std::string u = lengthUnit(r.nominal);
+  const PoeModel nominal = r.nominal.poeModel();
+  out << "calibration of " << robotLabel(r.nominal) << " (" << r.nominal.path << ") from " << r.fit.measurements.size()
+      << " " << measureName(r.fit.measure) << " measurements (" << r.fit.path << ")\n";
+  const std::string vf = std::isfinite(c.variance_factor) ? fixed(c.variance_factor, 3) : std::string("none (no redundancy)");
+  if (c.noise_stated) {
+    out << "noise (stated): position " << deviation(c.sigma_position) << " " << u;
+    if (!c.sigma_position_stated) out << " (derived: sigma_rotation L)";
+    if (r.fit.measure == Measure::Pose) {
+      out << ", rotation " << deviation(c.sigma_rotation) << " rad";
+      if (!c.sigma_rotation_stated) out << " (derived: sigma_position / L)";
+    }
+    out << "; variance factor " << vf << "\n";
+  } else {
+    out << "noise: not stated (position weighted 1/L, rotation 1/rad; standard deviations from the residuals, "
+           "variance factor "
+        << vf << ")\n";
+  }
+  out << "parameters: rank " << c.rank.rank << " of " << c.expected.total() << " (" << countFormula(c.expected)
+      << (c.error_model.freePitch() ? ", free pitch" : "") << ")\n";
+  out << (c.converged ? "converged" : "NOT converged") << " after " << c.iterations << " iterations ("
+      << fixed(r.seconds, 3) << " s)\n\n";
+
+  char line[256];
+  std::snprintf(line, sizeof line, "%-22s %16s %16s %16s %16s\n", "residuals", ("rms pos (" + u + ")").c_str(),
+                ("max pos (" + u + ")").c_str(), "rms rot (rad)", "max rot (rad)");
+  out << line;
+  auto stats = [&](const std::string& label, const ResidualStatistics& s, bool rotation) {
+    std::snprintf(line, sizeof line, "%-22s %16s %16s %16s %16s\n", label.c_str(), deviation(s.rms_position).c_str(),
+                  deviation(s.max_position).c_str(), rotation ? deviation(s.rms_rotation).c_str() : "-",
+                  rotation ? deviation(s.max_rotation).c_str() : "-");
+    out << line;
+  };
+  const bool fit_rot = r.fit.measure == Measure::Pose;
+  stats("measurements, before", c.before, fit_rot);
+  stats("measurements, after", c.after, fit_rot);
+  if (r.validation) {
+    const ValidationResiduals v = validationResiduals(r);
+    const bool val_rot = r.validation->measure == Measure::Pose;
+    stats("validation, before", v.before, val_rot);
+    stats("validation, after", v.after, val_rot);
+  }
+
+  out << "\nchange per joint (calibrated vs nominal):\n";
+  std::snprintf(line, sizeof line, "%-8s %-10s %14s %16s %18s %14s\n", "joint", "type", "tilt (rad)",
+                ("shift (" + u + ")").c_str(), ("pitch (" + pitchUnit(r.nominal) + ")").c_str(), "scale");
+  out << line;
+  for (int i = 0; i < nominal.dof(); ++i) {
+    const Joint& a = nominal.joint(i);
+    const Joint& b = c.model.joint(i);
+    const bool prismatic = a.type == JointType::Prismatic;
+    const Vec3 da = prismatic ? a.moment() : a.axis(), db = prismatic ? b.moment() : b.axis();
+    const double tilt = std::atan2(da.cross(db).norm(), da.dot(db));
+    std::string shift = "-";
+    if (!prismatic) {  // distance from the nominal line's point nearest the origin to the calibrated line
+      const Vec3 ca = a.axis().cross(a.moment()), cb = b.axis().cross(b.moment());
+      shift = fixed((ca - cb).cross(b.axis()).norm(), 6);
+    }
+    const double k = r.nominal.angleFactor();
+    const std::string pitch = prismatic ? "-" : fixed((b.pitch - a.pitch) * k, 8);
+    std::snprintf(line, sizeof line, "%-8s %-10s %14s %16s %18s %14s\n", (b.name.empty() ? std::to_string(i + 1) : b.name).c_str(),
+                  jointTypeName(b.type), fixed(tilt, 8).c_str(), shift.c_str(), pitch.c_str(),
+                  fixed(b.scale - a.scale, 8).c_str());
+    out << line;
+  }
+  const Pose& Ta = nominal.toolPose();
+  const Pose& Tb = c.model.toolPose();
+  out << "tool: turned " << fixed(rotationAngle(Ta.R.transpose() * Tb.R), 8) << " rad, moved "
+      << fixed((Tb.p - Ta.p).norm(), 6) << " " << u << "\n";
+
+  const DhModel& m = r.dh.conversion.model;
+  out << "\ncalibrated D-H table (value +- standard deviation; angles in deg):\n";
+  std::snprintf(line, sizeof line, "%-6s %-9s %24s %26s %24s %26s %24s %22s\n", "row", "joint", "theta", ("d (" + u + ")").c_str(),
+                "alpha", ("a (" + u + ")").c_str(), ("pitch (" + pitchUnit(r.nominal) + ")").c_str(), "scale");
+  out << line;
+  auto pm = [](double v, double sd, double factor, int decimals) {
+    return fixed(v * factor, decimals) + " +- " + deviation(sd * factor);
+  };
+  auto dhRow = [&](const std::string& label, const std::string& type, const DhParams& v, const DhParams& sd,
+                   const std::string& pitch, const std::string& scale) {
+    std::snprintf(line, sizeof line, "%-6s %-9s %24s %26s %24s %26s %24s %22s\n", label.c_str(), type.c_str(),
+                  pm(v.theta, sd.theta, kDeg, 4).c_str(), pm(v.d, sd.d, 1.0, 4).c_str(), pm(v.alpha, sd.alpha, kDeg, 4).c_str(),
+                  pm(v.a, sd.a, 1.0, 4).c_str(), pitch.c_str(), scale.c_str());
+    out << line;
+  };
+  dhRow("base", "", m.base(), r.dh.base, "", "");
+  for (int i = 0; i < m.dof(); ++i) {
+    const auto k = static_cast<size_t>(i);
+    const DhJoint& j = m.joint(i);
+    const std::string pitch = j.type == JointType::Helical ? pm(j.pitch, r.dh.pitch[k], r.nominal.angleFactor(), 6) : "";
+    dhRow(std::to_string(i + 1), jointTypeName(j.type), j.link, r.dh.links[k], pitch, pm(j.scale, r.dh.scale[k], 1.0, 6));
+  }
+  std::snprintf(line, sizeof line, "%-6s %-9s %24s %26s\n", "tool", "", pm(m.toolTheta(), r.dh.tool_theta, kDeg, 4).c_str(),
+                pm(m.toolD(), r.dh.tool_d, 1.0, 4).c_str());
+  out << line;
+  out << "(standard deviations: the parameter covariance "
+      << (c.noise_stated ? "from the stated noise" : "scaled by the residuals") << ", propagated through the conversion; "
+      << "they grow without bound as consecutive axes become parallel, docs/calibration.md)\n";
+  const auto warnings = calibrationWarnings(r);
+  if (!warnings.empty()) {
+    out << "\nwarnings:\n";
+    for (const auto& w : warnings) out << "  - " << w << "\n";
+  }
+}
+
+}  // namespace lowpair::validation

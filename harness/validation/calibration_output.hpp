@@ -1,0 +1,65 @@
+#pragma once
+/// @file calibration_output.hpp
+/// Text and JSON of `lowpair identifiability` and `lowpair calibrate` (README, docs/calibration.md), also
+/// used by the calibration section of a scenario report.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "lowpair/calibration.hpp"
+#include "io/measurements.hpp"
+#include "io/robot_file.hpp"
+
+namespace lowpair::validation {
+
+/// Upper bound on `identifiability --poses` (the Jacobian has 6 rows per pose).
+constexpr int kMaxIdentifiabilityPoses = 10000;
+/// Upper bound on the measurements `calibrate` fits (and a scenario's `poses`): the weighted Jacobian and its
+/// SVD hold 6 rows per measurement, about 40 MB at this limit for 7 joints. Validation files are read whole
+/// (bounded by the CSV reader's limits) and only evaluated.
+constexpr int kMaxCalibrationMeasurements = 10000;
+/// Upper bound on the entries of an identification Jacobian the CLI builds (rows x columns, bounded for a
+/// many-joint robot too: 2e7 doubles, 160 MB, and its SVD about as much again).
+constexpr double kMaxJacobianEntries = 2e7;
+/// The numbers an identification of `poses` measurements of a `joints`-joint robot holds at once: the
+/// Jacobian (6 rows per pose, `columns_per_joint` per joint + 6) and the SVD's full V (columns squared).
+inline double identificationEntries(double poses, double joints, double columns_per_joint) {
+  const double columns = columns_per_joint * joints + 6.0;
+  return 6.0 * poses * columns + columns * columns;
+}
+
+/// Everything `calibrate` prints.
+struct CalibrationReport {
+  const io::RobotFile& nominal;
+  const io::MeasurementFile& fit;
+  const std::optional<io::MeasurementFile>& validation;
+  const CalibrationResult& result;
+  const DhUncertainty& dh;
+  double seconds = 0.0;  ///< calibrate + dhUncertainty
+};
+
+nlohmann::json identifiabilityJson(const io::RobotFile& file, const Identifiability& id);
+void printIdentifiability(std::ostream& out, const Identifiability& id);
+
+/// Residuals of the validation set before (nominal) and after (calibrated), with its own measure.
+struct ValidationResiduals {
+  ResidualStatistics before, after;
+};
+ValidationResiduals validationResiduals(const CalibrationReport& report);
+
+/// The warnings of a calibration in sentences: rank below the count (with the undetermined directions),
+/// no convergence, residuals inconsistent with the stated noise, the D-H conversion's conditioning.
+std::vector<std::string> calibrationWarnings(const CalibrationReport& report);
+
+nlohmann::json calibrationJson(const CalibrationReport& report);
+void printCalibration(std::ostream& out, const CalibrationReport& report);
+/// The `#` lines of a calibrated robot file: where it came from and how well it fits.
+std::vector<std::string> calibrationProvenance(const CalibrationReport& report);
+
+/// "0.71 j6.scale - 0.50 j5.tilt1 + ..." (the largest coefficients first, at most six terms).
+std::string directionText(const std::vector<std::pair<int, double>>& direction, const std::vector<std::string>& names);
+
+}  // namespace lowpair::validation

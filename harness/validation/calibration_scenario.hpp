@@ -1,0 +1,48 @@
+#pragma once
+/// @file calibration_scenario.hpp
+/// Calibration in the loop (a scenario's `calibration:` cases, docs/calibration.md): measurements of MuJoCo's
+/// "actual" robot, the nominal robot file calibrated from them, the result checked on held-out noise-free
+/// measurements against the case's acceptance.
+
+#include <array>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "lowpair/calibration.hpp"
+#include "mujoco/mujoco_robot.hpp"
+#include "io/measurements.hpp"
+#include "validation/sampling.hpp"
+#include "validation/scenario.hpp"
+
+namespace lowpair::validation {
+
+struct CalibrationCaseResult {
+  CalibrationCase config;
+  int rank = 0, expected = 0, iterations = 0;
+  bool converged = false;
+  double seconds = 0.0;  ///< calibrate + D-H standard deviations
+  ResidualStatistics fit_before, fit_after, validation_before, validation_after;
+  /// Position error (length) of every validation pose before and after, for the report's picture.
+  std::vector<double> validation_position_before, validation_position_after;
+  std::string text;       ///< what `lowpair calibrate` prints for the same data
+  nlohmann::json json;    ///< what `lowpair calibrate --json` prints
+  bool pass = true;
+  std::vector<std::string> failures;  ///< the acceptance criteria that failed, in words
+};
+
+/// Samples first .. first+count-1 of the case's stream (sampling.hpp: randomSample with the case's seed over
+/// `ranges`), measured by MuJoCo, with the case's noise (addMeasurementNoise) when `noisy`: what
+/// `lowpair simulate` writes for the same model, joint variable, seed and noise.
+io::MeasurementFile simulatedMeasurements(const CalibrationCase& c, mujoco::MujocoRobot::Evaluator& mujoco,
+                                          const std::vector<JointMotion>& variables, const std::vector<Range>& ranges,
+                                          int first, int count, bool noisy, std::string label);
+
+/// @param variables the sampled joint variable's map to MuJoCo's motion (x_i = variables[i].motion(q_i))
+/// @param ranges sampling ranges of q (validate's)
+/// @throws io::RobotFileError for a nominal robot file that cannot be read or does not match the chain
+CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const CalibrationCase& config,
+                                         const mujoco::MujocoRobot& robot, const std::vector<JointMotion>& variables,
+                                         const std::vector<std::array<double, 2>>& ranges);
+
+}  // namespace lowpair::validation

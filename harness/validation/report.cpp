@@ -1,0 +1,477 @@
+#include "validation/report.hpp"
+
+#include "io/output.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace lowpair::validation {
+
+using namespace lowpair::io;  // the rooms below
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+json validationJson(const std::vector<ScenarioResult>& results, const RunOptions& options) {
+  json doc;
+  bool pass = true;
+  doc["scenarios"] = json::array();
+  for (const auto& r : results) {
+    json s = {{"name", r.scenario.name},  {"file", r.scenario.path}, {"model", r.scenario.model},
+              {"tip", r.scenario.tip},    {"samples", r.samples},    {"seed", options.seed ? *options.seed : r.scenario.seed},
+              {"size", r.size},           {"seconds", r.seconds},    {"pass", r.pass}};
+    if (options.shards > 1) s["shard"] = std::to_string(options.shard) + "/" + std::to_string(options.shards);
+    s["comparisons"] = json::array();
+    for (const auto& c : r.comparisons) {
+      json j = {{"name", c.name},
+                {"max_rotation", c.max_rotation},
+                {"mean_rotation", c.mean_rotation},
+                {"p99_rotation", c.p99_rotation},
+                {"max_translation", c.max_translation},
+                {"mean_translation", c.mean_translation},
+                {"p99_translation", c.p99_translation},
+                {"tolerance_rotation", c.tolerance_rotation},
+                {"tolerance_translation", c.tolerance_translation},
+                {"worst_q", c.worst_q},
+                {"non_finite", c.non_finite},
+                {"pass", c.pass}};
+      if (c.pose) j["max_rotation_euler_zyx"] = c.max_rotation_euler;
+      s["comparisons"].push_back(j);
+    }
+    if (!r.singular_poses.empty()) {
+      s["singular_poses"] = json::array();
+      for (const auto& sp : r.singular_poses) {
+        s["singular_poses"].push_back({{"name", sp.name}, {"q", sp.q}, {"expected", sp.expected},
+                                       {"reported", sp.reported}, {"rank", sp.rank_library},
+                                       {"rank_mujoco", sp.rank_mujoco}, {"dof", sp.dof},
+                                       {"sigma_min", sp.sigma_min}, {"pass", sp.pass}});
+      }
+    }
+    if (!r.calibrations.empty()) {
+      s["calibrations"] = json::array();
+      for (const auto& c : r.calibrations) {
+        json j = c.json;
+        j["name"] = c.config.name;
+        j["pass"] = c.pass;
+        j["failures"] = c.failures;
+        s["calibrations"].push_back(j);
+      }
+    }
+    pass = pass && r.pass;
+    doc["scenarios"].push_back(s);
+  }
+  doc["pass"] = pass;
+  return doc;
+}
+
+void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& results) {
+  char line[400];
+  std::snprintf(line, sizeof line, "%-28s %-52s %7s %11s %11s %11s %11s %9s %9s  %s\n", "scenario", "comparison",
+                "samples", "max rot", "p99 rot", "max tr/L", "p99 tr/L", "tol rot", "tol tr/L", "");
+  out << line;
+  bool pass = true;
+  for (const auto& r : results) {
+    for (const auto& c : r.comparisons) {
+      std::snprintf(line, sizeof line, "%-28s %-52s %7d %11.2e %11.2e %11.2e %11.2e %9.0e %9.0e  %s\n",
+                    r.scenario.name.c_str(), c.name.c_str(), r.samples, c.max_rotation, c.p99_rotation,
+                    c.max_translation / r.size, c.p99_translation / r.size, c.tolerance_rotation,
+                    c.tolerance_translation / r.size, c.pass ? "pass" : "FAIL");
+      out << line;
+      if (c.non_finite > 0) out << "  " << c.non_finite << " sample(s) gave a non-finite error (NaN or inf): not measured\n";
+    }
+    pass = pass && r.pass;
+  }
+  bool header = false;
+  for (const auto& r : results) {
+    for (const auto& sp : r.singular_poses) {
+      if (!header) {
+        std::snprintf(line, sizeof line, "\n%-28s %-20s %-12s %-36s %6s %6s %10s\n", "scenario", "singular pose",
+                      "expected", "reported", "rank", "mujoco", "sigma_min");
+        out << line;
+        header = true;
+      }
+      std::string expected, reported;
+      for (const auto& e : sp.expected) expected += (expected.empty() ? "" : " ") + e;
+      for (const auto& d : sp.reported) reported += (reported.empty() ? "" : " ") + d;
+      std::snprintf(line, sizeof line, "%-28s %-20s %-12s %-36s %3d/%-2d %6d %10.1e  %s\n", r.scenario.name.c_str(),
+                    sp.name.c_str(), expected.c_str(), reported.c_str(), sp.rank_library, sp.dof, sp.rank_mujoco,
+                    sp.sigma_min, sp.pass ? "pass" : "FAIL");
+      out << line;
+    }
+  }
+  header = false;
+  for (const auto& r : results) {
+    for (const auto& c : r.calibrations) {
+      if (!header) {
+        std::snprintf(line, sizeof line, "\n%-28s %-20s %9s %12s %12s %12s %9s %5s\n", "scenario", "calibration",
+                      "rank", "val before", "val after", "tolerance", "improve", "iter");
+        out << line;
+        header = true;
+      }
+      const std::string rank = std::to_string(c.rank) + "/" + std::to_string(c.expected);
+      std::snprintf(line, sizeof line, "%-28s %-20s %9s %12.3e %12.3e %12.3e %8.3gx %5d  %s\n", r.scenario.name.c_str(),
+                    c.config.name.c_str(), rank.c_str(), c.validation_before.rms_position,
+                    c.validation_after.rms_position, c.config.tolerance_position,
+                    c.validation_before.rms_position / c.validation_after.rms_position, c.iterations,
+                    c.pass ? "pass" : "FAIL");
+      out << line;
+      for (const auto& f : c.failures) out << "  " << f << "\n";
+    }
+  }
+  if (header) out << "(calibration: validation RMS position error before and after, length unit of the nominal)\n";
+  out << (pass ? "all comparisons within tolerance" : "FAILED: a comparison is outside its tolerance (marked FAIL)")
+      << "  (rotation in rad; translation relative to the robot size L; Jacobian rows: angular block as 'rot', "
+         "linear as 'tr')\n";
+}
+
+namespace {
+
+// A file-name stem from a user string: [A-Za-z0-9_-] only, at most kMaxStem characters (file systems
+// allow 255 bytes per name); a longer name keeps its start and gets a hash of the whole, so names stay distinct.
+std::string safe(const std::string& name) {
+  constexpr size_t kMaxStem = 80;
+  std::string s = name;
+  for (char& ch : s) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
+  }
+  if (s.size() > kMaxStem) {
+    char hash[20];
+    std::snprintf(hash, sizeof hash, "_%016zx", std::hash<std::string>{}(name));
+    s = s.substr(0, kMaxStem - 17) + hash;
+  }
+  return s;
+}
+
+// A gnuplot single-quoted string holding `text` verbatim: no substitution happens inside single quotes
+// (no backquote commands, no macros), a quote is written twice, and control characters (a newline
+// would end the command) become '?'. Every user string (scenario and file names) goes through this.
+std::string gpString(const std::string& text) {
+  std::string out = "'";
+  for (const char ch : text) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (ch == '\'') {
+      out += "''";
+    } else if (u < 0x20 || u == 0x7f) {
+      out += '?';
+    } else {
+      out += ch;
+    }
+  }
+  return out + "'";
+}
+
+// Runs `gnuplot SCRIPT` in `dir` with an argument vector (no shell), stderr into `log`.
+// Returns the exit status, or -1 when gnuplot could not be started.
+int runGnuplot(const fs::path& dir, const std::string& script, const std::string& log) {
+  const pid_t pid = ::fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    if (::chdir(dir.c_str()) != 0) ::_exit(127);
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, STDERR_FILENO);
+      ::close(fd);
+    }
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) {
+      ::dup2(null, STDOUT_FILENO);
+      ::close(null);
+    }
+    char* const argv[] = {const_cast<char*>("gnuplot"), const_cast<char*>(script.c_str()), nullptr};
+    ::execvp("gnuplot", argv);
+    ::_exit(127);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return -1;
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Writes `text` to `path` and checks it reached the file (a full disk, a file-size limit, a vanished
+// folder): a report is complete or not written at all.
+void writeChecked(const fs::path& path, const std::string& text) {
+  errno = 0;
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) {
+    const int error = errno;
+    throw std::runtime_error(path.filename().string() + ": cannot write" +
+                             (error ? std::string(" (") + std::strerror(error) + ")" : std::string()));
+  }
+}
+
+// A PNG ends with its IEND chunk; a picture cut short by a full disk does not.
+void requireCompletePng(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in ? static_cast<std::streamoff>(in.tellg()) : -1;
+  std::string tail(8, '\0');
+  if (size >= 8) {
+    in.seekg(size - 8);
+    in.read(tail.data(), 8);
+  }
+  if (size < 8 || !in || tail.compare(0, 4, "IEND") != 0) {
+    throw std::runtime_error(path.filename().string() + ": gnuplot did not write a complete picture");
+  }
+}
+
+// "1 sample in 500 (20000 of 10000000)" when the picture shows a subsample (ComparisonResult::plot_stride)
+std::string plotted(const ScenarioResult& r) {
+  const long long stride = r.comparisons.empty() ? 1 : r.comparisons.front().plot_stride;
+  if (stride <= 1) return "every sample";
+  const size_t points = r.comparisons.front().rotation_errors.size();
+  return "1 sample in " + std::to_string(stride) + " (" + std::to_string(points) + " of " +
+         std::to_string(r.samples) + ")";
+}
+
+void plots(const fs::path& dir, const ScenarioResult& r) {
+  const std::string base = safe(r.scenario.name);
+  const fs::path data = dir / (base + "_errors.dat");
+  {
+    // the bounded subsample of every comparison (the same samples for all: one stride per run)
+    std::ostringstream out;
+    out << "# sample";
+    for (const auto& c : r.comparisons) out << " " << safe(c.name) << ":rotation " << safe(c.name) << ":translation/L";
+    out << "\n";
+    const size_t points = r.comparisons.empty() ? 0 : r.comparisons.front().rotation_errors.size();
+    const long long stride = r.comparisons.empty() ? 1 : r.comparisons.front().plot_stride;
+    for (size_t k = 0; k < points; ++k) {
+      out << static_cast<long long>(k) * stride;
+      for (const auto& c : r.comparisons) {
+        // log axes: exact agreement (0) is drawn at 1e-18
+        out << " " << std::max(1e-18f, c.rotation_errors[k]) << " " << std::max(1e-18f, c.translation_errors[k]);
+      }
+      out << "\n";
+    }
+    writeChecked(data, out.str());
+  }
+  // the histogram of every sample (ComparisonResult's LogHistogram counts) in tenths of a decade, from -18
+  // (everything below 1e-18, exact zeros included) to -9 (everything above 1e-9)
+  const fs::path histogram = dir / (base + "_histogram.dat");
+  {
+    constexpr int kFirst = -180, kLast = -90;  // tenths of a decade
+    constexpr int kPerTenth = LogHistogram::kBinsPerDecade / 10;
+    static_assert(LogHistogram::kBinsPerDecade % 10 == 0, "tenths of a decade are whole bins");
+    auto tenth = [&](int b) {  // the tenth of a decade of LogHistogram bin b
+      if (b == 0) return kFirst;
+      if (b == LogHistogram::kBins - 1) return kLast;
+      return std::clamp(LogHistogram::kMinExponent * 10 + (b - 1) / kPerTenth, kFirst, kLast);
+    };
+    std::vector<std::vector<long long>> rows(static_cast<size_t>(kLast - kFirst + 1),
+                                             std::vector<long long>(2 * r.comparisons.size(), 0));
+    for (size_t c = 0; c < r.comparisons.size(); ++c) {
+      const auto& cmp = r.comparisons[c];
+      for (size_t b = 0; b < cmp.rotation_histogram.size(); ++b) {
+        rows[static_cast<size_t>(tenth(static_cast<int>(b)) - kFirst)][2 * c] += cmp.rotation_histogram[b];
+      }
+      for (size_t b = 0; b < cmp.translation_histogram.size(); ++b) {
+        rows[static_cast<size_t>(tenth(static_cast<int>(b)) - kFirst)][2 * c + 1] += cmp.translation_histogram[b];
+      }
+    }
+    std::ostringstream out;
+    out << "# log10(error) lower edge; per comparison: samples (rotation) samples (translation/L)\n";
+    for (size_t k = 0; k < rows.size(); ++k) {
+      out << (kFirst + static_cast<int>(k)) / 10.0;
+      for (long long v : rows[k]) out << " " << v;
+      out << "\n";
+    }
+    writeChecked(histogram, out.str());
+  }
+  // gnuplot runs in `dir`: the script names files by their (sanitized) names; titles go through gpString
+  const std::string data_name = gpString(data.filename().string());
+  const std::string histogram_name = gpString(histogram.filename().string());
+  std::ostringstream gp;
+  gp << "set terminal pngcairo noenhanced size 1200,800 font ',10'\n"
+     << "set output " << gpString(base + "_errors.png") << "\n"
+     << "set multiplot layout 2,1 title " << gpString(r.scenario.name + ": error against MuJoCo, " + plotted(r) +
+                                                     " (L = " + std::to_string(r.size) + ")") << "\n"
+     << "set logscale y\nset format y '10^{%L}'\nset yrange [1e-18:1e-9]\nset key top left\nset grid\n"
+     << "set ylabel 'rotation error (rad)'\n"
+     << "plot ";
+  for (size_t c = 0; c < r.comparisons.size(); ++c) {
+    gp << (c ? ", " : "") << data_name << " using 1:" << 2 + 2 * c << " with points pt 7 ps 0.3 title "
+       << gpString(r.comparisons[c].name);
+  }
+  gp << "\nset ylabel 'translation error / L'\nset xlabel 'sample'\nplot ";
+  for (size_t c = 0; c < r.comparisons.size(); ++c) {
+    gp << (c ? ", " : "") << data_name << " using 1:" << 3 + 2 * c << " with points pt 7 ps 0.3 title "
+       << gpString(r.comparisons[c].name);
+  }
+  gp << "\nunset multiplot\n";
+  // histogram of log10(error), every sample
+  gp << "set output " << gpString(base + "_histogram.png") << "\n"
+     << "set multiplot layout 1,2 title " << gpString(r.scenario.name + ": distribution of log10(error), all " +
+                                                     std::to_string(r.samples) + " samples") << "\n"
+     << "unset logscale y\nset format y '%g'\nset yrange [0:*]\nset xrange [-18:-9]\nset style fill transparent solid 0.4\n"
+     << "set boxwidth 0.1\nset ylabel 'samples'\n"
+     << "set xlabel 'log10 rotation error (rad)'\nplot ";
+  for (size_t c = 0; c < r.comparisons.size(); ++c) {
+    gp << (c ? ", " : "") << histogram_name << " using ($1 + 0.05):" << 2 + 2 * c << " with boxes title "
+       << gpString(r.comparisons[c].name);
+  }
+  gp << "\nset xlabel 'log10 translation error / L'\nplot ";
+  for (size_t c = 0; c < r.comparisons.size(); ++c) {
+    gp << (c ? ", " : "") << histogram_name << " using ($1 + 0.05):" << 3 + 2 * c << " with boxes title "
+       << gpString(r.comparisons[c].name);
+  }
+  gp << "\nunset multiplot\n";
+  if (r.map_size > 0) {
+    const std::string map_name = base + "_singularity_map.dat";
+    {
+      std::ostringstream out;
+      for (int a = 0; a < r.map_size; ++a) {
+        const double y = r.map_range_y[0] + (r.map_range_y[1] - r.map_range_y[0]) * a / (r.map_size - 1);
+        for (int b = 0; b < r.map_size; ++b) {
+          const double x = r.map_range_x[0] + (r.map_range_x[1] - r.map_range_x[0]) * b / (r.map_size - 1);
+          out << x << " " << y << " " << r.map_log_sigma[static_cast<size_t>(a * r.map_size + b)] << "\n";
+        }
+        out << "\n";
+      }
+      writeChecked(dir / map_name, out.str());
+    }
+    const std::string jx = std::to_string(r.map_joints[0]), jy = std::to_string(r.map_joints[1]);
+    gp << "reset\nset terminal pngcairo noenhanced size 900,760 font ',10'\n"
+       << "set output " << gpString(base + "_singularity_map.png") << "\n"
+       << "set title " << gpString(r.scenario.name + ": log10 sigma_min of the dimensionless Jacobian over joints " + jx +
+                                   " and " + jy + " (others fixed); dark = singular") << "\n"
+       << "set xlabel 'q" << jx << "'\nset ylabel 'q" << jy << "'\n"
+       << "set view map\nset palette defined (-8 'black', -5 'dark-red', -2 'orange', 0 'yellow')\n"
+       << "set cbrange [-8:0]\nset cblabel 'log10 sigma_min'\nset xrange [*:*] noextend\nset yrange [*:*] noextend\n"
+       << "splot " << gpString(map_name) << " using 1:2:3 with pm3d notitle\n";
+  }
+  for (size_t k = 0; k < r.calibrations.size(); ++k) {
+    // Wu et al. Fig. 4: the position error of every validation pose before and after calibration
+    const CalibrationCaseResult& c = r.calibrations[k];
+    const std::string name = base + "_calibration_" + std::to_string(k + 1);
+    {
+      std::ostringstream out;
+      out << "# validation pose, position error before, after (length unit of the nominal)\n";
+      for (size_t i = 0; i < c.validation_position_before.size(); ++i) {
+        // log axis: an exact 0 is drawn at 1e-18
+        out << i + 1 << " " << std::max(1e-18, c.validation_position_before[i]) << " "
+            << std::max(1e-18, c.validation_position_after[i]) << "\n";
+      }
+      writeChecked(dir / (name + ".dat"), out.str());
+    }
+    gp << "reset\nset terminal pngcairo noenhanced size 1000,500 font ',10'\n"
+       << "set output " << gpString(name + ".png") << "\n"
+       << "set title " << gpString(r.scenario.name + ", calibration '" + c.config.name +
+                                   "': position error on the noise-free validation poses") << "\n"
+       << "set logscale y\nset format y '1e%L'\nset grid\nset key outside right top\n"
+       << "set xlabel 'validation pose'\nset ylabel 'position error (length unit of the nominal)'\n"
+       << "plot " << gpString(name + ".dat") << " using 1:2 with linespoints pt 7 ps 0.4 title 'nominal (before)', "
+       << gpString(name + ".dat") << " using 1:3 with linespoints pt 7 ps 0.4 title 'calibrated (after)'";
+    if (c.config.tolerance_position > 0) {
+      gp << ", " << c.config.tolerance_position << " with lines dt 2 lc 'black' title 'tolerance (RMS)'";
+    }
+    gp << "\n";
+  }
+  const std::string script = base + ".gnuplot";
+  writeChecked(dir / script, gp.str());
+  const fs::path log = dir / (base + ".gnuplot.log");
+  const int status = runGnuplot(dir, script, log.string());
+  if (status != 0) {
+    std::ifstream in(log);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    if (status == 127 && text.empty()) text = "gnuplot could not be started (is gnuplot-nox installed?)";
+    throw std::runtime_error("gnuplot failed on " + script + ": " + text.substr(0, 300));
+  }
+  fs::remove(log);
+  // gnuplot exits 0 on some write failures (a full disk): every picture must be a complete PNG
+  std::vector<std::string> pictures = {base + "_errors.png", base + "_histogram.png"};
+  if (r.map_size > 0) pictures.push_back(base + "_singularity_map.png");
+  for (size_t k = 0; k < r.calibrations.size(); ++k) pictures.push_back(base + "_calibration_" + std::to_string(k + 1) + ".png");
+  for (const auto& picture : pictures) requireCompletePng(dir / picture);
+}
+
+}  // namespace
+
+void writeReport(const std::string& dir, const std::vector<ScenarioResult>& results, const RunOptions& options) {
+  // build everything in a sibling temporary folder, then move the files in
+  const fs::path target = fs::absolute(dir);
+  // only a folder (new or existing) takes a report, and only regular files in it are replaced: a device,
+  // FIFO or socket given as the folder or found under a report file's name is never replaced by a file
+  std::error_code status_error;
+  const fs::file_status target_status = fs::status(target, status_error);
+  if (fs::exists(target_status) && !fs::is_directory(target_status)) {
+    throw std::runtime_error(dir + ": report not written: not a folder");
+  }
+  const fs::path parent = target.parent_path();
+  fs::create_directories(parent);
+  const fs::path tmp = parent / (target.filename().string() + ".partial-" + std::to_string(::getpid()));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  try {
+    writeChecked(tmp / "report.json", jsonText(validationJson(results, options)) + "\n");
+    std::ostringstream md;
+    md << "# lowpair validation report\n\nEvery comparison: MuJoCo's tip pose (or Jacobian) against the library.\n"
+       << "Rotation errors are geodesic angles (rad, atan2 form); translation errors are distances divided by the "
+          "robot size L. Max and mean are exact; p99 comes from a log histogram (100 bins per decade, relative "
+          "error below 1.2 %).\n\n";
+    md << "| scenario | comparison | samples | max rot (rad) | p99 rot | max tr / L | p99 tr / L | pass |\n"
+       << "|---|---|---|---|---|---|---|---|\n";
+    for (const auto& r : results) {
+      for (const auto& c : r.comparisons) {
+        char row[512];
+        std::snprintf(row, sizeof row, "| %s | %s | %d | %.2e | %.2e | %.2e | %.2e | %s |\n", r.scenario.name.c_str(),
+                      c.name.c_str(), r.samples, c.max_rotation, c.p99_rotation, c.max_translation / r.size,
+                      c.p99_translation / r.size, c.pass ? "pass" : "**FAIL**");
+        md << row;
+      }
+    }
+    md << "\n";
+    for (const auto& r : results) {
+      plots(tmp, r);
+      const std::string base = safe(r.scenario.name);
+      md << "## " << r.scenario.name << "\n\nModel `" << r.scenario.model << "`, tip `" << r.scenario.tip << "`, L = "
+         << r.size << ", " << r.samples << " samples in " << r.seconds << " s. The error picture shows "
+         << plotted(r) << "; the histogram and the table, every sample.\n\n"
+         << "![errors](" << base << "_errors.png)\n\n![histogram](" << base << "_histogram.png)\n\n";
+      if (r.map_size > 0) md << "![singularity map](" << base << "_singularity_map.png)\n\n";
+      for (size_t k = 0; k < r.calibrations.size(); ++k) {
+        const CalibrationCaseResult& c = r.calibrations[k];
+        md << "### Calibration '" << c.config.name << "': " << (c.pass ? "pass" : "**FAIL**") << "\n\n"
+           << c.config.poses << " measurements of the MuJoCo model (noise: position " << c.config.noise_position
+           << ", rotation " << c.config.noise_rotation << " rad), " << c.config.validation_poses
+           << " noise-free validation poses; acceptance: validation RMS position <= " << c.config.tolerance_position;
+        if (c.config.min_improvement) md << ", at least " << *c.config.min_improvement << "x below the nominal's";
+        md << ".\n\n";
+        for (const auto& f : c.failures) md << "- failed: " << f << "\n";
+        md << "![calibration](" << base << "_calibration_" << k + 1 << ".png)\n\n```\n" << c.text << "```\n\n";
+      }
+    }
+    writeChecked(tmp / "summary.md", md.str());
+    fs::create_directories(target);
+    for (const auto& entry : fs::directory_iterator(tmp)) {
+      const fs::file_status existing = fs::symlink_status(target / entry.path().filename(), status_error);
+      if (fs::exists(existing) && !fs::is_regular_file(existing)) {
+        throw std::runtime_error((target / entry.path().filename()).string() +
+                                 " exists and is not a regular file: not replaced");
+      }
+    }
+    for (const auto& entry : fs::directory_iterator(tmp)) {
+      fs::rename(entry.path(), target / entry.path().filename());
+    }
+    fs::remove_all(tmp);
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    fs::remove_all(tmp, ignored);
+    throw std::runtime_error(dir + ": report not written: " + e.what());
+  }
+}
+
+}  // namespace lowpair::validation

@@ -1,0 +1,186 @@
+#include "validation/scenario.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "validation/calibration_output.hpp"
+#include "io/robot_file.hpp"
+#include "io/yaml_reader.hpp"
+
+namespace lowpair::validation {
+
+using namespace lowpair::io;  // the rooms below
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string relative(const std::string& scenario_path, const std::string& file) {
+  if (file.empty() || fs::path(file).is_absolute()) return file;
+  return (fs::path(scenario_path).parent_path() / file).lexically_normal().string();
+}
+
+std::vector<double> numbers(const YamlReader& in, const YAML::Node& node, const std::string& what) {
+  if (!node.IsSequence()) yamlError(in.path(), node, what + " must be a list of numbers");
+  std::vector<double> out;
+  for (size_t i = 0; i < node.size(); ++i) out.push_back(in.number(node[i], what + "[" + std::to_string(i) + "]"));
+  return out;
+}
+CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node, size_t index) {
+  const std::string& path = in.path();
+  in.allowOnly(node, "a calibration case",
+               {"name", "nominal", "poses", "validation_poses", "seed", "measure", "free_pitch", "noise",
+                "tolerance"});
+  CalibrationCase c;
+  c.name = node["name"] ? in.string(node["name"], "calibration name") : "calibration" + std::to_string(index + 1);
+  const std::string where = "calibration '" + c.name + "'";
+  if (!node["nominal"]) yamlError(path, node, where + ": missing 'nominal' (the robot file to calibrate)");
+  c.nominal = relative(path, in.string(node["nominal"], where + ".nominal"));
+  if (node["poses"]) c.poses = static_cast<int>(in.integer(node["poses"], where + ".poses", 1, kMaxCalibrationMeasurements));
+  if (node["validation_poses"]) {
+    c.validation_poses =
+        static_cast<int>(in.integer(node["validation_poses"], where + ".validation_poses", 1, kMaxCalibrationPoses));
+  }
+  if (node["seed"]) c.seed = static_cast<unsigned long long>(in.integer(node["seed"], where + ".seed", 0, kMaxSeed));
+  if (node["measure"]) {
+    const std::string m = in.string(node["measure"], where + ".measure");
+    if (m != "pose" && m != "position") yamlError(path, node["measure"], where + ".measure must be pose or position");
+    c.position_only = m == "position";
+  }
+  if (node["free_pitch"]) {
+    const std::string b = in.string(node["free_pitch"], where + ".free_pitch");
+    if (b != "true" && b != "false") yamlError(path, node["free_pitch"], where + ".free_pitch must be true or false");
+    c.free_pitch = b == "true";
+  }
+  if (const YAML::Node noise = node["noise"]) {
+    in.allowOnly(noise, where + ".noise", {"position", "rotation"});
+    c.noise_position = in.numberOr(noise, "position", 0.0, where + ".noise");
+    c.noise_rotation = in.numberOr(noise, "rotation", 0.0, where + ".noise");
+    if (c.noise_position < 0 || c.noise_rotation < 0) yamlError(path, noise, where + ".noise must be >= 0");
+    if (c.noise_rotation > M_PI) yamlError(path, noise, where + ".noise.rotation must be at most pi (rad)");
+    if (c.position_only && noise["rotation"]) {
+      yamlError(path, noise, where + ": noise.rotation given for position measurements (measure: position)");
+    }
+  }
+  const YAML::Node t = node["tolerance"];
+  if (!t) yamlError(path, node, where + ": missing 'tolerance' (at least position: validation RMS after, length)");
+  in.allowOnly(t, where + ".tolerance", {"position", "rotation", "improvement"});
+  if (!t["position"]) yamlError(path, t, where + ".tolerance: missing 'position'");
+  c.tolerance_position = in.number(t["position"], where + ".tolerance.position");
+  if (t["rotation"]) {
+    if (c.position_only) yamlError(path, t, where + ": tolerance.rotation given for position measurements");
+    c.tolerance_rotation = in.number(t["rotation"], where + ".tolerance.rotation");
+  }
+  if (t["improvement"]) c.min_improvement = in.number(t["improvement"], where + ".tolerance.improvement");
+  for (const double v : {c.tolerance_position, c.tolerance_rotation.value_or(1.0), c.min_improvement.value_or(1.0)}) {
+    if (!(v > 0)) yamlError(path, t, where + ".tolerance values must be positive");
+  }
+  return c;
+}
+
+}  // namespace
+
+Scenario readScenario(const std::string& path) {
+  const YAML::Node root = loadYamlFile(path);
+  const YamlReader in(path);
+  Scenario s;
+  s.path = path;
+  try {
+    in.allowOnly(root, "the scenario", {"name", "description", "model", "tip", "base", "joint_variables",
+                                        "robot_files", "samples", "seed", "ranges", "tolerance", "poses",
+                                        "singular_poses", "singularity_map", "calibration"});
+    s.name = root["name"] ? in.string(root["name"], "name") : fs::path(path).stem().string();
+    if (!root["model"]) yamlError(path, root, "missing 'model' (an MJCF or URDF file)");
+    if (!root["tip"]) yamlError(path, root, "missing 'tip' (a site or body name)");
+    s.model = relative(path, in.string(root["model"], "model"));
+    s.tip = in.string(root["tip"], "tip");
+    if (root["base"]) s.base = in.string(root["base"], "base");
+    if (root["joint_variables"]) s.joint_variables = relative(path, in.string(root["joint_variables"], "joint_variables"));
+    if (const YAML::Node files = root["robot_files"]) {
+      if (!files.IsSequence()) yamlError(path, files, "robot_files must be a list");
+      for (const auto& f : files) s.robot_files.push_back(relative(path, in.string(f, "robot_files[]")));
+    }
+    if (root["samples"]) s.samples = static_cast<int>(in.integer(root["samples"], "samples", 0, kMaxSamples));
+    if (root["seed"]) s.seed = static_cast<unsigned long long>(in.integer(root["seed"], "seed", 0, kMaxSeed));
+    if (const YAML::Node ranges = root["ranges"]) {
+      if (!ranges.IsSequence()) yamlError(path, ranges, "ranges must be a list of [lo, hi]");
+      for (const auto& r : ranges) {
+        const auto v = in.vector(r, 2, "ranges[]");
+        if (v[0] > v[1]) yamlError(path, r, "range [lo, hi] needs lo <= hi");
+        // samples are lo + u (hi - lo): the width must be finite too
+        if (!std::isfinite(v[1] - v[0])) yamlError(path, r, "range [lo, hi] is too wide (hi - lo overflows)");
+        s.ranges.push_back({v[0], v[1]});
+      }
+    }
+    if (const YAML::Node t = root["tolerance"]) {
+      in.allowOnly(t, "tolerance", {"rotation", "translation", "jacobian_rotation", "jacobian_translation"});
+      const std::pair<const char*, double*> fields[] = {{"rotation", &s.tol_rotation},
+                                                        {"translation", &s.tol_translation},
+                                                        {"jacobian_rotation", &s.tol_jacobian_rotation},
+                                                        {"jacobian_translation", &s.tol_jacobian_translation}};
+      for (const auto& [key, value] : fields) {
+        if (!t[key]) continue;
+        *value = in.number(t[key], std::string("tolerance.") + key);
+        if (!(*value > 0)) yamlError(path, t[key], std::string("tolerance.") + key + " must be positive");
+      }
+    }
+    if (const YAML::Node poses = root["poses"]) {
+      for (const auto& p : poses) {
+        in.allowOnly(p, "a pose", {"name", "q"});
+        NamedPose np;
+        np.name = p["name"] ? in.string(p["name"], "pose name") : "pose" + std::to_string(s.poses.size() + 1);
+        np.q = numbers(in, p["q"], "pose '" + np.name + "' q");
+        s.poses.push_back(np);
+      }
+    }
+    if (const YAML::Node poses = root["singular_poses"]) {
+      for (const auto& p : poses) {
+        in.allowOnly(p, "a singular pose", {"name", "q", "classes"});
+        SingularPose sp;
+        sp.name = p["name"] ? in.string(p["name"], "singular pose name")
+                            : "singular" + std::to_string(s.singular_poses.size() + 1);
+        sp.q = numbers(in, p["q"], "singular pose '" + sp.name + "' q");
+        const YAML::Node classes = p["classes"];
+        if (!classes || !classes.IsSequence() || classes.size() == 0) {
+          yamlError(path, p, "singular pose '" + sp.name + "' needs classes: [C1..C7 or other]");
+        }
+        static const std::set<std::string> ids = {"C1", "C2", "C3", "C4", "C5", "C6", "C7", "other"};
+        for (const auto& c : classes) {
+          const std::string id = in.string(c, "class");
+          if (!ids.count(id)) yamlError(path, c, "unknown class '" + id + "' (C1..C7 or other)");
+          sp.classes.push_back(id);
+        }
+        s.singular_poses.push_back(sp);
+      }
+    }
+    if (const YAML::Node m = root["singularity_map"]) {
+      in.allowOnly(m, "singularity_map", {"joints", "fixed"});
+      if (m["joints"]) {
+        const YAML::Node joints = m["joints"];
+        if (!joints.IsSequence() || joints.size() != 2) {
+          yamlError(path, joints, "singularity_map.joints must name two joints (1-based)");
+        }
+        // whole numbers in range before any conversion to int (a cast of 1e300 is undefined behaviour);
+        // the upper bound only keeps the value an int: runScenario checks it against the joint count
+        constexpr long long kLargestJointNumber = 1LL << 30;
+        for (size_t k = 0; k < 2; ++k) {
+          s.map_joints.push_back(
+              static_cast<int>(in.integer(joints[k], "singularity_map.joints[]", 1, kLargestJointNumber)));
+        }
+      }
+      if (m["fixed"]) s.map_fixed = numbers(in, m["fixed"], "singularity_map.fixed");
+    }
+    if (const YAML::Node cases = root["calibration"]) {
+      if (!cases.IsSequence() || cases.size() == 0) yamlError(path, cases, "calibration must be a non-empty list of cases");
+      for (const auto& c : cases) s.calibrations.push_back(readCalibrationCase(in, c, s.calibrations.size()));
+    }
+  } catch (const YAML::Exception& e) {
+    throw RobotFileError(path + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  return s;
+}
+
+}  // namespace lowpair::validation

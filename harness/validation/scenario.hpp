@@ -1,0 +1,77 @@
+#pragma once
+/// @file scenario.hpp
+/// Scenarios (scenarios/*.yaml, README "Scenario format"): what `lowpair validate` compares, over which
+/// samples, with which tolerances, and the singular poses it checks.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "validation/sampling.hpp"
+
+namespace lowpair::validation {
+
+struct NamedPose {
+  std::string name;
+  std::vector<double> q;
+};
+
+/// A singular configuration with the Paden–Sastry classes it must show (conventions.md ids, or "other").
+struct SingularPose {
+  std::string name;
+  std::vector<double> q;
+  std::vector<std::string> classes;
+};
+
+/// Upper bound on `samples` (a scenario or --samples).
+constexpr int kMaxSamples = 100000000;
+
+/// A calibration in the loop (docs/calibration.md): the nominal robot file is calibrated from `poses`
+/// measurements of the scenario's MuJoCo model (the "actual" robot; q is the scenario's joint variable),
+/// then checked on `validation_poses` noise-free measurements of it.
+struct CalibrationCase {
+  std::string name;
+  std::string nominal;            ///< robot file
+  int poses = 50;                 ///< fitting measurements: samples 0 .. poses-1 of the calibration stream
+  int validation_poses = 200;     ///< samples poses .. poses+validation_poses-1 of the same stream, noise-free
+  unsigned long long seed = 1;
+  bool position_only = false;     ///< `measure: position`
+  bool free_pitch = false;
+  double noise_position = 0.0;    ///< length (the nominal's unit), per coordinate
+  double noise_rotation = 0.0;    ///< rad
+  double tolerance_position = 0.0;  ///< acceptance: validation RMS position after calibration (length)
+  std::optional<double> tolerance_rotation;  ///< acceptance: validation RMS rotation after (rad), pose only
+  std::optional<double> min_improvement;     ///< acceptance: validation RMS position before / after
+};
+
+/// Upper bound on a calibration case's validation poses (its fitting `poses`: kMaxCalibrationMeasurements).
+constexpr int kMaxCalibrationPoses = 100000;
+
+struct Scenario {
+  std::string path;  ///< the scenario file ("" for a model given on the command line)
+  std::string name;
+  std::string model;  ///< MJCF or URDF path
+  std::string tip, base;
+  std::string joint_variables;           ///< robot file whose scales/offsets define the sampled q ("" = MuJoCo's)
+  std::vector<std::string> robot_files;  ///< cross-checked robot files
+  int samples = 10000;
+  unsigned long long seed = 1;
+  std::vector<std::array<double, 2>> ranges;  ///< per joint, in the sampled variable (empty = defaults)
+  double tol_rotation = 1e-12;                ///< rad
+  double tol_translation = 1e-12;             ///< times the robot size L
+  double tol_jacobian_rotation = 1e-12;       ///< rad (per unit joint rate)
+  double tol_jacobian_translation = 1e-12;    ///< times L
+  std::vector<NamedPose> poses;
+  std::vector<SingularPose> singular_poses;
+  /// Singularity map: log10(sigma_min) over joints (1-based) map_joints on [-pi, pi]^2 (or their ranges),
+  /// the other joints at map_fixed (default: 0.4 rad / mid-range). Empty map_joints: joints 2 and 3.
+  std::vector<int> map_joints;
+  std::vector<double> map_fixed;
+  std::vector<CalibrationCase> calibrations;
+};
+
+/// @throws io::RobotFileError ("FILE: line N: what")
+Scenario readScenario(const std::string& path);
+
+}  // namespace lowpair::validation
