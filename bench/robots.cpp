@@ -58,7 +58,7 @@ std::unique_ptr<Entry> build(RobotId id) {
   r.name = caseName(id);
   r.mjcf = stem + ".xml";
   r.dof = poe.dof();
-  r.size = poe.size();
+  r.size = poe.lengthScale();
   const size_t n = static_cast<size_t>(r.dof);
   for (int i = 0; i < r.dof; ++i) r.prismatic.push_back(poe.joint(i).type == JointType::Prismatic);
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
@@ -63,7 +64,7 @@ void expectRow(const DhParams& r, const Table2Row& t, const std::string& what) {
 
 double fkGap(const PoeModel& poe, const DhModel& dh, const VecX& q) {
   const Pose a = poeForwardKinematics(poe, q), b = dhForwardKinematics(dh, q);
-  return std::max(rotationError(a.R, b.R), (a.p - b.p).norm() / poe.size());
+  return std::max(rotationError(a.R, b.R), (a.p - b.p).norm() / poe.lengthScale());
 }
 
 }  // namespace
@@ -208,7 +209,7 @@ TEST(PoeToDh, NearlyParallelAxesAreAccurateAndReported) {
     EXPECT_EQ(c.rows[1].abs_d, std::abs(row1.d));
     EXPECT_EQ(c.rows[1].abs_a, std::abs(row1.a));
     EXPECT_EQ(c.tool.abs_d, std::abs(c.model.toolD()));
-    const bool ill = std::abs(row1.d) > kIllConditioned * poe.size();
+    const bool ill = std::abs(row1.d) > kIllConditioned * poe.lengthScale();
     EXPECT_EQ(c.rows[1].ill_conditioned, ill);
     if (tilt >= 1e-3) {
       EXPECT_FALSE(ill) << "tilt " << tilt;
@@ -308,15 +309,15 @@ TEST(DhToPoe, RoundTripOnTheActualPuma) {
   const PoeModel back = dhToPoe(c.model);
   for (int i = 0; i < 6; ++i) {
     EXPECT_EQ(back.joint(i).type, poe.joint(i).type);
-    EXPECT_NEAR(back.joint(i).pitch, poe.joint(i).pitch, 1e-15 * poe.size());
+    EXPECT_NEAR(back.joint(i).pitch, poe.joint(i).pitch, 1e-15 * poe.lengthScale());
     EXPECT_EQ(back.joint(i).scale, poe.joint(i).scale);
     // the same line: same direction, same moment
-    EXPECT_LE((back.joint(i).twist - poe.joint(i).twist).cwiseAbs().maxCoeff(), 1e-12 * poe.size());
+    EXPECT_LE((back.joint(i).twist - poe.joint(i).twist).cwiseAbs().maxCoeff(), 1e-12 * poe.lengthScale());
   }
   const VecX q = (VecX(6) << 0.1, -0.4, 2.0, -3.0, 0.5, 1.5).finished();
   const Pose a = poeForwardKinematics(poe, q), b = poeForwardKinematics(back, q);
   EXPECT_LE(rotationError(a.R, b.R), 1e-14);
-  EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.size());
+  EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.lengthScale());
 }
 
 TEST(ModifiedDh, NominalPumaCraigTable) {
@@ -353,7 +354,14 @@ TEST(ModifiedDh, ForwardKinematicsMatchesPoe) {
                         VecX((VecX(6) << -2.5, 1.0, -0.3, 0.8, -1.9, 3.0).finished())}) {
     const Pose a = poeForwardKinematics(poe, q), b = modifiedDhForwardKinematics(m, q);
     EXPECT_LE(rotationError(a.R, b.R), 1e-14);
-    EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.size());
+    EXPECT_LE((a.p - b.p).norm(), 1e-13 * poe.lengthScale());
+  }
+  // q must have a value per joint, in every build type
+  try {
+    modifiedDhForwardKinematics(m, VecX::Zero(5));
+    ADD_FAILURE() << "a q of 5 values for 6 joints was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "modifiedDhForwardKinematics: q has 5 values, the model has 6 joints");
   }
 }
 
@@ -366,7 +374,7 @@ TEST(PoeForms, ToolAndLocalRoundTrips) {
   for (const Pose& T : {forwardKinematics(tool, q), forwardKinematics(local, q),
                         poeForwardKinematics(fromToolPoe(tool), q), poeForwardKinematics(fromLocalPoe(local), q)}) {
     EXPECT_LE(rotationError(ref.R, T.R), 1e-14);
-    EXPECT_LE((ref.p - T.p).norm(), 1e-13 * poe.size());
+    EXPECT_LE((ref.p - T.p).norm(), 1e-13 * poe.lengthScale());
   }
   // local twists are [0 0 1 0 0 h]
   for (size_t i = 0; i < local.joints.size(); ++i) {

@@ -143,7 +143,7 @@ struct RoundTrip {
 
 void roundTrip(const RobotFile& file, const std::string& tag, bool mujoco, std::mt19937_64& rng, RoundTrip& out) {
   const PoeModel model = file.poeModel();
-  const double L = model.size();
+  const double L = model.lengthScale();
   const std::vector<VecX> qs = configurations(model, rng);
   std::vector<Pose> reference;
   for (const VecX& q : qs) reference.push_back(fk(model, q));
@@ -189,7 +189,7 @@ void roundTrip(const RobotFile& file, const std::string& tag, bool mujoco, std::
   // URDF and MJCF: the motion x. The URDF is in metres (a robot file in mm or cm converted): its reference
   // is the model in metres, at the same q
   const PoeModel metres = file.length_unit.empty() || file.length_unit == "m" ? model : inMetres(file).poeModel();
-  const double L_metres = metres.size();
+  const double L_metres = metres.lengthScale();
   std::vector<Pose> reference_metres;
   for (const VecX& q : qs) reference_metres.push_back(fk(metres, q));
   const std::string urdf = scratch().write(tag + ".urdf", exportRobot(file, ExportFormat::Urdf, comments).text);
@@ -497,7 +497,7 @@ TEST(ExportTwins, RobotFileMjcfAndUrdfGiveTheSameFk) {
     const fs::path xml = fs::path(LOWPAIR_MODELS) / (xml_stem + ".xml");
     ASSERT_TRUE(fs::exists(xml)) << xml;
     const PoeModel model = readRobotFile(e.path().string()).poeModel();
-    const double L = model.size();
+    const double L = model.lengthScale();
     const PoeModel from_urdf = *readUrdf(urdf.string(), "tool").poe;
     const MujocoRobot mjcf_robot(xml.string(), "tool");
     ASSERT_EQ(mjcf_robot.dof(), model.dof());
@@ -513,7 +513,7 @@ TEST(ExportTwins, RobotFileMjcfAndUrdfGiveTheSameFk) {
     // the URDF is in metres (a mm or cm robot file converted), the MJCF in the robot file's unit
     const RobotFile source = readRobotFile(e.path().string());
     const PoeModel metres = source.length_unit == "m" ? model : inMetres(source).poeModel();
-    const double L_metres = metres.size();
+    const double L_metres = metres.lengthScale();
     for (const VecX& q : configurations(model, rng)) {
       const Pose T = fk(model, q), T_metres = fk(metres, q);
       const VecX x = motionOf(model, q), x_metres = motionOf(metres, q);
@@ -564,7 +564,7 @@ TEST(ExportUnits, UrdfLengthsAreMetres) {
     const Pose a = fk(cm, q), b = fk(m, q);
     // the same pose, positions / 100: rounding of lengths L (cm) carried through a 1e-2 multiplication
     EXPECT_LE((a.R - b.R).cwiseAbs().maxCoeff(), 64 * kEpsilon);
-    EXPECT_LE((a.p * 1e-2 - b.p).cwiseAbs().maxCoeff(), 64 * kEpsilon * m.size());
+    EXPECT_LE((a.p * 1e-2 - b.p).cwiseAbs().maxCoeff(), 64 * kEpsilon * m.lengthScale());
   }
   RobotFile odd = rhino;
   odd.length_unit = "furlong";

@@ -148,7 +148,7 @@ TEST_P(JacobianVsMujoco, SpatialBodyGeometric) {
   const MujocoRobot robot(s.model, s.tip, s.base);
   const PoeModel& extracted = robot.poeModel();
   const int n = robot.dof();
-  const double L = extracted.size();
+  const double L = extracted.lengthScale();
 
   std::vector<Candidate> candidates;
   {

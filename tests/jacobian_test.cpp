@@ -43,6 +43,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -248,7 +249,7 @@ double lengthScale(double L, const Data& data) {
 // The rounding scale of a D-H table (conversion.md, "Accuracy"): max(L, max |d|, max |a|, |d_T|) over the
 // base row and the links; its FK and Jacobian are exact to eps times this.
 double tableScale(const DhModel& dh) {
-  double s = std::max({dh.size(), std::abs(dh.base().d), std::abs(dh.base().a), std::abs(dh.toolD())});
+  double s = std::max({dh.lengthScale(), std::abs(dh.base().d), std::abs(dh.base().a), std::abs(dh.toolD())});
   for (const DhJoint& j : dh.joints()) s = std::max({s, std::abs(j.link.d), std::abs(j.link.a)});
   return s;
 }
@@ -293,7 +294,7 @@ TEST(Jacobian, FiniteDifferencesOnThousandRandomRobots) {
       const std::string at = std::string(lowpair_test::geometryName(robot.geometry)) + " robot " +
                              std::to_string(r) + " pose " + std::to_string(k);
       const Jacobians P = libraryJacobians(model, pd, q);
-      const double R = lengthScale(model.size(), pd);
+      const double R = lengthScale(model.lengthScale(), pd);
       const Reference fd = finiteDifferences([&](const VecXr& x) { return poeFk(model, x); }, motions(model, q),
                                              steps(poe_joints, h, R));
       // the reference FK is the library's FK (to its rounding, 64 n eps as in kinematics_test)
@@ -316,14 +317,14 @@ TEST(Jacobian, FiniteDifferencesOnThousandRandomRobots) {
       // D-H chain of the same robot, same joint variables. Its rounding scale is the table's
       // R_dh = max(R, max |d|, max |a|) (conversion.md): its FK and Jacobian are exact to eps R_dh.
       const Jacobians D = libraryJacobians(c.model, dd, q);
-      const double R_dh = std::max({R, dh_scale, lengthScale(model.size(), dd)});
+      const double R_dh = std::max({R, dh_scale, lengthScale(model.lengthScale(), dd)});
       dh_vs_poe.add(D.spatial, P.spatial, unitScale(dh_joints), R_dh, true, at);
       // Nearly parallel axes give tables with |d| up to 1e16 L. Evaluated in double, their FK (hence
       // their Jacobian) carries rounding eps R_dh, up to ~L itself, and a finite difference of any
       // precision would be compared against that: a bound relative to R_dh would allow errors larger
       // than the Jacobian. Such tables (over the library's kIllConditioned = 1e3 L warning) are covered
       // by the comparison with the POE Jacobian just above, which is itself checked against FD.
-      if (dh_scale > kIllConditioned * model.size()) {
+      if (dh_scale > kIllConditioned * model.lengthScale()) {
         ++ill_conditioned;
         continue;
       }
@@ -618,9 +619,9 @@ TEST(Jacobian, GettersReadDataAndAgreeWithTheDefinitions) {
     const PoeModel model = lowpair_test::randomRobot(rng).model;
     const VecX q = lowpair_test::randomConfiguration(model, rng);
     const VecX q_other = lowpair_test::randomConfiguration(model, rng);
-    worst_poe = std::max(worst_poe, checkContract(model, q, q_other, model.size()));
+    worst_poe = std::max(worst_poe, checkContract(model, q, q_other, model.lengthScale()));
     const DhConversion c = poeToDh(model);
-    if (tableScale(c.model) <= kIllConditioned * model.size()) {
+    if (tableScale(c.model) <= kIllConditioned * model.lengthScale()) {
       worst_dh = std::max(worst_dh, checkContract(c.model, q, q_other, tableScale(c.model)));
     }
   }
@@ -673,17 +674,47 @@ TEST(Jacobian, ConversionsInvertAndMayAlias) {
   EXPECT_LE(worst, 64 * kEpsD);
 }
 
+namespace {
+// `call` throws std::invalid_argument whose message is exactly `message`.
+template <class Call>
+void expectInvalid(const Call& call, const std::string& message) {
+  try {
+    call();
+    ADD_FAILURE() << "no exception; expected \"" << message << "\"";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), message);
+  }
+}
+}  // namespace
+
+// Sizes are checked in every build type (this suite runs in Release): q, the Data (a Data made for a model
+// with fewer joints was an out-of-bounds write in Release) and the output columns.
 TEST(Jacobian, RejectsWrongSizes) {
   std::vector<JointSpec> joints(2);
   joints[0].twist << 0, 0, 1, 0, 0, 0;
   joints[1].twist << 0, 1, 0, 0, 0, 1;
   const PoeModel model(joints, Pose{});
-  Data data(model);
+  const DhModel dh = poeToDh(model).model;
+  std::vector<JointSpec> three = joints;
+  three.push_back(joints[0]);
+  const PoeModel model3(three, Pose{});
+  Data data(model), data3(model3), data1(PoeModel({joints[0]}, Pose{}));
   Mat6X J(6, 2), K(6, 3);
-  EXPECT_THROW(computeJacobians(model, data, VecX::Zero(3)), std::invalid_argument);
+  expectInvalid([&] { computeJacobians(model, data, VecX::Zero(3)); }, "computeJacobians: q has 3 values, the model has 2 joints");
+  expectInvalid([&] { computeJacobians(dh, data, VecX::Zero(1)); }, "computeJacobians: q has 1 value, the model has 2 joints");
+  expectInvalid([&] { computeJacobians(model, data3, VecX::Zero(2)); },
+                "computeJacobians: data was made for a model with 3 joints, this model has 2");
+  expectInvalid([&] { computeJacobians(dh, data1, VecX::Zero(2)); },
+                "computeJacobians: data was made for a model with 1 joint, this model has 2");
+  EXPECT_NO_THROW(computeJacobians(dh, data, VecX::Zero(2)));  // a Data fits every model of its joint count
   computeJacobians(model, data, VecX::Zero(2));
-  EXPECT_THROW(getSpatialJacobian(data, K), std::invalid_argument);
-  EXPECT_THROW(getBodyJacobian(data, K), std::invalid_argument);
-  EXPECT_THROW(getGeometricJacobian(data, K), std::invalid_argument);
+  expectInvalid([&] { getSpatialJacobian(data, K); }, "getSpatialJacobian: the output has 3 columns, data has 2 joints");
+  expectInvalid([&] { getBodyJacobian(data, K); }, "getBodyJacobian: the output has 3 columns, data has 2 joints");
+  expectInvalid([&] { getGeometricJacobian(data, K); }, "getGeometricJacobian: the output has 3 columns, data has 2 joints");
   EXPECT_NO_THROW(getGeometricJacobian(data, J));
+  // the conversions write a column per input column
+  expectInvalid([&] { spatialToBody(Pose{}, J, K); }, "spatialToBody: the input has 2 columns, the output 3");
+  expectInvalid([&] { bodyToSpatial(Pose{}, K, J); }, "bodyToSpatial: the input has 3 columns, the output 2");
+  expectInvalid([&] { spatialToGeometric(Pose{}, J, K); }, "spatialToGeometric: the input has 2 columns, the output 3");
+  expectInvalid([&] { geometricToSpatial(Pose{}, K, J); }, "geometricToSpatial: the input has 3 columns, the output 2");
 }

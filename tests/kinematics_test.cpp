@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "lowpair/convert.hpp"
@@ -51,7 +53,7 @@ TEST(ForwardKinematics, EqualsProductOfExponentialsOnRandomRobots) {
       forwardKinematics(model, data, q);
       const Pose ref = productOfExponentials(model, q);
       const double rot = rotationError(data.T_base_tool.R, ref.R);
-      const double tr = (data.T_base_tool.p - ref.p).norm() / model.size();
+      const double tr = (data.T_base_tool.p - ref.p).norm() / model.lengthScale();
       worst_rotation = std::max(worst_rotation, rot);
       worst_translation = std::max(worst_translation, tr);
       ASSERT_LE(rot, bound(model.dof())) << lowpair_test::geometryName(robot.geometry) << " robot " << r;
@@ -86,7 +88,7 @@ TEST(ForwardKinematics, JointFramesLieOnTheCurrentJointLines) {
       EXPECT_LE((z - xi.head<3>()).norm(), tol) << "robot " << r << " joint " << i;
       // the origin is on the line: its moment o x w equals v - h w
       const Vec3 moment = xi.tail<3>() - j.pitch * xi.head<3>();
-      EXPECT_LE((F.p.cross(z) - moment).norm(), tol * model.size()) << "robot " << r << " joint " << i;
+      EXPECT_LE((F.p.cross(z) - moment).norm(), tol * model.lengthScale()) << "robot " << r << " joint " << i;
       EXPECT_LE((F.R.transpose() * F.R - Mat3::Identity()).norm(), tol);
     }
   }
@@ -116,7 +118,7 @@ TEST(ForwardKinematics, DhModelEqualsItsPoeEquivalent) {
     forwardKinematics(dh, data, q);
     const Pose ref = productOfExponentials(poe, q);
     EXPECT_LE(rotationError(data.T_base_tool.R, ref.R), bound(4));
-    EXPECT_LE((data.T_base_tool.p - ref.p).norm(), bound(4) * dh.size());
+    EXPECT_LE((data.T_base_tool.p - ref.p).norm(), bound(4) * dh.lengthScale());
   }
 }
 
@@ -142,7 +144,7 @@ TEST(ForwardKinematics, BatchEqualsSingleCalls) {
           EXPECT_LE(std::abs(poses(k, 3 * a + b) - data.T_base_tool.R(a, b)), bound(model.dof()));
           EXPECT_LE(std::abs(poses_dh(k, 3 * a + b) - data_dh.T_base_tool.R(a, b)), bound(model.dof()));
         }
-        EXPECT_LE(std::abs(poses(k, 9 + a) - data.T_base_tool.p[a]), bound(model.dof()) * model.size());
+        EXPECT_LE(std::abs(poses(k, 9 + a) - data.T_base_tool.p[a]), bound(model.dof()) * model.lengthScale());
         // the D-H table's own scale max(L, |d|, |a|) (docs/conversion.md): near parallel axes |d| can be
         // 1e10 L, and single and batch forms round the cancelling terms differently
         EXPECT_LE(std::abs(poses_dh(k, 9 + a) - data_dh.T_base_tool.p[a]), bound(model.dof()) * conversion.scale);
@@ -171,6 +173,96 @@ TEST(ForwardKinematics, HugeJointValuesStayAccurate) {
     EXPECT_LE(rotationError(data.T_base_tool.R, ref.R), tol) << big;
     EXPECT_LE((data.T_base_tool.p - ref.p).norm(), tol) << big;
   }
+}
+
+// ---- size checks ---------------------------------------------------------------------------------------
+//
+// Every function that takes q, a batch or a Data checks their sizes in every build type (this suite runs
+// in Release): a wrong size is std::invalid_argument naming the function and both numbers, never a write
+// past a buffer. A Data made for a model with fewer joints used to be an out-of-bounds write in Release.
+
+namespace {
+
+// n revolute joints about z through (i, 0, 0), a tool at (n, 0, 0).
+PoeModel planarChain(int n) {
+  std::vector<JointSpec> specs(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) specs[static_cast<size_t>(i)].twist << 0, 0, 1, 0, -i, 0;
+  Pose tool;
+  tool.p << n, 0, 0;
+  return PoeModel(specs, tool, std::to_string(n) + "R");
+}
+
+// `call` throws std::invalid_argument whose message is exactly `message`.
+template <class Call>
+void expectInvalid(const Call& call, const std::string& message) {
+  try {
+    call();
+    ADD_FAILURE() << "no exception; expected \"" << message << "\"";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), message);
+  }
+}
+
+}  // namespace
+
+TEST(SizeChecks, ForwardKinematicsRejectsWrongQAndForeignData) {
+  const PoeModel poe5 = planarChain(5), poe6 = planarChain(6), poe7 = planarChain(7);
+  const DhModel dh6 = poeToDh(poe6).model;
+  Data data5(poe5), data6(poe6), data7(poe7), data_dh6(dh6);
+  const VecX q5 = VecX::Constant(5, 0.1), q6 = VecX::Constant(6, 0.1), q7 = VecX::Constant(7, 0.1);
+
+  expectInvalid([&] { forwardKinematics(poe6, data6, q5); }, "forwardKinematics: q has 5 values, the model has 6 joints");
+  expectInvalid([&] { forwardKinematics(poe6, data6, q7); }, "forwardKinematics: q has 7 values, the model has 6 joints");
+  expectInvalid([&] { forwardKinematics(poe6, data7, q6); },
+                "forwardKinematics: data was made for a model with 7 joints, this model has 6");
+  expectInvalid([&] { forwardKinematics(poe6, data5, q6); },
+                "forwardKinematics: data was made for a model with 5 joints, this model has 6");
+  expectInvalid([&] { forwardKinematics(dh6, data_dh6, q5); }, "forwardKinematics: q has 5 values, the model has 6 joints");
+  expectInvalid([&] { forwardKinematics(dh6, data7, q6); },
+                "forwardKinematics: data was made for a model with 7 joints, this model has 6");
+  expectInvalid([&] { forwardKinematics(poe7, data7, VecX(0)); }, "forwardKinematics: q has 0 values, the model has 7 joints");
+
+  expectInvalid([&] { forwardKinematicsWithFrames(poe6.chain(), data6, q7); },
+                "forwardKinematicsWithFrames: q has 7 values, the model has 6 joints");
+  expectInvalid([&] { forwardKinematicsWithFrames(poe6.chain(), data5, q6); },
+                "forwardKinematicsWithFrames: data was made for a model with 5 joints, this model has 6");
+
+  expectInvalid([&] { poeForwardKinematics(poe6, q5); }, "poeForwardKinematics: q has 5 values, the model has 6 joints");
+  expectInvalid([&] { dhForwardKinematics(dh6, q7); }, "dhForwardKinematics: q has 7 values, the model has 6 joints");
+  expectInvalid([&] { forwardKinematics(toToolPoe(poe6), q5); }, "forwardKinematics: q has 5 values, the model has 6 joints");
+  expectInvalid([&] { forwardKinematics(toLocalPoe(poe6), q7); }, "forwardKinematics: q has 7 values, the model has 6 joints");
+  const PoeModel poe1 = planarChain(1), poe2 = planarChain(2);
+  Data data1(poe1), data2(poe2);
+  expectInvalid([&] { forwardKinematics(poe2, data2, VecX::Zero(1)); }, "forwardKinematics: q has 1 value, the model has 2 joints");
+  expectInvalid([&] { forwardKinematics(poe2, data1, VecX::Zero(2)); },
+                "forwardKinematics: data was made for a model with 1 joint, this model has 2");
+
+  // what fits: a Data fits every model with its number of joints (a copy, the D-H form, another robot)
+  const PoeModel copy = poe6;
+  EXPECT_NO_THROW(forwardKinematics(copy, data6, q6));
+  EXPECT_NO_THROW(forwardKinematics(dh6, data6, q6));
+  EXPECT_NO_THROW(forwardKinematicsWithFrames(dh6.chain(), data6, q6));
+  // the rejected calls wrote nothing: data6 still holds the FK of q6
+  forwardKinematics(poe6, data6, q6);
+  const Pose before = data6.T_base_tool;
+  EXPECT_THROW(forwardKinematics(poe6, data6, q5), std::invalid_argument);
+  EXPECT_EQ(data6.T_base_tool.matrix(), before.matrix());
+}
+
+TEST(SizeChecks, BatchRejectsWrongColumnsAndPoses) {
+  const PoeModel poe6 = planarChain(6);
+  const DhModel dh6 = poeToDh(poe6).model;
+  MatX poses(10, 12);
+  expectInvalid([&] { forwardKinematicsBatch(poe6, MatX::Zero(10, 5), poses); },
+                "forwardKinematicsBatch: q has 5 columns, the model has 6 joints");
+  expectInvalid([&] { forwardKinematicsBatch(dh6, MatX::Zero(10, 7), poses); },
+                "forwardKinematicsBatch: q has 7 columns, the model has 6 joints");
+  expectInvalid([&] { forwardKinematicsBatch(poe6, MatX::Zero(11, 6), poses); },
+                "forwardKinematicsBatch: poses is 10 x 12, expected 11 x 12 (a row per configuration of q)");
+  MatX narrow(10, 9);
+  expectInvalid([&] { forwardKinematicsBatch(dh6, MatX::Zero(10, 6), narrow); },
+                "forwardKinematicsBatch: poses is 10 x 9, expected 10 x 12 (a row per configuration of q)");
+  EXPECT_NO_THROW(forwardKinematicsBatch(poe6, MatX::Zero(10, 6), poses));
 }
 
 TEST(SinCos, WithinOneUlpOverJointRanges) {

@@ -46,7 +46,7 @@ TEST(ConversionProperty, TenThousandRandomRobots) {
     const LocalPoeModel local = toLocalPoe(poe);
     const PoeModel tool_back = fromToolPoe(tool), local_back = fromLocalPoe(local);
     // the bound's scale max(L, |d|, |a|, |d_T|), read off the table here rather than taken from the library
-    double scale = std::max({poe.size(), std::abs(c.model.base().d), std::abs(c.model.base().a), std::abs(c.model.toolD())});
+    double scale = std::max({poe.lengthScale(), std::abs(c.model.base().d), std::abs(c.model.base().a), std::abs(c.model.toolD())});
     for (const DhJoint& j : c.model.joints()) scale = std::max({scale, std::abs(j.link.d), std::abs(j.link.a)});
     EXPECT_EQ(scale, c.scale);
     ASSERT_TRUE(std::isfinite(scale));

@@ -330,7 +330,7 @@ TEST(Singularity, ClassGeometryIsData) {
         ++c3;
         for (int j : c.joints) {
           const JointLine& l = r.lines[static_cast<size_t>(j - 1)];
-          EXPECT_LE((c.point - l.point).cross(l.direction).norm(), 1e-9 * m.size());
+          EXPECT_LE((c.point - l.point).cross(l.direction).norm(), 1e-9 * m.lengthScale());
         }
       }
       if (c.id == "C6") {
@@ -341,7 +341,7 @@ TEST(Singularity, ClassGeometryIsData) {
           if (c.at_infinity) {
             EXPECT_LE(std::abs(l.direction.dot(c.direction)), 1e-9);
           } else {
-            EXPECT_LE(lineDistance(l, c.point, c.direction), 1e-9 * m.size());
+            EXPECT_LE(lineDistance(l, c.point, c.direction), 1e-9 * m.lengthScale());
           }
         }
       }
@@ -468,17 +468,54 @@ TEST(Singularity, ReportsConditionAndBlocks) {
   EXPECT_THROW(analyzeSingularity(m, vec({0, 0})), std::invalid_argument);
 }
 
+TEST(Singularity, DimensionlessJacobianRejectsWrongColumns) {
+  // it scales column i for every joint i: a Jacobian with fewer columns is rejected, in every build type
+  const PoeModel m = robot("elbow_mls.yaml").poeModel();
+  Mat6X J = Mat6X::Zero(6, 5);
+  try {
+    dimensionlessJacobian(m, J);
+    ADD_FAILURE() << "a 6 x 5 Jacobian was accepted for 6 joints";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "dimensionlessJacobian: the Jacobian has 5 columns, the model has 6 joints");
+  }
+}
+
 TEST(Singularity, ClassesAndRankAgreeNearSingularPoses) {
-  // The tolerance band: perturb every listed singular pose by |dq| from 1e-6 down to 1e-16 in random
+  // The tolerance band: perturb every listed singular pose by |dq| from 1e-3 down to 1e-16 in random
   // directions; wherever the rank test flips, the line classes must flip with it (6-joint robots).
+  // The flip must happen inside the band, or that check holds vacuously (an analysis that always answered
+  // "regular" would pass it): each pose itself is singular with its listed classes, and at |dq| = 1e-3 it
+  // is regular without a class. There sigma_min is first order in the distance to the singular set
+  // (robots.md §7: det J is a product of factors with simple zeros; where two vanish, as for the Rhino at
+  // q = 0, each deficiency is first order), about c |dq| |cos| for the component cos of the random unit
+  // direction across the set; c >= 1e-3 for the listed poses (smallest for the folded elbow of Corke's
+  // PUMA: a2 = 0.4318 and sqrt(a3^2 + d4^2) = 0.4323 fold the wrist centre to 0.5 mm of joint 2's axis,
+  // so a second factor of det J is small too), so sigma_min >= 1e-6 |cos|, above the rank threshold
+  // 1.3e-12 sigma_max (< 3e-12 here) unless |cos| < 3e-6. The listed regular poses (qn, the poses printed
+  // in rounded degrees) are regular without a class.
   std::mt19937_64 rng(7);
   std::normal_distribution<double> normal;
-  int checked = 0, mismatches = 0, singular = 0;
+  int checked = 0, mismatches = 0, singular = 0, exact_singular = 0, far_regular = 0, listed_regular = 0;
+  double far_sigma_min = 1e300;
   for (const Pose6& p : listedPoses()) {
-    // regular poses and those whose dependency has no listed class (`other`) are not in this check
-    if (p.expected.empty() || p.expected[0].id == "other") continue;
     const PoeModel m = robot(p.file).poeModel();
-    for (double size = 1e-6; size >= 1e-16; size /= 10) {
+    SCOPED_TRACE(m.name() + ": " + p.label);
+    const SingularityReport exact = analyzeSingularity(m, p.q);
+    if (p.expected.empty()) {
+      EXPECT_FALSE(exact.singular) << "rank " << exact.rank << ", sigma_min " << exact.sigma_min;
+      EXPECT_TRUE(exact.classes.empty()) << classesText(exact);
+      listed_regular += !exact.singular && exact.classes.empty();
+      continue;
+    }
+    // a dependency without a listed class (`other`) has no classes to flip: not in this check
+    if (p.expected[0].id == "other") continue;
+    EXPECT_TRUE(exact.singular) << "rank " << exact.rank << ", sigma_min " << exact.sigma_min;
+    for (const Expected& e : p.expected) {
+      EXPECT_TRUE(reported(exact, e)) << expectedText({e}) << " not in " << classesText(exact);
+    }
+    exact_singular += exact.singular;
+    for (double size = 1e-3; size >= 1e-16; size /= 10) {
+      const bool far = size == 1e-3;
       for (int k = 0; k < 20; ++k) {
         VecX dq(m.dof());
         for (int i = 0; i < m.dof(); ++i) dq[i] = normal(rng);
@@ -492,9 +529,20 @@ TEST(Singularity, ClassesAndRankAgreeNearSingularPoses) {
           std::printf("mismatch: %s %s |dq| %.0e rank %d sigma_min %.3g classes %s\n", m.name().c_str(),
                       p.label.c_str(), size, r.rank, r.sigma_min, classesText(r).c_str());
         }
+        if (far) {
+          EXPECT_FALSE(r.singular) << "|dq| 1e-3: rank " << r.rank << ", sigma_min " << r.sigma_min;
+          EXPECT_TRUE(r.classes.empty()) << "|dq| 1e-3: " << classesText(r);
+          far_regular += !r.singular && r.classes.empty();
+          far_sigma_min = std::min(far_sigma_min, r.sigma_min);
+        }
       }
     }
   }
-  std::printf("%d perturbed poses, %d singular, %d class/rank mismatches\n", checked, singular, mismatches);
+  std::printf("%d perturbed poses, %d singular, %d class/rank mismatches; %d listed singular poses singular with "
+              "their classes, %d regular at |dq| 1e-3 (smallest sigma_min %.3g); %d listed regular poses regular\n",
+              checked, singular, mismatches, exact_singular, far_regular, far_sigma_min, listed_regular);
   EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(exact_singular, 0);
+  EXPECT_GT(far_regular, 0);
+  EXPECT_GT(listed_regular, 0);
 }

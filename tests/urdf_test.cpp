@@ -166,7 +166,7 @@ TEST(UrdfArm, ForwardKinematicsEqualsHandComposedUrdfChain) {
   ASSERT_TRUE(file.poe);
   const PoeModel& model = *file.poe;
   ASSERT_EQ(model.dof(), 6);
-  const double L = model.size();
+  const double L = model.lengthScale();
   for (const auto& q : configurations(kArm6, 20)) {
     const Deviation d = deviation(poeForwardKinematics(model, toVec(q)), handFk(kArm6, q));
     EXPECT_LE(d.rotation, 1e-14) << "q[0] = " << q[0];
@@ -208,7 +208,7 @@ TEST(UrdfArm, BaseLinkInsideTheChain) {
   for (const auto& q : configurations(tail, 10)) {
     const Deviation d = deviation(poeForwardKinematics(model, toVec(q)), handFk(tail, q));
     EXPECT_LE(d.rotation, 1e-14);
-    EXPECT_LE(d.translation, 1e-14 * model.size());
+    EXPECT_LE(d.translation, 1e-14 * model.lengthScale());
   }
   // a tip inside the chain: the flange link after the middle fixed joint
   const RobotFile part = readUrdf(data("arm6.urdf"), "flange3");
@@ -217,7 +217,7 @@ TEST(UrdfArm, BaseLinkInsideTheChain) {
   for (const auto& q : configurations(head, 5)) {
     const Deviation d = deviation(poeForwardKinematics(*part.poe, toVec(q)), handFk(head, q));
     EXPECT_LE(d.rotation, 1e-14);
-    EXPECT_LE(d.translation, 1e-14 * part.poe->size());
+    EXPECT_LE(d.translation, 1e-14 * part.poe->lengthScale());
   }
 }
 
@@ -259,7 +259,7 @@ void expectSameAsMujoco(const std::string& path) {
     EXPECT_EQ(robot.joints()[static_cast<size_t>(i)].type, model.joint(i).type);
   }
   MujocoRobot::Evaluator mujoco(robot);
-  const double L = model.size();
+  const double L = model.lengthScale();
   for (const auto& q : configurations(kArm6, 20)) {
     const Pose T = poeForwardKinematics(model, toVec(q));
     const Pose M = mujoco.tipPose(toVec(q));  // scale 1: MuJoCo's motion variables are the joint values
@@ -294,7 +294,7 @@ TEST(UrdfMimic, PrismaticMimickingTheRevoluteBeforeItIsOneHelicalJoint) {
     const std::vector<double> q4 = {q3[0], q3[1], kScrewPitch * q3[1], q3[2]};
     const Deviation d = deviation(poeForwardKinematics(model, toVec(q3)), handFk(kHelical, q4));
     EXPECT_LE(d.rotation, 1e-14);
-    EXPECT_LE(d.translation, 1e-14 * model.size());
+    EXPECT_LE(d.translation, 1e-14 * model.lengthScale());
   }
 }
 

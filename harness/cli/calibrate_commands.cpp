@@ -147,12 +147,12 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     const CalibrationResult result = calibrate(nominal, fit.measurements, options);
     const DhUncertainty dh = dhUncertainty(result);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    CalibrationReport report{file, fit, validation, result, dh, seconds};
+    const CalibrationReport report = makeCalibrationReport(file, std::move(fit), std::move(validation), result, dh, seconds);
     if (!o->out.empty()) {
       const std::string name = (file.name.empty() ? std::filesystem::path(file.path).stem().string() : file.name) +
                                "-calibrated";
       writeFileAtomically(o->out, formatPoeRobotFile(result.model, file, name,
-                                                     "calibrated by lowpair calibrate from " + fit.path,
+                                                     "calibrated by lowpair calibrate from " + report.fit.path,
                                                      calibrationProvenance(report)));
     }
     if (o->as_json) {

@@ -306,7 +306,7 @@ bool needsJointVariables(const PoeModel& model) {
 ExportFrames exportFrames(const PoeModel& motion_model) {
   ExportFrames frames;
   const DhConversion conversion = poeToDh(motion_model);
-  frames.size = motion_model.size();
+  frames.size = motion_model.lengthScale();
   frames.dh_scale = conversion.scale;
   const FkCheck check = checkDhConversion(motion_model, conversion.model);
   frames.dh_deviation = std::max(check.max_rotation, check.max_translation / frames.size);

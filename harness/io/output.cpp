@@ -146,7 +146,7 @@ json modifiedDhJson(const RobotFile& file, const DhConversion& c, const FkCheck&
 }
 
 json poeJson(const RobotFile& file, const PoeModel& model) {
-  json j = headerJson(file, model.size());
+  json j = headerJson(file, model.lengthScale());
   j["joints"] = json::array();
   for (const Joint& jt : model.joints()) {
     json row = {{"type", jointTypeName(jt.type)}};
@@ -242,7 +242,7 @@ void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversio
 void printPoe(std::ostream& out, const RobotFile& file, const PoeModel& model) {
   const std::string u = unitOr(file);
   out << robotLabel(file) << ": base POE (Wu et al. eq. 5), unit twists [w; v] in the base "
-      << "frame, L = " << fixed(model.size()) << " " << u << "\n\n";
+      << "frame, L = " << fixed(model.lengthScale()) << " " << u << "\n\n";
   char line[256];
   std::snprintf(line, sizeof line, "%-5s %-9s %10s %10s %10s %12s %12s %12s %14s %12s\n", "joint", "type", "w_x", "w_y",
                 "w_z", "v_x", "v_y", "v_z", ("pitch(" + pitchUnit(file) + ")").c_str(), "scale");

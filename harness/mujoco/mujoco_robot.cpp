@@ -139,64 +139,63 @@ std::map<std::string, std::string> urdfMimics(const std::string& path) {
 
 void MujocoRobot::ModelDeleter::operator()(mjModel_* m) const { mj_deleteModel(m); }
 
-MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base) {
-  installMujocoHandlers();
-  g_loading = path;
-  std::vector<std::string> notes;
-  {
-    const ModelCopy copy(path, &notes);  // kinematics only; it loaded once already
-    char error[1000] = "";
-    model_.reset(mj_loadXML(copy.path().c_str(), nullptr, error, sizeof error));
-    if (!model_) fail(path, "MuJoCo could not load the model: " + oneLine(error));
-    if (error[0]) notes.push_back(path + ": MuJoCo: " + oneLine(error));  // a warning
-  }
-  const mjModel* m = model_.get();
+namespace {
 
-  tip_site_ = mj_name2id(m, mjOBJ_SITE, tip.c_str());
-  if (tip_site_ < 0) tip_body_ = mj_name2id(m, mjOBJ_BODY, tip.c_str());
-  if (tip_site_ < 0 && tip_body_ < 0) fail(path, "tip '" + tip + "' is neither a site nor a body");
-  if (!base.empty()) {
-    base_body_ = mj_name2id(m, mjOBJ_BODY, base.c_str());
-    if (base_body_ < 0) fail(path, "base '" + base + "' is not a body");
-  }
-  const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;
-
-  // the chain: bodies from the tip's up to (excluding) the base, and their joints
+// The chain from the base to the tip's body: its bodies (base side first) and their joints.
+struct Chain {
+  const mjModel* m = nullptr;
   std::vector<int> bodies;
-  for (int b = tip_owner; b != base_body_; b = m->body_parentid[b]) {
-    if (b == 0) fail(path, "base '" + base + "' is not an ancestor of the tip '" + tip + "'");
-    bodies.push_back(b);
-  }
-  std::reverse(bodies.begin(), bodies.end());
-  std::set<int> chain_joints;
-  for (int b : bodies) {
-    for (int k = 0; k < m->body_jntnum[b]; ++k) chain_joints.insert(m->body_jntadr[b] + k);
-  }
-  const auto jointName = [&](int j) { return nameOf(m, mjOBJ_JOINT, j, "joint"); };
+  std::set<int> joints;
+
+  std::string jointName(int j) const { return nameOf(m, mjOBJ_JOINT, j, "joint"); }
+
   // a chain joint whose motion changes the relative pose of the given bodies, or -1
-  const auto chainJointBetween = [&](const std::vector<int>& touched) {
-    for (int j : chain_joints) {
+  int jointBetween(const std::vector<int>& touched) const {
+    for (int j : joints) {
       size_t below = 0;
       for (int b : touched) below += ancestorOrSelf(m, m->jnt_bodyid[j], b);
       if (below > 0 && below < touched.size()) return j;
     }
     return -1;
-  };
+  }
+
   // a chain joint a tendon's length depends on, or -1
-  const auto chainJointOfTendon = [&](int t) {
+  int jointOfTendon(int t) const {
     std::vector<int> touched;
     for (int w = m->tendon_adr[t]; w < m->tendon_adr[t] + m->tendon_num[t]; ++w) {
       const int obj = m->wrap_objid[w];
-      if (m->wrap_type[w] == mjWRAP_JOINT && chain_joints.count(obj)) return obj;
+      if (m->wrap_type[w] == mjWRAP_JOINT && joints.count(obj)) return obj;
       if (m->wrap_type[w] == mjWRAP_SITE) touched.push_back(m->site_bodyid[obj]);
       if (m->wrap_type[w] == mjWRAP_SPHERE || m->wrap_type[w] == mjWRAP_CYLINDER) touched.push_back(m->geom_bodyid[obj]);
     }
-    return chainJointBetween(touched);
-  };
+    return jointBetween(touched);
+  }
+};
 
-  // Equalities (active ones: MuJoCo enforces no other) that constrain the chain's joints. The only one
-  // modelled: a chain slide (joint1) driven by a chain hinge (joint2) on the same body and axis, linearly
-  // (a helical joint). A joint outside the chain driven by a chain joint constrains nothing of the chain.
+// The bodies from the tip's up to (excluding) the base, and their joints.
+Chain findChain(const mjModel* m, const std::string& path, int tip_owner, int base_body, const std::string& tip,
+                const std::string& base) {
+  Chain chain;
+  chain.m = m;
+  for (int b = tip_owner; b != base_body; b = m->body_parentid[b]) {
+    if (b == 0) fail(path, "base '" + base + "' is not an ancestor of the tip '" + tip + "'");
+    chain.bodies.push_back(b);
+  }
+  std::reverse(chain.bodies.begin(), chain.bodies.end());
+  for (int b : chain.bodies) {
+    for (int k = 0; k < m->body_jntnum[b]; ++k) chain.joints.insert(m->body_jntadr[b] + k);
+  }
+  return chain;
+}
+
+// Equalities (active ones: MuJoCo enforces no other) that constrain the chain's joints. The only one
+// modelled: a chain slide (joint1) driven by a chain hinge (joint2) on the same body and axis, linearly
+// (a helical joint). A joint outside the chain driven by a chain joint constrains nothing of the chain.
+// @return slide joint -> (hinge joint, pitch)
+std::map<int, std::pair<int, double>> helicalCouplings(const Chain& chain, const std::string& path) {
+  const mjModel* m = chain.m;
+  const auto& chain_joints = chain.joints;
+  const auto jointName = [&](int j) { return chain.jointName(j); };
   std::map<int, std::pair<int, double>> coupled_slide;  // slide joint -> (hinge joint, pitch)
   std::map<int, int> slide_of_hinge;
   const std::string unmodelled = ": the extraction models an open chain of independent lower pairs only";
@@ -207,14 +206,14 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
     switch (m->eq_type[e]) {
       case mjEQ_CONNECT:
       case mjEQ_WELD: {
-        const int j = chainJointBetween({o1, o2 > 0 ? o2 : 0});
+        const int j = chain.jointBetween({o1, o2 > 0 ? o2 : 0});
         if (j >= 0) fail(path, label + " closes a loop through the chain joint '" + jointName(j) + "'" + unmodelled);
         break;
       }
       case mjEQ_TENDON:
         for (int t : {o1, o2}) {
           if (t < 0) continue;
-          const int j = chainJointOfTendon(t);
+          const int j = chain.jointOfTendon(t);
           if (j >= 0) fail(path, label + " couples the chain joint '" + jointName(j) + "'" + unmodelled);
         }
         break;
@@ -248,22 +247,25 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
         fail(path, label + unmodelled);
     }
   }
-  // MuJoCo 2.2.2 ignores a URDF's <mimic>: a mimicking chain joint would be sampled as independent
+  return coupled_slide;
+}
+
+// MuJoCo 2.2.2 ignores a URDF's <mimic>: a mimicking chain joint would be sampled as independent.
+void rejectMimics(const Chain& chain, const std::string& path) {
   const std::map<std::string, std::string> mimics = urdfMimics(path);
-  for (int j : chain_joints) {
-    auto it = mimics.find(jointName(j));
+  for (int j : chain.joints) {
+    auto it = mimics.find(chain.jointName(j));
     if (it != mimics.end()) {
       fail(path, "joint '" + it->first + "' mimics '" + it->second +
                      "' (URDF <mimic>), which MuJoCo 2.2.2 ignores: MuJoCo would move it independently");
     }
   }
 
-  std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
-  mj_kinematics(m, d.get());
-  // MuJoCo 2.2.2 keeps a zero `quat` as a zero quaternion: MuJoCo's own kinematics of the body is then
-  // meaningless (its joints do not move it), so the model is bad input, not a failed validation
-  std::vector<int> framed = bodies;
-  if (base_body_ != 0) framed.push_back(base_body_);
+}
+
+// MuJoCo 2.2.2 keeps a zero `quat` as a zero quaternion: MuJoCo's own kinematics of the body is then
+// meaningless (its joints do not move it), so the model is bad input, not a failed validation.
+void requireRotations(const mjModel* m, const mjData* d, const std::vector<int>& framed, const std::string& path) {
   for (int b : framed) {
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(d->xmat + 9 * b);
     const double defect = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
@@ -275,19 +277,25 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
                      "': its orientation is not a rotation (a zero quat, or an orientation MuJoCo cannot normalize)");
     }
   }
-  const Pose T_world_base =
-      base_body_ == 0 ? Pose() : poseFrom(d->xpos + 3 * base_body_, d->xmat + 9 * base_body_);
-  T_base_world_ = T_world_base.inverse();
-  const Pose& T_base_world = T_base_world_;
-  const Pose T_world_tip = tip_site_ >= 0 ? poseFrom(d->site_xpos + 3 * tip_site_, d->site_xmat + 9 * tip_site_)
-                                          : poseFrom(d->xpos + 3 * tip_body_, d->xmat + 9 * tip_body_);
-  const Pose T_base_tip = T_base_world * T_world_tip;
+}
 
+}  // namespace
+
+namespace {
+
+// The chain's joints at qpos0 in the base frame: `joints_` (MuJoCo's addresses, appended) and the
+// library's joint specs (returned); a coupled slide makes its hinge helical.
+std::vector<JointSpec> extractJoints(const Chain& chain, const mjData* d,
+                                     const std::map<int, std::pair<int, double>>& coupled_slide,
+                                     const Pose& T_base_world, const Pose& T_base_tip, const std::string& path,
+                                     std::vector<MujocoJoint>& joints) {
+  const mjModel* m = chain.m;
+  const auto jointName = [&](int j) { return chain.jointName(j); };
   std::vector<JointSpec> specs;
   std::vector<std::pair<std::string, double>> slide_refs;  // checked once the model's length is known
   std::map<int, size_t> hinge_to_joint;
   double length = T_base_tip.p.norm();
-  for (int b : bodies) {
+  for (int b : chain.bodies) {
     for (int k = 0; k < m->body_jntnum[b]; ++k) {
       const int j = m->body_jntadr[b] + k;
       const std::string name = jointName(j);
@@ -313,7 +321,7 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
         if (it == hinge_to_joint.end()) {
           fail(path, "slide '" + name + "' is coupled to a hinge that does not precede it in the same chain");
         }
-        MujocoJoint& mj = joints_[it->second];
+        MujocoJoint& mj = joints[it->second];
         JointSpec& spec = specs[it->second];
         const Vec3 w = spec.twist.head<3>();
         if (w.cross(axis).norm() > 1e-9 || m->jnt_bodyid[hinge] != b) {
@@ -347,24 +355,69 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
         spec.type = JointType::Revolute;
         spec.twist << axis, anchor.cross(axis);
         // qpos0 (ref) is the zero of the joint variable; the anchor and axis above are at qpos0
-        hinge_to_joint[j] = joints_.size();
+        hinge_to_joint[j] = joints.size();
       } else {
         mj.type = JointType::Prismatic;
         spec.type = JointType::Prismatic;
         spec.twist << Vec3::Zero(), axis;
       }
-      joints_.push_back(mj);
+      joints.push_back(mj);
       specs.push_back(spec);
     }
   }
-  if (joints_.empty()) fail(path, "no joint between the base and the tip '" + tip + "'");
-  if (!finite(T_base_tip.p) || !T_base_tip.R.allFinite()) fail(path, "the tip pose at qpos0 is not finite");
   for (const auto& [name, ref] : slide_refs) {
     if (std::abs(ref) > kMaxRef * std::max(1.0, length)) {
       fail(path, "joint '" + name + "': qpos0 (its ref) " + number(ref) + " is no usable zero (qpos = qpos0 + x must " +
                      "resolve x; |qpos0| <= 1000 model lengths, here " + number(kMaxRef * std::max(1.0, length)) + ")");
     }
   }
+  return specs;
+}
+
+}  // namespace
+
+MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base) {
+  installMujocoHandlers();
+  g_loading = path;
+  std::vector<std::string> notes;
+  {
+    const ModelCopy copy(path, &notes);  // kinematics only; it loaded once already
+    char error[1000] = "";
+    model_.reset(mj_loadXML(copy.path().c_str(), nullptr, error, sizeof error));
+    if (!model_) fail(path, "MuJoCo could not load the model: " + oneLine(error));
+    if (error[0]) notes.push_back(path + ": MuJoCo: " + oneLine(error));  // a warning
+  }
+  const mjModel* m = model_.get();
+
+  tip_site_ = mj_name2id(m, mjOBJ_SITE, tip.c_str());
+  if (tip_site_ < 0) tip_body_ = mj_name2id(m, mjOBJ_BODY, tip.c_str());
+  if (tip_site_ < 0 && tip_body_ < 0) fail(path, "tip '" + tip + "' is neither a site nor a body");
+  if (!base.empty()) {
+    base_body_ = mj_name2id(m, mjOBJ_BODY, base.c_str());
+    if (base_body_ < 0) fail(path, "base '" + base + "' is not a body");
+  }
+  const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;
+  const Chain chain = findChain(m, path, tip_owner, base_body_, tip, base);
+  const std::map<int, std::pair<int, double>> coupled_slide = helicalCouplings(chain, path);
+  rejectMimics(chain, path);
+
+  std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
+  mj_kinematics(m, d.get());
+  std::vector<int> framed = chain.bodies;
+  if (base_body_ != 0) framed.push_back(base_body_);
+  requireRotations(m, d.get(), framed, path);
+  const Pose T_world_base =
+      base_body_ == 0 ? Pose() : poseFrom(d->xpos + 3 * base_body_, d->xmat + 9 * base_body_);
+  T_base_world_ = T_world_base.inverse();
+  const Pose& T_base_world = T_base_world_;
+  const Pose T_world_tip = tip_site_ >= 0 ? poseFrom(d->site_xpos + 3 * tip_site_, d->site_xmat + 9 * tip_site_)
+                                          : poseFrom(d->xpos + 3 * tip_body_, d->xmat + 9 * tip_body_);
+  const Pose T_base_tip = T_base_world * T_world_tip;
+
+  const std::vector<JointSpec> specs =
+      extractJoints(chain, d.get(), coupled_slide, T_base_world, T_base_tip, path, joints_);
+  if (joints_.empty()) fail(path, "no joint between the base and the tip '" + tip + "'");
+  if (!finite(T_base_tip.p) || !T_base_tip.R.allFinite()) fail(path, "the tip pose at qpos0 is not finite");
   try {
     poe_ = std::make_unique<PoeModel>(specs, T_base_tip, path);
   } catch (const std::invalid_argument& e) {

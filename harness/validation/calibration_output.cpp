@@ -151,13 +151,7 @@ void printIdentifiability(std::ostream& out, const Identifiability& id) {
 
 // --- calibrate -------------------------------------------------------------------------------------------
 
-ValidationResiduals validationResiduals(const CalibrationReport& r) {
-  ValidationResiduals v;
-  if (!r.validation) return v;
-  v.before = residualStatistics(r.nominal.poeModel(), r.validation->measurements, r.validation->measure);
-  v.after = residualStatistics(r.result.model, r.validation->measurements, r.validation->measure);
-  return v;
-}
+namespace {
 
 std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
@@ -203,6 +197,22 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
   return w;
 }
 
+}  // namespace
+
+CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, std::optional<MeasurementFile> validation,
+                                        CalibrationResult result, DhUncertainty dh, double seconds) {
+  CalibrationReport r{std::move(nominal), std::move(fit), std::move(validation), std::move(result), std::move(dh),
+                      seconds, std::nullopt, {}};
+  if (r.validation) {
+    ValidationResiduals v;
+    v.before = residualStatistics(r.nominal.poeModel(), r.validation->measurements, r.validation->measure);
+    v.after = residualStatistics(r.result.model, r.validation->measurements, r.validation->measure);
+    r.validation_residuals = v;
+  }
+  r.warnings = calibrationWarnings(r);
+  return r;
+}
+
 std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   const std::string u = lengthUnit(r.nominal);
@@ -237,7 +247,7 @@ json calibrationJson(const CalibrationReport& r) {
   o["before"] = statisticsJson(c.before);
   o["after"] = statisticsJson(c.after);
   if (r.validation) {
-    const ValidationResiduals v = validationResiduals(r);
+    const ValidationResiduals& v = *r.validation_residuals;
     o["validation"] = {{"path", r.validation->path}, {"measure", measureName(r.validation->measure)},
                        {"before", statisticsJson(v.before)}, {"after", statisticsJson(v.after)}};
   }
@@ -276,7 +286,7 @@ json calibrationJson(const CalibrationReport& r) {
              {"joints", joints},
              {"tool", {{"theta", m.toolTheta()}, {"d", m.toolD()},
                        {"sd", {{"theta", finiteOrNull(r.dh.tool_theta)}, {"d", finiteOrNull(r.dh.tool_d)}}}}}};
-  o["warnings"] = calibrationWarnings(r);
+  o["warnings"] = r.warnings;
   o["seconds"] = r.seconds;
   return o;
 }
@@ -320,7 +330,7 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   stats("measurements, before", c.before, fit_rot);
   stats("measurements, after", c.after, fit_rot);
   if (r.validation) {
-    const ValidationResiduals v = validationResiduals(r);
+    const ValidationResiduals& v = *r.validation_residuals;
     const bool val_rot = r.validation->measure == Measure::Pose;
     stats("validation, before", v.before, val_rot);
     stats("validation, after", v.after, val_rot);
@@ -381,10 +391,9 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   out << "(standard deviations: the parameter covariance "
       << (c.noise_stated ? "from the stated noise" : "scaled by the residuals") << ", propagated through the conversion; "
       << "they grow without bound as consecutive axes become parallel, docs/calibration.md)\n";
-  const auto warnings = calibrationWarnings(r);
-  if (!warnings.empty()) {
+  if (!r.warnings.empty()) {
     out << "\nwarnings:\n";
-    for (const auto& w : warnings) out << "  - " << w << "\n";
+    for (const auto& w : r.warnings) out << "  - " << w << "\n";
   }
 }
 

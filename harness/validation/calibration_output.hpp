@@ -31,28 +31,33 @@ inline double identificationEntries(double poses, double joints, double columns_
   return 6.0 * poses * columns + columns * columns;
 }
 
-/// Everything `calibrate` prints.
-struct CalibrationReport {
-  const io::RobotFile& nominal;
-  const io::MeasurementFile& fit;
-  const std::optional<io::MeasurementFile>& validation;
-  const CalibrationResult& result;
-  const DhUncertainty& dh;
-  double seconds = 0.0;  ///< calibrate + dhUncertainty
-};
-
-nlohmann::json identifiabilityJson(const io::RobotFile& file, const Identifiability& id);
-void printIdentifiability(std::ostream& out, const Identifiability& id);
-
 /// Residuals of the validation set before (nominal) and after (calibrated), with its own measure.
 struct ValidationResiduals {
   ResidualStatistics before, after;
 };
-ValidationResiduals validationResiduals(const CalibrationReport& report);
 
-/// The warnings of a calibration in sentences: rank below the count (with the undetermined directions),
-/// no convergence, residuals inconsistent with the stated noise, the D-H conversion's conditioning.
-std::vector<std::string> calibrationWarnings(const CalibrationReport& report);
+/// Everything `calibrate` prints: its inputs, the fit, and the numbers derived from them, computed once by
+/// makeCalibrationReport (the renderers below only format them).
+struct CalibrationReport {
+  io::RobotFile nominal;
+  io::MeasurementFile fit;
+  std::optional<io::MeasurementFile> validation;
+  CalibrationResult result;
+  DhUncertainty dh;
+  double seconds = 0.0;  ///< calibrate + dhUncertainty
+  std::optional<ValidationResiduals> validation_residuals;  ///< set when there is a validation file
+  /// The warnings in sentences: rank below the count (with the undetermined directions), no convergence,
+  /// residuals inconsistent with the stated noise, the D-H conversion's conditioning (its FK check, once).
+  std::vector<std::string> warnings;
+};
+
+/// Moves the inputs in and computes the validation residuals and the warnings.
+CalibrationReport makeCalibrationReport(io::RobotFile nominal, io::MeasurementFile fit,
+                                        std::optional<io::MeasurementFile> validation, CalibrationResult result,
+                                        DhUncertainty dh, double seconds);
+
+nlohmann::json identifiabilityJson(const io::RobotFile& file, const Identifiability& id);
+void printIdentifiability(std::ostream& out, const Identifiability& id);
 
 nlohmann::json calibrationJson(const CalibrationReport& report);
 void printCalibration(std::ostream& out, const CalibrationReport& report);

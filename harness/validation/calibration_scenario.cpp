@@ -58,10 +58,10 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
                          scenario.tip + "' in " + scenario.model + " has " + std::to_string(robot.dof()) +
                          " (calibration '" + config.name + "' of " + scenario.path + ")");
   }
-  if (config.noise_position > nominal.size()) {
+  if (config.noise_position > nominal.lengthScale()) {
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': noise.position " +
                          std::to_string(config.noise_position) + " exceeds the robot size L = " +
-                         std::to_string(nominal.size()));
+                         std::to_string(nominal.lengthScale()));
   }
   if (identificationEntries(config.poses, nominal.dof(), 7.0) > kMaxJacobianEntries) {
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': " + std::to_string(config.poses) +
@@ -84,7 +84,8 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
   const CalibrationResult result = calibrate(nominal, fit.measurements, options);
   const DhUncertainty dh = dhUncertainty(result);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const CalibrationReport report{nominal_file, fit, validation, result, dh, seconds};
+  const auto report = std::make_shared<const CalibrationReport>(
+      makeCalibrationReport(nominal_file, fit, validation, result, dh, seconds));
 
   CalibrationCaseResult out;
   out.config = config;
@@ -95,15 +96,12 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
   out.seconds = seconds;
   out.fit_before = result.before;
   out.fit_after = result.after;
-  const ValidationResiduals v = validationResiduals(report);
+  const ValidationResiduals& v = *report->validation_residuals;
   out.validation_before = v.before;
   out.validation_after = v.after;
   out.validation_position_before = positionErrors(nominal, validation->measurements);
   out.validation_position_after = positionErrors(result.model, validation->measurements);
-  std::ostringstream text;
-  printCalibration(text, report);
-  out.text = text.str();
-  out.json = calibrationJson(report);
+  out.report = report;
 
   // acceptance: never pass on a number that was not measured (NaN fails every comparison below)
   auto require = [&](bool ok, const std::string& what) {

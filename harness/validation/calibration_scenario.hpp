@@ -5,6 +5,7 @@
 /// measurements against the case's acceptance.
 
 #include <array>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "lowpair/calibration.hpp"
 #include "mujoco/mujoco_robot.hpp"
 #include "io/measurements.hpp"
+#include "validation/calibration_output.hpp"
 #include "validation/sampling.hpp"
 #include "validation/scenario.hpp"
 
@@ -25,8 +27,8 @@ struct CalibrationCaseResult {
   ResidualStatistics fit_before, fit_after, validation_before, validation_after;
   /// Position error (length) of every validation pose before and after, for the report's picture.
   std::vector<double> validation_position_before, validation_position_after;
-  std::string text;       ///< what `lowpair calibrate` prints for the same data
-  nlohmann::json json;    ///< what `lowpair calibrate --json` prints
+  /// The calibration as `lowpair calibrate` reports it for the same data (renderers: calibration_output.hpp)
+  std::shared_ptr<const CalibrationReport> report;
   bool pass = true;
   std::vector<std::string> failures;  ///< the acceptance criteria that failed, in words
 };

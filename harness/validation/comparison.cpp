@@ -70,7 +70,7 @@ class JacobianComparison final : public Comparison {
       return e;
     }
     e.rotation = (s.J_mujoco.bottomRows<3>() - s.J_library.bottomRows<3>()).cwiseAbs().maxCoeff();
-    e.translation = model_.size() * (s.J_mujoco.topRows<3>() - s.J_library.topRows<3>()).cwiseAbs().maxCoeff();
+    e.translation = model_.lengthScale() * (s.J_mujoco.topRows<3>() - s.J_library.topRows<3>()).cwiseAbs().maxCoeff();
     return e;
   }
 

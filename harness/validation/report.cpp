@@ -62,7 +62,7 @@ json validationJson(const std::vector<ScenarioResult>& results, const RunOptions
     if (!r.calibrations.empty()) {
       s["calibrations"] = json::array();
       for (const auto& c : r.calibrations) {
-        json j = c.json;
+        json j = calibrationJson(*c.report);
         j["name"] = c.config.name;
         j["pass"] = c.pass;
         j["failures"] = c.failures;
@@ -152,6 +152,36 @@ std::string safe(const std::string& name) {
     s = s.substr(0, kMaxStem - 17) + hash;
   }
   return s;
+}
+
+// A user string (a scenario or case name, a path) as Markdown text that shows it verbatim: every ASCII
+// punctuation character CommonMark may read as markup is backslash-escaped, and a line break becomes a
+// space (it could start a heading, a list or a code fence on the next line).
+std::string markdownText(const std::string& text) {
+  static const std::string kPunctuation = "\\`*_{}[]()<>#+-.!|~\"'&=:;$%^?@,/";
+  std::string out;
+  for (const char ch : text) {
+    if (ch == '\n' || ch == '\r' || ch == '\t') {
+      out += ' ';
+    } else if (kPunctuation.find(ch) != std::string::npos) {
+      out += '\\';
+      out += ch;
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
+// A fenced code block holding `text` verbatim: the fence is longer than any run of backticks in it.
+std::string markdownCode(const std::string& text) {
+  size_t longest = 0, run = 0;
+  for (const char ch : text) {
+    run = ch == '`' ? run + 1 : 0;
+    longest = std::max(longest, run);
+  }
+  const std::string fence(std::max<size_t>(3, longest + 1), '`');
+  return fence + "\n" + text + (text.empty() || text.back() == '\n' ? "" : "\n") + fence + "\n";
 }
 
 // A gnuplot single-quoted string holding `text` verbatim: no substitution happens inside single quotes
@@ -426,32 +456,35 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
        << "|---|---|---|---|---|---|---|---|\n";
     for (const auto& r : results) {
       for (const auto& c : r.comparisons) {
-        char row[512];
-        std::snprintf(row, sizeof row, "| %s | %s | %d | %.2e | %.2e | %.2e | %.2e | %s |\n", r.scenario.name.c_str(),
-                      c.name.c_str(), r.samples, c.max_rotation, c.p99_rotation, c.max_translation / r.size,
-                      c.p99_translation / r.size, c.pass ? "pass" : "**FAIL**");
-        md << row;
+        char numbers[160];
+        std::snprintf(numbers, sizeof numbers, "%d | %.2e | %.2e | %.2e | %.2e | %s", r.samples, c.max_rotation,
+                      c.p99_rotation, c.max_translation / r.size, c.p99_translation / r.size,
+                      c.pass ? "pass" : "**FAIL**");
+        md << "| " << markdownText(r.scenario.name) << " | " << markdownText(c.name) << " | " << numbers << " |\n";
       }
     }
     md << "\n";
     for (const auto& r : results) {
       plots(tmp, r);
       const std::string base = safe(r.scenario.name);
-      md << "## " << r.scenario.name << "\n\nModel `" << r.scenario.model << "`, tip `" << r.scenario.tip << "`, L = "
+      md << "## " << markdownText(r.scenario.name) << "\n\nModel " << markdownText(r.scenario.model) << ", tip "
+         << markdownText(r.scenario.tip) << ", L = "
          << r.size << ", " << r.samples << " samples in " << r.seconds << " s. The error picture shows "
          << plotted(r) << "; the histogram and the table, every sample.\n\n"
          << "![errors](" << base << "_errors.png)\n\n![histogram](" << base << "_histogram.png)\n\n";
       if (r.map_size > 0) md << "![singularity map](" << base << "_singularity_map.png)\n\n";
       for (size_t k = 0; k < r.calibrations.size(); ++k) {
         const CalibrationCaseResult& c = r.calibrations[k];
-        md << "### Calibration '" << c.config.name << "': " << (c.pass ? "pass" : "**FAIL**") << "\n\n"
+        md << "### Calibration '" << markdownText(c.config.name) << "': " << (c.pass ? "pass" : "**FAIL**") << "\n\n"
            << c.config.poses << " measurements of the MuJoCo model (noise: position " << c.config.noise_position
            << ", rotation " << c.config.noise_rotation << " rad), " << c.config.validation_poses
            << " noise-free validation poses; acceptance: validation RMS position <= " << c.config.tolerance_position;
         if (c.config.min_improvement) md << ", at least " << *c.config.min_improvement << "x below the nominal's";
         md << ".\n\n";
-        for (const auto& f : c.failures) md << "- failed: " << f << "\n";
-        md << "![calibration](" << base << "_calibration_" << k + 1 << ".png)\n\n```\n" << c.text << "```\n\n";
+        for (const auto& f : c.failures) md << "- failed: " << markdownText(f) << "\n";
+        std::ostringstream text;
+        printCalibration(text, *c.report);
+        md << "![calibration](" << base << "_calibration_" << k + 1 << ".png)\n\n" << markdownCode(text.str()) << "\n";
       }
     }
     writeChecked(tmp / "summary.md", md.str());

@@ -80,7 +80,7 @@ Range defaultRange(JointType type, double L) {
 
 std::vector<Range> samplingRanges(const PoeModel& model) {
   std::vector<Range> ranges;
-  for (const Joint& j : model.joints()) ranges.push_back(j.range ? *j.range : defaultRange(j.type, model.size()));
+  for (const Joint& j : model.joints()) ranges.push_back(j.range ? *j.range : defaultRange(j.type, model.lengthScale()));
   return ranges;
 }
 
@@ -100,7 +100,7 @@ SampledVariable sampledVariable(const mujoco::MujocoRobot& robot, const std::str
     throw io::RobotFileError(subject + ": ranges has " + std::to_string(given.size()) + " entries for " +
                              std::to_string(n) + " joints");
   }
-  const double L = robot.poeModel().size();
+  const double L = robot.poeModel().lengthScale();
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<size_t>(i);
     const mujoco::MujocoJoint& j = robot.joints()[k];

@@ -76,7 +76,7 @@ Setup prepare(const Scenario& scenario) {
   const MujocoRobot& robot = *setup.robot;
   setup.poe = std::make_unique<PoeModel>(robot.poeModel());
   const PoeModel& poe = *setup.poe;
-  const double L = setup.L = poe.size();
+  const double L = setup.L = poe.lengthScale();
 
   // the sampled variable (a joint_variables robot file's q, or MuJoCo's own) and its ranges: sampling.hpp
   SampledVariable sampled =

@@ -220,7 +220,7 @@ PoeModel ErrorModel::apply(const Eigen::Ref<const VecX>& delta) const {
       double pitch = j.type == JointType::Helical ? j.pitch : 0.0;
       if (hasPitch(j, free_pitch_)) pitch += delta[k++];
       if (free_pitch_) {  // the type follows the pitch: revolute when the pitch is rounding relative to L
-        const bool rounding = std::abs(pitch) <= kPitchZero * kEps * model_.size();
+        const bool rounding = std::abs(pitch) <= kPitchZero * kEps * model_.lengthScale();
         j.type = rounding ? JointType::Revolute : JointType::Helical;
         if (rounding) pitch = 0.0;
       }
@@ -370,7 +370,7 @@ Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<
   const auto poses = static_cast<int>(q.size());
   MatX J(per * static_cast<Eigen::Index>(poses), em.size());
   for (int m = 0; m < poses; ++m) em.jacobian(q[static_cast<size_t>(m)], measure, J.middleRows(per * m, per));
-  const double L = model.size();
+  const double L = model.lengthScale();
   out.poe = analyzeRank(J, measure, L, poses);
   const MatX full = fullErrorModelJacobian(model, q, measure, free_pitch);
   out.full_model_rank = analyzeRank(full, measure, L, poses).rank;
@@ -468,7 +468,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   }
   LP_CHECK(options.max_iterations >= 0, "calibrate: max_iterations must be >= 0");
   const Measure measure = options.measure;
-  const double L = nominal.size();
+  const double L = nominal.lengthScale();
   Weights w;
   const bool stated = options.sigma_position || options.sigma_rotation;
   if (options.sigma_position) {
@@ -684,7 +684,7 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
   // D-H number it moves by more than 1e-6 of that (angles and scales in their units, lengths over L) is
   // not determined
   constexpr double kProbe = 1e-6, kMoved = 1e-6;
-  const double L = result.model.size();
+  const double L = result.model.lengthScale();
   const auto& parameters = em.parameters();
   VecX per_unit(em.size());  // a parameter's dimensionless unit: L for lengths and pitches, 1 otherwise
   for (int k = 0; k < em.size(); ++k) per_unit[k] = parameters[static_cast<size_t>(k)].unit == "rad" ||

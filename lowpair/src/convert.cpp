@@ -141,7 +141,7 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   LP_CHECK(std::isfinite(options.parallel_threshold) && options.parallel_threshold >= 0.0 &&
                options.parallel_threshold < 1.0,
            "poeToDh: parallel_threshold must be in [0, 1), got " << options.parallel_threshold);
-  const double L = model.size();
+  const double L = model.lengthScale();
   Tolerances tol;
   const double rounding_parallel = kParallelPerJoint * kEps * n;
   tol.parallel = options.parallel_threshold > 0.0 ? options.parallel_threshold : rounding_parallel;
@@ -225,7 +225,7 @@ FkCheck checkDhConversion(const PoeModel& poe, const DhModel& dh, int samples) {
   const int n = poe.dof();
   LP_CHECK(dh.dof() == n, "checkDhConversion: the D-H model has " << dh.dof() << " joints, the POE model " << n);
   LP_CHECK(samples >= 0, "checkDhConversion: samples must be >= 0, got " << samples);
-  const double L = poe.size();
+  const double L = poe.lengthScale();
   FkCheck check;
   check.scale = boundScale(dh, L);
   std::mt19937_64 rng(kFkCheckSeed);
@@ -306,6 +306,8 @@ Pose rxTx(double alpha, double a) {
 }  // namespace
 
 Pose modifiedDhForwardKinematics(const ModifiedDh& model, const Eigen::Ref<const VecX>& q) {
+  LP_CHECK(q.size() == static_cast<Eigen::Index>(model.joints.size()),
+           "modifiedDhForwardKinematics: q has " << q.size() << " values, the model has " << model.joints.size() << " joints");
   Pose T = dhToolTransform(model.base_theta, model.base_d);
   for (size_t i = 0; i < model.joints.size(); ++i) {
     const ModifiedDhJoint& j = model.joints[i];

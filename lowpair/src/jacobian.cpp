@@ -1,5 +1,9 @@
 #include "lowpair/jacobian.hpp"
 
+#include <stdexcept>
+#include <string>
+
+#include "chain_eval.hpp"
 #include "lowpair/check.hpp"
 #include "lowpair/se3.hpp"
 
@@ -7,8 +11,24 @@ namespace lowpair {
 
 namespace {
 
-void checkColumns(const Data& data, Eigen::Index cols) {
-  LP_CHECK(cols == data.dof, "Jacobian output has " << cols << " columns, expected " << data.dof);
+[[noreturn]] LP_COLD void throwOutputColumns(const char* function, Eigen::Index cols, int dof) {
+  throw std::invalid_argument(std::string(function) + ": the output has " + std::to_string(cols) + " columns, data has " +
+                              std::to_string(dof) + " joints");
+}
+
+[[noreturn]] LP_COLD void throwConversionColumns(const char* function, Eigen::Index in, Eigen::Index out) {
+  throw std::invalid_argument(std::string(function) + ": the input has " + std::to_string(in) + " columns, the output " +
+                              std::to_string(out));
+}
+
+// A getter writes data.dof columns.
+inline void checkColumns(const char* function, const Data& data, Eigen::Index cols) {
+  if (LP_UNLIKELY(cols != data.dof)) throwOutputColumns(function, cols, data.dof);
+}
+
+// A conversion writes column i of `out` for every column i of `in`.
+inline void checkSameColumns(const char* function, Eigen::Index in, Eigen::Index out) {
+  if (LP_UNLIKELY(in != out)) throwConversionColumns(function, in, out);
 }
 
 void fillSpatial(Data& data, const KinematicChain& chain) {
@@ -31,7 +51,7 @@ void fillSpatial(Data& data, const KinematicChain& chain) {
 }  // namespace
 
 void spatialToBody(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_spatial, Eigen::Ref<Mat6X> J_body) {
-  LP_ASSERT(J_spatial.cols() == J_body.cols());
+  checkSameColumns("spatialToBody", J_spatial.cols(), J_body.cols());
   const Pose T_tool_base = T_base_tool.inverse();
   for (Eigen::Index i = 0; i < J_spatial.cols(); ++i) {
     const Vec6 xi = J_spatial.col(i);
@@ -40,7 +60,7 @@ void spatialToBody(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_spa
 }
 
 void bodyToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_body, Eigen::Ref<Mat6X> J_spatial) {
-  LP_ASSERT(J_spatial.cols() == J_body.cols());
+  checkSameColumns("bodyToSpatial", J_body.cols(), J_spatial.cols());
   for (Eigen::Index i = 0; i < J_body.cols(); ++i) {
     const Vec6 xi = J_body.col(i);
     J_spatial.col(i) = adjointApply(T_base_tool, xi);
@@ -49,7 +69,7 @@ void bodyToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_bod
 
 void spatialToGeometric(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_spatial,
                         Eigen::Ref<Mat6X> J_geometric) {
-  LP_ASSERT(J_spatial.cols() == J_geometric.cols());
+  checkSameColumns("spatialToGeometric", J_spatial.cols(), J_geometric.cols());
   // velocity of the body point at the tool origin: v + w x p_tool (eq. 3.13 up to the axis point); each
   // column is read whole before it is written, so J_geometric may alias J_spatial
   const double px = T_base_tool.p[0], py = T_base_tool.p[1], pz = T_base_tool.p[2];
@@ -68,7 +88,7 @@ void spatialToGeometric(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& 
 
 void geometricToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_geometric,
                         Eigen::Ref<Mat6X> J_spatial) {
-  LP_ASSERT(J_spatial.cols() == J_geometric.cols());
+  checkSameColumns("geometricToSpatial", J_geometric.cols(), J_spatial.cols());
   for (Eigen::Index i = 0; i < J_geometric.cols(); ++i) {
     const Vec3 v = J_geometric.col(i).head<3>();
     const Vec3 w = J_geometric.col(i).tail<3>();
@@ -78,29 +98,29 @@ void geometricToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& 
 }
 
 void computeJacobians(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
-  LP_CHECK(q.size() == model.dof(), "expected " << model.dof() << " joint values, got " << q.size());
-  forwardKinematicsWithFrames(model.chain(), data, q);
+  detail::checkChainCall("computeJacobians", model.chain(), data, q.size());
+  detail::chainFrames(model.chain(), data, q.data());
   fillSpatial(data, model.chain());
 }
 
 void computeJacobians(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
-  LP_CHECK(q.size() == model.dof(), "expected " << model.dof() << " joint values, got " << q.size());
-  forwardKinematicsWithFrames(model.chain(), data, q);
+  detail::checkChainCall("computeJacobians", model.chain(), data, q.size());
+  detail::chainFrames(model.chain(), data, q.data());
   fillSpatial(data, model.chain());
 }
 
 void getSpatialJacobian(const Data& data, Eigen::Ref<Mat6X> J_spatial) {
-  checkColumns(data, J_spatial.cols());
+  checkColumns("getSpatialJacobian", data, J_spatial.cols());
   J_spatial = data.J_spatial;
 }
 
 void getBodyJacobian(const Data& data, Eigen::Ref<Mat6X> J_body) {
-  checkColumns(data, J_body.cols());
+  checkColumns("getBodyJacobian", data, J_body.cols());
   spatialToBody(data.T_base_tool, data.J_spatial, J_body);
 }
 
 void getGeometricJacobian(const Data& data, Eigen::Ref<Mat6X> J_geometric) {
-  checkColumns(data, J_geometric.cols());
+  checkColumns("getGeometricJacobian", data, J_geometric.cols());
   spatialToGeometric(data.T_base_tool, data.J_spatial, J_geometric);
 }
 

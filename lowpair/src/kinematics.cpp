@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
+#include "chain_eval.hpp"
 #include "lowpair/check.hpp"
 #include "lowpair/se3.hpp"
 #include "sincos.hpp"
@@ -56,6 +59,11 @@ void jointExp(const Joint& joint, double q, Pose& out) {
 namespace {
 
 using detail::sinCosLane;
+
+// "1 joint", "6 joints" (messages).
+std::string counted(Eigen::Index n, const char* noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
 
 // sin and cos of n angles together, n a multiple of KinematicChain::kLanes (the loop vectorizes); angles beyond the kernel's accurate range
 // (possible only for huge joint values) are recomputed with libm.
@@ -228,9 +236,11 @@ LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Ei
 
 void checkBatchSizes(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, const Eigen::Ref<MatX>& poses) {
   LP_CHECK(q.cols() == static_cast<Eigen::Index>(chain.links.size()),
-           "forwardKinematicsBatch: q has " << q.cols() << " columns for " << chain.links.size() << " joints");
+           "forwardKinematicsBatch: q has " << counted(q.cols(), "column") << ", the model has "
+                                            << counted(static_cast<Eigen::Index>(chain.links.size()), "joint"));
   LP_CHECK(poses.rows() == q.rows() && poses.cols() == 12,
-           "forwardKinematicsBatch: poses must be " << q.rows() << " x 12, got " << poses.rows() << " x " << poses.cols());
+           "forwardKinematicsBatch: poses is " << poses.rows() << " x " << poses.cols() << ", expected " << q.rows()
+                                               << " x 12 (a row per configuration of q)");
 }
 
 template <class V, class U>
@@ -295,18 +305,30 @@ void batch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::
 
 }  // namespace detail
 
+void detail::throwChainMismatch(const char* function, const KinematicChain& chain, const Data& data,
+                                Eigen::Index q_size) {
+  const auto dof = static_cast<Eigen::Index>(chain.links.size());
+  std::string what = std::string(function) + ": ";
+  if (q_size != dof) {
+    what += "q has " + counted(q_size, "value") + ", the model has " + counted(dof, "joint");
+  } else {
+    what += "data was made for a model with " + counted(data.dof, "joint") + ", this model has " + std::to_string(dof);
+  }
+  throw std::invalid_argument(what);
+}
+
 void forwardKinematics(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
-  LP_ASSERT(q.size() == model.dof() && data.dof == model.dof());
+  detail::checkChainCall("forwardKinematics", model.chain(), data, q.size());
   detail::chainTool(model.chain(), data, q.data());
 }
 
 void forwardKinematics(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
-  LP_ASSERT(q.size() == model.dof() && data.dof == model.dof());
+  detail::checkChainCall("forwardKinematics", model.chain(), data, q.size());
   detail::chainTool(model.chain(), data, q.data());
 }
 
 void forwardKinematicsWithFrames(const KinematicChain& chain, Data& data, const Eigen::Ref<const VecX>& q) {
-  LP_ASSERT(q.size() == data.dof);
+  detail::checkChainCall("forwardKinematicsWithFrames", chain, data, q.size());
   detail::chainFrames(chain, data, q.data());
 }
 
@@ -320,13 +342,15 @@ void forwardKinematicsBatch(const DhModel& model, const Eigen::Ref<const MatX>& 
 
 Pose poeForwardKinematics(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
   Data data(model);
-  forwardKinematics(model, data, q);
+  detail::checkChainCall("poeForwardKinematics", model.chain(), data, q.size());
+  detail::chainTool(model.chain(), data, q.data());
   return data.T_base_tool;
 }
 
 Pose dhForwardKinematics(const DhModel& model, const Eigen::Ref<const VecX>& q) {
   Data data(model);
-  forwardKinematics(model, data, q);
+  detail::checkChainCall("dhForwardKinematics", model.chain(), data, q.size());
+  detail::chainTool(model.chain(), data, q.data());
   return data.T_base_tool;
 }
 
@@ -397,7 +421,15 @@ PoeModel fromLocalPoe(const LocalPoeModel& model, const std::string& name) {
   return PoeModel(std::move(joints), G * model.frames.back(), name);
 }
 
+namespace {
+void checkFormSizes(Eigen::Index q_size, size_t joints) {
+  const auto n = static_cast<Eigen::Index>(joints);
+  LP_CHECK(q_size == n, "forwardKinematics: q has " << counted(q_size, "value") << ", the model has " << counted(n, "joint"));
+}
+}  // namespace
+
 Pose forwardKinematics(const ToolPoeModel& model, const Eigen::Ref<const VecX>& q) {
+  checkFormSizes(q.size(), model.joints.size());
   Pose T = model.tool_pose;
   Pose step;
   for (size_t i = 0; i < model.joints.size(); ++i) {
@@ -408,6 +440,10 @@ Pose forwardKinematics(const ToolPoeModel& model, const Eigen::Ref<const VecX>& 
 }
 
 Pose forwardKinematics(const LocalPoeModel& model, const Eigen::Ref<const VecX>& q) {
+  checkFormSizes(q.size(), model.joints.size());
+  LP_CHECK(model.frames.size() == model.joints.size() + 1, "forwardKinematics: the local POE model has "
+                                                               << model.frames.size() << " frames for "
+                                                               << model.joints.size() << " joints (n + 1 needed)");
   Pose T;
   Pose step;
   for (size_t i = 0; i < model.joints.size(); ++i) {

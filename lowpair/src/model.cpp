@@ -264,8 +264,8 @@ void PoeModel::finish() {
   for (size_t i = 0; i < joints_.size(); ++i) {
     checkJointMagnitudes(joints_[i], joints_[i].range, jointLabel(static_cast<int>(i), joints_[i].name));
   }
-  size_ = robotSize(joints_, tool_pose_);
-  checkSize(size_);
+  length_scale_ = robotSize(joints_, tool_pose_);
+  checkSize(length_scale_);
   chain_ = poeChain(joints_, tool_pose_);
   checkChain(chain_);
 }
@@ -323,8 +323,8 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
   }
   Pose T_base_tool = chain_.T_base_first;
   for (const ChainLink& link : chain_.links) T_base_tool = T_base_tool * linkPose(link);
-  size_ = robotSize(lines, T_base_tool * chain_.T_last_tool);
-  checkSize(size_);
+  length_scale_ = robotSize(lines, T_base_tool * chain_.T_last_tool);
+  checkSize(length_scale_);
 }
 
 }  // namespace lowpair

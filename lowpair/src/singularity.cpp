@@ -307,7 +307,9 @@ std::vector<JointLine> linesFromSpatial(const PoeModel& model, const Mat6X& J_sp
 }  // namespace
 
 void dimensionlessJacobian(const PoeModel& model, Eigen::Ref<Mat6X> J) {
-  const double L = model.size();
+  LP_CHECK(J.cols() == model.dof(),
+           "dimensionlessJacobian: the Jacobian has " << J.cols() << " columns, the model has " << model.dof() << " joints");
+  const double L = model.lengthScale();
   for (int i = 0; i < model.dof(); ++i) {
     const Joint& joint = model.joint(i);
     J.col(i) *= (joint.type == JointType::Prismatic ? L : 1.0) / joint.scale;
@@ -366,7 +368,7 @@ SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<con
   LP_CHECK(options.max_null_vectors >= 0,
            "analyzeSingularity: max_null_vectors must be >= 0, got " << options.max_null_vectors);
   const int n = model.dof();
-  const double L = model.size();
+  const double L = model.lengthScale();
   SingularityReport r;
   r.dof = n;
   r.size = L;

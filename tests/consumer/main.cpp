@@ -1,8 +1,11 @@
 // Consumer of the installed lowpair package: a planar 2R arm through the public API, checked against
-// the pose worked out by hand. Exit 0 if it matches, 1 otherwise.
+// the pose worked out by hand, and a q of the wrong size rejected with its message. Exit 0 if both hold,
+// 1 otherwise.
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <lowpair/kinematics.hpp>
@@ -43,6 +46,17 @@ int main() {
   if (!(p_err <= tol) || !(R_err <= tol)) {
     std::printf("consumer: MISMATCH (tolerance %.3g)\n", tol);
     return 1;
+  }
+
+  // The size check is in the installed library whatever its build type: three values for two joints.
+  try {
+    lowpair::poeForwardKinematics(model, Eigen::VectorXd::Zero(3));
+    std::printf("consumer: q of 3 values for 2 joints was accepted\n");
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    const std::string expected = "poeForwardKinematics: q has 3 values, the model has 2 joints";
+    std::printf("consumer: rejected: %s\n", e.what());
+    if (e.what() != expected) return 1;
   }
   return 0;
 }

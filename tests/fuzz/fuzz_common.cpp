@@ -18,7 +18,7 @@ bool finite(const DhParams& r) {
 }  // namespace
 
 void checkPoeModel(const PoeModel& model) {
-  FUZZ_CHECK(std::isfinite(model.size()) && model.size() > 0.0);
+  FUZZ_CHECK(std::isfinite(model.lengthScale()) && model.lengthScale() > 0.0);
   for (const Joint& j : model.joints()) FUZZ_CHECK(j.twist.allFinite() && std::isfinite(j.scale));
   FUZZ_CHECK(finite(model.toolPose()));
   for (const VecX& q : fixedConfigurations(rangesOf(model.joints()))) {
@@ -34,7 +34,7 @@ bool checkConversion(const PoeModel& model) {
   try {
     converted.emplace(poeToDh(model));
   } catch (const std::invalid_argument& e) {
-    double reach = (2.0 * model.dof() + 1.0) * model.size();
+    double reach = (2.0 * model.dof() + 1.0) * model.lengthScale();
     for (const Joint& j : model.joints()) reach += std::abs(j.slideRate() * j.motion(0.0));
     if (!(reach > kMaxMagnitude)) std::fprintf(stderr, "poeToDh threw: %s (reach %g)\n", e.what(), reach);
     FUZZ_CHECK(reach > kMaxMagnitude && std::strncmp(e.what(), "poeToDh: ", 9) == 0);

@@ -136,10 +136,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     print("tool R (column-major)", model.toolPose().R);
     print("tool p", model.toolPose().p);
-    std::fprintf(stderr, "size L %.17g, options %d\n", model.size(), options);
+    std::fprintf(stderr, "size L %.17g, options %d\n", model.lengthScale(), options);
   }
-  FUZZ_CHECK(model.dof() == n && std::isfinite(model.size()));
-  const double L = model.size();
+  FUZZ_CHECK(model.dof() == n && std::isfinite(model.lengthScale()));
+  const double L = model.lengthScale();
 
   // three joint vectors within the ranges
   std::vector<VecX> qs;

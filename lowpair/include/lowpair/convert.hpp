@@ -65,9 +65,12 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options = {});
 /// these 64 + 1).
 constexpr int kFkCheckSamples = 64;
 
-/// FK agreement of a D-H table with the POE model it was converted from, measured at the zero
-/// configuration and `samples` seeded random configurations (revolute in [-pi, pi], prismatic over its
-/// range or [-L, L], in joint-variable units of the POE model).
+/// FK agreement of a D-H table with the POE model it was converted from, measured at `samples + 1`
+/// configurations of the POE model's joint variables q: first `q_i = -offset_i` (every joint motion
+/// `x_i = 0`), then `samples` configurations drawn from one std::mt19937_64 with a fixed seed, one
+/// `u ~ uniform(-1, 1)` per joint in joint order: a joint with a range takes q uniform over its range,
+/// whatever its type; without a range a revolute or helical joint takes `q = pi u` and a prismatic one
+/// `q = (L / scale) u` (L = the robot size).
 struct FkCheck {
   int samples = 0;               ///< configurations compared (samples + 1)
   double max_rotation = 0.0;     ///< rad
@@ -96,7 +99,7 @@ struct ModifiedDh {
   double tool_alpha = 0.0, tool_a = 0.0, tool_theta = 0.0, tool_d = 0.0;
 };
 ModifiedDh toModifiedDh(const DhModel& model);
-/// FK of the modified table (x_i = scale_i q_i).
+/// FK of the modified table (x_i = scale_i q_i). @throws std::invalid_argument unless q has a value per joint
 Pose modifiedDhForwardKinematics(const ModifiedDh& model, const Eigen::Ref<const VecX>& q);
 
 /// Angle wrapped into (-pi, pi].

@@ -14,13 +14,15 @@
 /// A helical joint of pitch `h_i` (length/rad) contributes `h_i z_i` to the linear part.
 ///
 /// Compute, then get (as Pinocchio's computeJointJacobians / getJointJacobian): computeJacobians runs
-/// forward kinematics once and fills `data.J_spatial`; the three getters read `data` and never recompute.
+/// forward kinematics once (forwardKinematicsWithFrames: the joint frames are what the columns are made
+/// of) and fills `data.J_spatial`; the three getters read `data` and never recompute.
 /// Nothing allocates: outputs are preallocated `6 x dof` matrices.
 ///
 /// | function | fills / reads | cost (PUMA 560, bench/README.md) |
 /// |---|---|---|
-/// | forwardKinematics | `T_base_joint`, `T_base_tool` | one chain product |
-/// | computeJacobians | the above and `J_spatial` | FK + one column per joint |
+/// | forwardKinematics (kinematics.hpp) | `T_base_tool` only | one chain product |
+/// | forwardKinematicsWithFrames (kinematics.hpp) | `T_base_joint`, `T_base_tool` | one chain product |
+/// | computeJacobians | `T_base_joint`, `T_base_tool` and `J_spatial` | FK with frames + one column per joint |
 /// | getSpatialJacobian | reads `J_spatial` | a copy |
 /// | getGeometricJacobian | reads `J_spatial`, `T_base_tool` | one cross product per column |
 /// | getBodyJacobian | reads `J_spatial`, `T_base_tool` | one adjoint per column |
@@ -34,7 +36,9 @@ namespace lowpair {
 /// Forward kinematics and the spatial Jacobian: column i = `scale_i [j_i z_i; j_i o_i x z_i + k_i z_i]`
 /// (the current joint twist in the base frame, `Ad(exp(xi_1 x_1) ... exp(xi_{i-1} x_{i-1})) xi_i` of Wu et
 /// al. eq. 4), from joint i's line `(z_i, o_i)` = z axis and origin of `data.T_base_joint[i]`.
-/// @throws std::invalid_argument if `q` does not have dof entries.
+/// @throws std::invalid_argument, in every build type, when q does not have dof values or data was made
+/// for a model with another number of joints, e.g. "computeJacobians: q has 5 values, the model has 6
+/// joints" or "computeJacobians: data was made for a model with 7 joints, this model has 6".
 void computeJacobians(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q);
 void computeJacobians(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q);
 
@@ -48,6 +52,7 @@ void getBodyJacobian(const Data& data, Eigen::Ref<Mat6X> J_body);
 void getGeometricJacobian(const Data& data, Eigen::Ref<Mat6X> J_geometric);
 
 /// `J_body = Ad(T_base_tool^-1) J_spatial`. Column by column, so `J_body` may alias `J_spatial`.
+/// The four conversions throw std::invalid_argument when input and output differ in column count.
 void spatialToBody(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_spatial, Eigen::Ref<Mat6X> J_body);
 /// `J_spatial = Ad(T_base_tool) J_body` (inverse of spatialToBody; may alias).
 void bodyToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_body, Eigen::Ref<Mat6X> J_spatial);

@@ -15,15 +15,19 @@ namespace lowpair {
 /// grouped by the function that fills them. One index convention for both models: `T_base_joint[i]` is
 /// the frame of joint i's line (z along the line, origin on it) carried by the link *before* joint i,
 /// i.e. moved by joints 1..i-1 only. For a D-H model it is the standard D-H frame i-1.
+/// A Data fits every model with its number of joints (a copy of the model, its D-H form, another robot of
+/// the same dof): every function that takes one checks `dof` against the model and throws
+/// std::invalid_argument otherwise. Every buffer's size is a function of dof (the scratch is dof rounded
+/// up to the chain's SIMD lanes), so equal dof means buffers of the right size. Do not resize them.
 struct Data {
   explicit Data(const PoeModel& model);
   explicit Data(const DhModel& model);
   explicit Data(const KinematicChain& chain);
 
-  int dof = 0;
-  // forwardKinematics:
+  int dof = 0;  ///< joints of the model this Data was made for
+  // forwardKinematics, forwardKinematicsWithFrames and computeJacobians:
   Pose T_base_tool;                ///< `g(q)` (POE) / `H(q)` (D-H)
-  // computeJacobians (and forwardKinematicsWithFrames):
+  // forwardKinematicsWithFrames and computeJacobians (not forwardKinematics):
   std::vector<Pose> T_base_joint;  ///< n frames, see above
   Mat6X J_spatial;                 ///< 6 x n, twist coordinates `[w; v]` in the base frame (jacobian.hpp)
   // scratch of the chain evaluation, padded to the chain's SIMD lanes (joint values, angles, their
@@ -31,24 +35,32 @@ struct Data {
   VecX q_padded, angle, sin_angle, cos_angle, slide;
 };
 
-/// Forward kinematics: fills `data.T_base_tool` (`g(q)` of eq. 5 for POE, `H(q)` of eq. 10 for D-H).
-/// Allocates nothing; all joint sines and cosines are computed together. (The joint frames
-/// `data.T_base_joint` are filled by computeJacobians, which needs them, or forwardKinematicsWithFrames.)
-/// @param q joint variables, size dof (checked only by LP_ASSERT; see checkJointVector).
+/// Forward kinematics: fills `data.T_base_tool` (`g(q)` of eq. 5 for POE, `H(q)` of eq. 10 for D-H) and
+/// nothing else. Allocates nothing; all joint sines and cosines are computed together. (The joint frames
+/// `data.T_base_joint` are filled by forwardKinematicsWithFrames and by computeJacobians, which needs them.)
+/// @param data made for a model with `model.dof()` joints (Data)
+/// @param q joint variables, `model.dof()` of them (not checked for finiteness: see checkJointVector)
+/// @throws std::invalid_argument, in every build type, when q or data has another size, e.g.
+/// "forwardKinematics: q has 5 values, the model has 6 joints" or
+/// "forwardKinematics: data was made for a model with 7 joints, this model has 6".
 void forwardKinematics(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q);
 void forwardKinematics(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q);
 
 /// Forward kinematics that also fills `data.T_base_joint` (the frame of every joint's line).
+/// @throws std::invalid_argument as forwardKinematics ("forwardKinematicsWithFrames: ...").
 void forwardKinematicsWithFrames(const KinematicChain& chain, Data& data, const Eigen::Ref<const VecX>& q);
 
 /// Batch forward kinematics, structure of arrays (SIMD across configurations), same results as
 /// forwardKinematics to rounding. @param q `count x dof`: column j holds joint j of every configuration.
 /// @param poses `count x 12` output: columns 0..8 the rotation of `T_base_tool` row-major, 9..11 its
 /// position. Allocates nothing.
+/// @throws std::invalid_argument, in every build type, when q does not have dof columns
+/// ("forwardKinematicsBatch: q has 5 columns, the model has 6 joints") or poses is not `count x 12`.
 void forwardKinematicsBatch(const PoeModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses);
 void forwardKinematicsBatch(const DhModel& model, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses);
 
 /// Convenience forms returning `T_base_tool` (they allocate a Data; use forwardKinematics in loops).
+/// @throws std::invalid_argument when q does not have dof values ("poeForwardKinematics: q has ...").
 Pose poeForwardKinematics(const PoeModel& model, const Eigen::Ref<const VecX>& q);
 Pose dhForwardKinematics(const DhModel& model, const Eigen::Ref<const VecX>& q);
 
@@ -82,6 +94,9 @@ LocalPoeModel toLocalPoe(const PoeModel& model);
 LocalPoeModel toLocalPoe(const PoeModel& model, const std::vector<Pose>& T_base_link);
 PoeModel fromLocalPoe(const LocalPoeModel& model, const std::string& name = "");
 
+/// FK of the tool and local forms (eqs. 6 and 7), as products of joint exponentials.
+/// @throws std::invalid_argument when q does not have one value per joint (or, local form, the model
+/// does not have n + 1 frames)
 Pose forwardKinematics(const ToolPoeModel& model, const Eigen::Ref<const VecX>& q);
 Pose forwardKinematics(const LocalPoeModel& model, const Eigen::Ref<const VecX>& q);
 

@@ -68,10 +68,11 @@ class PoeModel {
   const Joint& joint(int i) const { return joints_[static_cast<size_t>(i)]; }
   const Pose& toolPose() const { return tool_pose_; }
   const std::string& name() const { return name_; }
-  /// Robot size `L` (docs/conventions.md): the largest of the tool position, each revolute/helical axis'
-  /// distance from the base origin, each helical `|pitch|` and each prismatic or helical joint's largest
-  /// slide `|k scale (q + offset)|` at its range ends (k = 1 or the pitch); 1 if all 0.
-  double size() const { return size_; }
+  /// Robot size `L` (docs/conventions.md), a length: the largest of the tool position, each
+  /// revolute/helical axis' distance from the base origin, each helical `|pitch|` and each prismatic or
+  /// helical joint's largest slide `|k scale (q + offset)|` at its range ends (k = 1 or the pitch); 1 if all 0.
+  double lengthScale() const { return length_scale_; }
+  [[deprecated("use lengthScale(): the robot size L, a length")]] double size() const { return length_scale_; }
   /// The compiled chain that forwardKinematics evaluates.
   const KinematicChain& chain() const { return chain_; }
 
@@ -80,7 +81,7 @@ class PoeModel {
   std::vector<Joint> joints_;
   Pose tool_pose_;
   std::string name_;
-  double size_ = 1.0;
+  double length_scale_ = 1.0;
   KinematicChain chain_;
 };
 
@@ -118,8 +119,9 @@ class DhModel {
   double toolTheta() const { return tool_theta_; }
   double toolD() const { return tool_d_; }
   const std::string& name() const { return name_; }
-  /// Robot size `L` of the equivalent POE model.
-  double size() const { return size_; }
+  /// Robot size `L` of the equivalent POE model (a length; PoeModel::lengthScale).
+  double lengthScale() const { return length_scale_; }
+  [[deprecated("use lengthScale(): the robot size L, a length")]] double size() const { return length_scale_; }
   /// The compiled chain that forwardKinematics evaluates.
   const KinematicChain& chain() const { return chain_; }
 
@@ -129,7 +131,7 @@ class DhModel {
   double tool_theta_ = 0.0;
   double tool_d_ = 0.0;
   std::string name_;
-  double size_ = 1.0;
+  double length_scale_ = 1.0;
   KinematicChain chain_;
 };
 

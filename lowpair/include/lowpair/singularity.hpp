@@ -121,6 +121,7 @@ struct SingularityOptions {
 
 /// In place: the geometric Jacobian (rows [v; w]) of `model` made dimensionless, `J_n = D_r J D_c`
 /// (file comment): linear rows over L, columns over the joint scale, prismatic columns times L.
+/// @throws std::invalid_argument unless J_geometric has dof columns
 void dimensionlessJacobian(const PoeModel& model, Eigen::Ref<Mat6X> J_geometric);
 
 /// The rank threshold `kRankFactor * max(6, dof) * eps * sigma_max` on the singular values of J_n.

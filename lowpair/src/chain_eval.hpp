@@ -1,0 +1,29 @@
+#pragma once
+// The chain evaluation of kinematics.cpp for the library's own callers (kinematics.cpp, jacobian.cpp); not
+// installed. The evaluators trust their sizes: every public function checks them first with
+// checkChainCall, in every build type.
+
+#include "lowpair/check.hpp"
+#include "lowpair/kinematics.hpp"
+
+namespace lowpair::detail {
+
+// data.T_base_tool of `chain` at q (forwardKinematics); chainFrames also fills data.T_base_joint.
+void chainTool(const KinematicChain& chain, Data& data, const double* q);
+void chainFrames(const KinematicChain& chain, Data& data, const double* q);
+
+// The message of a failed checkChainCall, e.g. "forwardKinematics: q has 5 values, the model has 6 joints"
+// or "computeJacobians: data was made for a model with 7 joints, this model has 6".
+[[noreturn]] LP_COLD void throwChainMismatch(const char* function, const KinematicChain& chain, const Data& data,
+                                             Eigen::Index q_size);
+
+// `function` evaluates `chain` into `data` at a q of `q_size` values: q has one value per joint, and data
+// was made for a chain of as many joints (the evaluation indexes the links, data's frames and Jacobian
+// columns up to data.dof, and the lanes and data's scratch up to paddedDof, which is a function of the
+// joint count). Two integer compares; nothing is built unless one fails.
+inline void checkChainCall(const char* function, const KinematicChain& chain, const Data& data, Eigen::Index q_size) {
+  const auto dof = static_cast<Eigen::Index>(chain.links.size());
+  if (LP_UNLIKELY(q_size != dof || data.dof != dof)) throwChainMismatch(function, chain, data, q_size);
+}
+
+}  // namespace lowpair::detail
