@@ -50,15 +50,14 @@ bench: configure
 # reserves terabytes). LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their robots
 # (tests/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
 SAN_BUILD ?= build-sanitize
-# fuzzer-no-link: the same objects also link the libFuzzer targets of make fuzz-ci (LOWPAIR_FUZZ_IN_TREE)
-SAN_FLAGS := -fsanitize=fuzzer-no-link,address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
+SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
 # -O1 and line tables only (file:line in every report): about a third less compile time than -O2 -g
 SAN_OPT := -O1 -gline-tables-only -DNDEBUG
 SAN_SKIP := ^(package_consumer|HostileInput.ThreadThatCannotBeCreatedDoesNotAbort|HostileInput.OutOfMemoryIsOneLine)$$
 .PHONY: sanitize sanitize-build
 sanitize-build: deps
 	@test -f $(SAN_BUILD)/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) \
-	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DLOWPAIR_FUZZ_IN_TREE=ON -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)"
+	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)"
 	cmake --build $(SAN_BUILD) -j$(JOBS)
 sanitize: sanitize-build
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -74,13 +73,16 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 600
 FUZZ_JOBS ?= $(JOBS)
 FUZZ_TARGETS ?= robot_file scenario measurements urdf mujoco numeric
-# make fuzz-ci (CI): deterministic, FUZZ_CI_RUNS inputs per target with libFuzzer seed 1 on a fresh copy of
-# the committed seeds, in the sanitizer build (tests/fuzz/run.sh "Deterministic mode").
-FUZZ_CI_RUNS ?= 3000
+# make fuzz-ci (CI): the fuzz targets under ASan/UBSan in the sanitizer build, each seed and regression fed
+# as itself and as FUZZ_CI_MUTANTS mutants from a seeded generator (tests/fuzz/replay_main.cpp): the same
+# bytes every run, so the same commit always gets the same verdict. A crash's input: $(SAN_BUILD)/fuzz-ci-last-*.
+FUZZ_CI_MUTANTS ?= 300
 .PHONY: fuzz-ci
 fuzz-ci: sanitize-build
-	FUZZ_BUILD=$(SAN_BUILD)/fuzz-ci FUZZ_BIN_DIR=$(SAN_BUILD)/tests/fuzz FUZZ_RUNS=$(FUZZ_CI_RUNS) FUZZ_SEED=1 \
-	  FUZZ_JOBS=$(FUZZ_JOBS) FUZZ_TARGETS='$(FUZZ_TARGETS)' bash tests/fuzz/run.sh
+	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/fuzz/lsan.supp LOWPAIR_FUZZ_MUTANTS=$(FUZZ_CI_MUTANTS) LOWPAIR_FUZZ_SEED=1 \
+	  LOWPAIR_FUZZ_LAST=$(CURDIR)/$(SAN_BUILD)/fuzz-ci-last \
+	  ctest --test-dir $(SAN_BUILD) --output-on-failure -j$(JOBS) -R '^fuzz_replay\.'
 .PHONY: fuzz fuzz-build
 fuzz-build: deps
 	FUZZ_BUILD=$(FUZZ_BUILD) FUZZ_SECONDS=0 FUZZ_TARGETS= bash tests/fuzz/run.sh

@@ -459,6 +459,15 @@ TEST(HostileInput, DeeplyNestedUrdfIsRejectedByEveryCommand) {
   }
 }
 
+// The same limit without well-formed XML (fuzz_urdf, seed 1 of make fuzz-ci): 37,000 start tags never
+// closed after a bad declaration took urdfdom 6 s to reject; the nesting scan needs no parse.
+TEST(HostileInput, UnclosedNestingIsRejectedWithoutParsing) {
+  const std::string urdf = std::string(LOWPAIR_TEST_DATA) + "/../fuzz/regressions/urdf/unclosed_after_bad_declaration.urdf";
+  const auto start = std::chrono::steady_clock::now();
+  expectRejected("poe2dh " + shellQuote(urdf) + " --tip tool", "elements nested deeper than 100", urdf + ": line 92: ");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+}
+
 // Rough edges, medium 3 and 4: a model file or an included file over 64 MiB is refused by its size before
 // a byte is read (a 1 GB include cost 3 GB and 40 s), and an include that is a FIFO is refused (it hung).
 TEST(HostileInput, ModelFilesAreBoundedAndRegular) {

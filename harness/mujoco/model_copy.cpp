@@ -269,6 +269,9 @@ class Copier {
   void pruneMjcf(XMLElement* root) {
     static const std::set<std::string> kDroppedSections = {"asset",  "actuator", "sensor", "contact",   "keyframe", "visual",
                                                           "statistic", "custom", "size",  "extension", "deformable"};
+    for (const XMLElement* c = root->FirstChildElement("compiler"); c; c = c->NextSiblingElement("compiler")) {
+      if (c->Attribute("coordinate")) global_coordinates_ = attr(c, "coordinate") == "global";
+    }
     bool tendon_equality = false;
     for (XMLElement* eq = root->FirstChildElement("equality"); eq; eq = eq->NextSiblingElement("equality")) {
       for (XMLElement* c = eq->FirstChildElement(); c; c = c->NextSiblingElement()) {
@@ -318,6 +321,11 @@ class Copier {
       XMLElement* next = c->NextSiblingElement();
       if (kDropped.count(c->Name())) {
         drop(c);
+      } else if (named(c, "inertial") && (!global_coordinates_ || e->Attribute("pos"))) {
+        // masses never enter kinematics, but MuJoCo's Jacobian is taken about the subtree's centre of
+        // mass: a non-finite or huge inertial pos made every Jacobian NaN. (With coordinate='global' a
+        // body without pos takes its frame from it: kept there.)
+        drop(c, /*count=*/false);
       } else {
         if (named(c, "site")) c->DeleteAttribute("material");
         pruneBodies(c);
@@ -343,7 +351,13 @@ class Copier {
     for (XMLElement* link = robot->FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
       for (XMLElement* c = link->FirstChildElement(); c;) {
         XMLElement* next = c->NextSiblingElement();
-        if (named(c, "visual") || named(c, "collision")) drop(c);
+        // masses never enter kinematics, but MuJoCo's Jacobian is taken about the subtree's centre of
+        // mass: a non-finite inertial origin (urdfdom accepts one) made every Jacobian NaN
+        if (named(c, "visual") || named(c, "collision")) {
+          drop(c);
+        } else if (named(c, "inertial")) {
+          drop(c, /*count=*/false);
+        }
         c = next;
       }
     }
@@ -498,6 +512,7 @@ class Copier {
   }
 
   std::string path_;
+  bool global_coordinates_ = false;  // <compiler coordinate="global"> (MuJoCo 2.2.2 still reads it)
   std::vector<std::string>* notes_;
   XMLDocument doc_;
   fs::path folder_;

@@ -398,6 +398,14 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
   }
   const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;
   const Chain chain = findChain(m, path, tip_owner, base_body_, tip, base);
+  // MuJoCo's Jacobian is taken about its tree's centre of mass: a body off the path from the world to the
+  // tip (a finger beyond the tip, a second arm) far away or at inf would make it imprecise or NaN. Masses
+  // never enter kinematics: only the path's bodies weigh anything in this copy. (The compiled subtree masses
+  // keep the old weights: the reference point moves, and the Jacobian does not depend on it.)
+  for (int b = 1; b < m->nbody; ++b) {
+    if (!ancestorOrSelf(m, b, tip_owner)) model_->body_mass[b] = 0.0;
+  }
+
   const std::map<int, std::pair<int, double>> coupled_slide = helicalCouplings(chain, path);
   rejectMimics(chain, path);
 
@@ -406,6 +414,15 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
   std::vector<int> framed = chain.bodies;
   if (base_body_ != 0) framed.push_back(base_body_);
   requireRotations(m, d.get(), framed, path);
+  // every body (off the chain too: it enters MuJoCo's centre of mass) within the magnitude limit that
+  // keeps the library's numbers finite (kMaxMagnitude, as for robot files)
+  for (int b = 1; b < m->nbody; ++b) {
+    const double coordinate = Eigen::Map<const Vec3>(d->xpos + 3 * b).cwiseAbs().maxCoeff();
+    if (!(coordinate <= kMaxMagnitude)) {
+      fail(path, "body '" + nameOf(m, mjOBJ_BODY, b, "body") + "' has a coordinate of magnitude " + number(coordinate) +
+                     " at qpos0: beyond the 1e100 lowpair evaluates (kMaxMagnitude)");
+    }
+  }
   const Pose T_world_base =
       base_body_ == 0 ? Pose() : poseFrom(d->xpos + 3 * base_body_, d->xmat + 9 * base_body_);
   T_base_world_ = T_world_base.inverse();
