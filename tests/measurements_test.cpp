@@ -248,7 +248,7 @@ TEST(MeasurementCsv, CommentsBlankLinesCrlfAndByteOrderMark) {
                                      "\t\r\n"
                                      "1, 2,3 ,4,5\r\n"
                                      "# between\r\n"
-                                     "  -1.5e-3,0x1p-2,+7,0,-0\r\n"
+                                     "  -1.5e-3,.25,+7,0,-0\r\n"
                                      "#\r\n"
                                      "6,7,8,9,10");  // no line end at the end
   const MeasurementFile file = readMeasurements(path);

@@ -102,8 +102,8 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
   commands.emplace_back(cal, [o] {
     const RobotFile file = loadRobot(o->robot);
     const PoeModel nominal = file.poeModel();
-    const MeasurementFile fit = readMeasurements(o->measurements);
     // the measurements must be of this robot: its joint count, and its length unit when both state one
+    // (checked at the header line, before the rest of a large file is read)
     auto check_matches = [&](const MeasurementFile& m) {
       if (m.dof != nominal.dof()) {
         throw RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + file.path + " has " +
@@ -114,7 +114,8 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
                              " is in " + file.length_unit + ": measure in the nominal's unit");
       }
     };
-    check_matches(fit);
+    const MeasurementFile fit = readMeasurements(o->measurements, check_matches);
+    check_matches(fit);  // a length_unit comment may also follow the header
     if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
         identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) > kMaxJacobianEntries) {
       throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
@@ -126,7 +127,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     }
     std::optional<MeasurementFile> validation;
     if (!o->validation.empty()) {
-      validation = readMeasurements(o->validation);
+      validation = readMeasurements(o->validation, check_matches);
       check_matches(*validation);
     }
     for (const auto& [value, flag, limit] : {std::tuple{o->noise_position, "--noise-position", kMaxMagnitude},

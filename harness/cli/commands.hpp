@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lowpair/types.hpp"
+#include "io/output.hpp"
 #include "io/robot_file.hpp"
 
 namespace lowpair::cli {
@@ -22,12 +23,6 @@ using Runner = std::function<int()>;
 using Commands = std::vector<std::pair<CLI::App*, Runner>>;
 
 /// A usage error about an argument (not a file): printed as "error: SUBJECT: message".
-/// The shortest text that reads back as x ("0.01", "1e+100", "nan"): numbers quoted in messages.
-inline std::string shortest(double x) {
-  char buffer[32];
-  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, x).ptr);
-}
-
 struct UsageError : std::runtime_error {
   UsageError(std::string subject, const std::string& message)
       : std::runtime_error(message), subject_(std::move(subject)) {}

@@ -130,6 +130,9 @@ int simulate(const SimulateOptions& o) {
   // coordinate within what the measurement reader takes (checked per measurement below)
   checkNoise("--noise-position", o.noise_position, kMaxMagnitude);
   checkNoise("--noise-rotation", o.noise_rotation, M_PI);
+  if (o.measure == "position" && o.noise_rotation > 0) {  // as calibrate rejects it
+    throw UsageError("--noise-rotation", "position measurements have no rotation to perturb");
+  }
   const std::string ext = fs::path(o.robot.path).extension().string();
   const bool model_file = ext == ".xml" || ext == ".urdf";
   if (!model_file && !o.joint_variables.empty()) {

@@ -457,6 +457,16 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
   }
   result.mujoco_readable = !(format == ExportFormat::Urdf && helical);
   result.text = format == ExportFormat::Urdf ? formatUrdf(model, name, header) : formatMjcf(model, name, header);
+  if (format == ExportFormat::Mjcf) {
+    // one nested body per joint: a long chain nests deeper than the 100 elements tinyxml2 reads (lowpair's
+    // readers and its kinematics-only copy for MuJoCo): refuse what could not be read back
+    tinyxml2::XMLDocument readback;
+    if (readback.Parse(result.text.c_str(), result.text.size()) == tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED) {
+      throw RobotFileError(file.path + ": " + std::to_string(model.dof()) + " joints: an MJCF nests one body per "
+                           "joint, deeper than the " + std::to_string(TINYXML2_MAX_ELEMENT_DEPTH) +
+                           " elements lowpair reads back (about 95 joints at most); export it as a URDF (flat)");
+    }
+  }
   if (mapped) {
     std::vector<std::string> jv = comments;
     jv.push_back(std::string("The joint variables q of the exported ") + (format == ExportFormat::Urdf ? "URDF" : "MJCF") +

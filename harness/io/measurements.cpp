@@ -158,6 +158,8 @@ double parseNumber(const std::string& token, const Fail& fail) {
                        ? 0.0
                        : std::strtod(token.c_str(), &end);
   if (end != token.c_str() + token.size() || token.empty()) fail(quoted(token) + " is not a number");
+  // strtod also reads hexadecimal floats (0x1.8p+4), which no writer of this format produces
+  if (token.find_first_of("xX") != std::string::npos) fail(quoted(token) + " is not a decimal number");
   if (!std::isfinite(x)) fail(quoted(token) + " is not a finite number");
   if (std::abs(x) > kMaxMagnitude) fail(quoted(token) + " is above 1e100 in magnitude (kMaxMagnitude)");
   return x;
@@ -175,7 +177,7 @@ bool isUnitLabel(const std::string& unit) {
   return !unit.empty() && unit.size() <= 16 && std::all_of(unit.begin(), unit.end(), [](char c) { return c > ' ' && c < 127; });
 }
 
-MeasurementFile readMeasurements(const std::string& path) {
+MeasurementFile readMeasurements(const std::string& path, const MeasurementHeaderCheck& check_header) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
@@ -192,6 +194,9 @@ MeasurementFile readMeasurements(const std::string& path) {
   bool have_header = false;
   Columns columns;
   while (lines.next(line)) {
+    if (lines.number() > kMaxMeasurementLines) {
+      fail("more than " + std::to_string(kMaxMeasurementLines) + " lines (comments and blank lines count)");
+    }
     if (isComment(line)) {
       readUnitComment(line, file.length_unit, fail);
       continue;
@@ -202,6 +207,7 @@ MeasurementFile readMeasurements(const std::string& path) {
       file.dof = columns.dof;
       file.measure = columns.measure;
       have_header = true;
+      if (check_header) check_header(file);
       continue;
     }
     if (fields.size() != columns.count()) {

@@ -31,6 +31,7 @@
 /// The writer prints numbers with 17 significant digits, so joint values and positions read back bit for
 /// bit; the rotation reads back to rounding (it passes through a quaternion).
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -55,8 +56,16 @@ constexpr long long kMaxMeasurementJointValues = 100000000;
 /// A unit label a `# length_unit: U` comment can hold: one token of 1-16 printable ASCII characters.
 bool isUnitLabel(const std::string& unit);
 
+/// Every line counts, comments and blank lines too: a stream of `#` lines ends here.
+constexpr long long kMaxMeasurementLines = kMaxMeasurements + 100000LL;
+
+/// Called once the header line is read (dof, measure and a length_unit comment before it are set, no
+/// measurement yet): a caller that knows what the file must hold rejects a wrong one before the rest of a
+/// large file is read. It throws to reject.
+using MeasurementHeaderCheck = std::function<void(const MeasurementFile& header)>;
+
 /// Reads a measurement CSV. @throws RobotFileError (see the file comment)
-MeasurementFile readMeasurements(const std::string& path);
+MeasurementFile readMeasurements(const std::string& path, const MeasurementHeaderCheck& check_header = {});
 
 /// The CSV text of `measurements`: `comments` as `# ...` lines (a comment holding line breaks becomes
 /// several), the header, then one line per measurement (17 significant digits; quaternion with qw >= 0

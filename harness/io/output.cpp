@@ -1,5 +1,6 @@
 #include "io/output.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -271,6 +272,11 @@ void printPose(std::ostream& out, const Pose& T, const std::string& length_unit)
   }
   out << "  position (" << length_unit << "): " << fixed(T.p.x(), 6) << " " << fixed(T.p.y(), 6) << " "
       << fixed(T.p.z(), 6) << "\n";
+}
+
+std::string shortest(double x) {
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, x).ptr);
 }
 
 }  // namespace lowpair::io

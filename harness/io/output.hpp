@@ -37,6 +37,10 @@ std::string robotLabel(const RobotFile& file);
 /// A vector as a JSON-ready std::vector.
 std::vector<double> toVector(const Eigen::Ref<const VecX>& x);
 
+/// The shortest text that reads back as x ("0.01", "1e+100", "nan"; at most 17 significant digits):
+/// numbers quoted in messages.
+std::string shortest(double x);
+
 /// "12.3456" for moderate magnitudes, "1.2346e+07" beyond; never "-0.0000".
 std::string fixed(double x, int decimals = 4);
 

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -195,8 +196,31 @@ void requireShallowXml(const std::string& path, const std::string& text) {
   }
 }
 
+// urdfdom keeps the last of two joints that name the same child link and silently drops the other: a
+// closed loop (or a typo) opened without a word. MuJoCo rejects such a file; so does lowpair, naming both.
+void requireOneParentPerLink(const std::string& path, const std::string& text) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS || !doc.RootElement()) return;  // urdfdom names it
+  std::map<std::string, std::string> parent_joint;  // child link -> the joint that names it
+  for (const tinyxml2::XMLElement* j = doc.RootElement()->FirstChildElement("joint"); j;
+       j = j->NextSiblingElement("joint")) {
+    const tinyxml2::XMLElement* child = j->FirstChildElement("child");
+    const char* link = child ? child->Attribute("link") : nullptr;
+    const char* name = j->Attribute("name");
+    if (!link || !name) continue;  // urdfdom names these
+    const auto [it, inserted] = parent_joint.emplace(link, name);
+    if (!inserted) {
+      const std::string& first = it->second;
+      fail(path, "line " + std::to_string(j->GetLineNum()) + ": link " + quoted(link) + " is the child of joints " +
+                     quoted(first) + " and " + quoted(name) +
+                     ": a closed loop, which a URDF (a tree) cannot describe and lowpair does not open");
+    }
+  }
+}
+
 urdf::ModelInterfaceSharedPtr parse(const std::string& path, const std::string& text) {
   requireShallowXml(path, text);
+  requireOneParentPerLink(path, text);
   static std::mutex mutex;
   const std::lock_guard<std::mutex> lock(mutex);
   std::string errors;
@@ -240,8 +264,21 @@ const char* urdfTypeName(int type) {
 // The joints from `base` down to `tip`, base first.
 std::vector<urdf::JointConstSharedPtr> chainJoints(const std::string& path, const urdf::ModelInterface& model,
                                                    const std::string& tip, const std::string& base) {
-  if (!model.getLink(tip)) fail(path, "tip " + quoted(tip) + " is not a link");
-  if (!model.getLink(base)) fail(path, "base " + quoted(base) + " is not a link");
+  // a name not found: the links that exist, so the user sees the file's spelling (the first 20)
+  auto links = [&model]() {
+    std::string s;
+    int count = 0;
+    for (const auto& [name, link] : model.links_) {
+      if (count == 20) {
+        s += ", ... (" + std::to_string(model.links_.size()) + " in all)";
+        break;
+      }
+      s += (count++ ? ", " : "") + quoted(name);
+    }
+    return s;
+  };
+  if (!model.getLink(tip)) fail(path, "tip " + quoted(tip) + " is not a link; links: " + links());
+  if (!model.getLink(base)) fail(path, "base " + quoted(base) + " is not a link; links: " + links());
   std::vector<urdf::JointConstSharedPtr> joints;
   std::string link = tip;
   while (link != base) {

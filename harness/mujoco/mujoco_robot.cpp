@@ -119,6 +119,20 @@ std::string describeEquality(const mjModel* m, int e) {
   return "<equality><" + s + ">";
 }
 
+// The names of objects first .. count-1 of a type, for a message: the first 20, unnamed ones skipped.
+std::string namesOf(const mjModel* m, int type, int count, int first) {
+  std::string s;
+  int listed = 0, named = 0;
+  for (int id = first; id < count; ++id) {
+    const char* name = mj_id2name(m, type, id);
+    if (!name || !*name) continue;
+    ++named;
+    if (listed < 20) s += (listed++ ? ", '" : "'") + oneLine(name) + "'";
+  }
+  if (named > listed) s += ", ... (" + std::to_string(named) + " named)";
+  return listed ? s : "none named";
+}
+
 // A URDF's <mimic> joints (joint -> the joint it follows): MuJoCo 2.2.2 ignores <mimic>.
 std::map<std::string, std::string> urdfMimics(const std::string& path) {
   std::map<std::string, std::string> mimics;
@@ -391,10 +405,13 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
 
   tip_site_ = mj_name2id(m, mjOBJ_SITE, tip.c_str());
   if (tip_site_ < 0) tip_body_ = mj_name2id(m, mjOBJ_BODY, tip.c_str());
-  if (tip_site_ < 0 && tip_body_ < 0) fail(path, "tip '" + tip + "' is neither a site nor a body");
+  if (tip_site_ < 0 && tip_body_ < 0) {
+    fail(path, "tip '" + tip + "' is neither a site nor a body; sites: " + namesOf(m, mjOBJ_SITE, m->nsite, 0) +
+                   "; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1));
+  }
   if (!base.empty()) {
     base_body_ = mj_name2id(m, mjOBJ_BODY, base.c_str());
-    if (base_body_ < 0) fail(path, "base '" + base + "' is not a body");
+    if (base_body_ < 0) fail(path, "base '" + base + "' is not a body; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1));
   }
   const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;
   const Chain chain = findChain(m, path, tip_owner, base_body_, tip, base);

@@ -65,9 +65,14 @@ std::string countFormula(const ParameterCount& c) {
   return s.str();
 }
 
-json statisticsJson(const ResidualStatistics& s) {
-  return {{"count", s.count}, {"rms_position", s.rms_position}, {"max_position", s.max_position},
-          {"rms_rotation", s.rms_rotation}, {"max_rotation", s.max_rotation}};
+// Residual statistics; the rotation ones are null for position measurements (there is no rotation).
+json statisticsJson(const ResidualStatistics& s, Measure measure) {
+  const bool rotation = measure == Measure::Pose;
+  return {{"count", s.count},
+          {"rms_position", s.rms_position},
+          {"max_position", s.max_position},
+          {"rms_rotation", rotation ? json(s.rms_rotation) : json(nullptr)},
+          {"max_rotation", rotation ? json(s.max_rotation) : json(nullptr)}};
 }
 
 void printUndetermined(std::ostream& out, const std::string& what, const RankAnalysis& a,
@@ -232,6 +237,7 @@ json calibrationJson(const CalibrationReport& r) {
   json o;
   o["name"] = robotLabel(r.nominal);
   o["nominal"] = r.nominal.path;
+  o["length_unit"] = r.nominal.length_unit.empty() ? json(nullptr) : json(r.nominal.length_unit);
   o["measurements"] = {{"path", r.fit.path}, {"count", r.fit.measurements.size()}, {"measure", measureName(r.fit.measure)}};
   o["free_pitch"] = c.error_model.freePitch();
   // the weights are noise only when stated; otherwise they are relative weights (1/L, 1/rad)
@@ -244,12 +250,13 @@ json calibrationJson(const CalibrationReport& r) {
                             : !c.sigma_position_stated                            ? json("position")
                                                                                   : json(nullptr)}};
   o["variance_factor"] = finiteOrNull(c.variance_factor);  // null: no redundancy (rows <= rank)
-  o["before"] = statisticsJson(c.before);
-  o["after"] = statisticsJson(c.after);
+  o["before"] = statisticsJson(c.before, r.fit.measure);
+  o["after"] = statisticsJson(c.after, r.fit.measure);
   if (r.validation) {
     const ValidationResiduals& v = *r.validation_residuals;
     o["validation"] = {{"path", r.validation->path}, {"measure", measureName(r.validation->measure)},
-                       {"before", statisticsJson(v.before)}, {"after", statisticsJson(v.after)}};
+                       {"before", statisticsJson(v.before, r.validation->measure)},
+                       {"after", statisticsJson(v.after, r.validation->measure)}};
   }
   o["iterations"] = c.iterations;
   o["converged"] = c.converged;
@@ -263,6 +270,23 @@ json calibrationJson(const CalibrationReport& r) {
                       {"standard_deviation", finiteOrNull(c.standard_deviation[static_cast<Eigen::Index>(k)])}});
   }
   o["parameters"] = params;
+  // correlations of the determined parameters (finite, nonzero standard deviation), by index into
+  // "parameters": what a near-singular fit trades against what
+  std::vector<Eigen::Index> determined;
+  for (Eigen::Index k = 0; k < c.standard_deviation.size(); ++k) {
+    if (std::isfinite(c.standard_deviation[k]) && c.standard_deviation[k] > 0 && k < c.covariance.rows()) {
+      determined.push_back(k);
+    }
+  }
+  json correlation = json::array();
+  for (const Eigen::Index a : determined) {
+    json row = json::array();
+    for (const Eigen::Index b : determined) {
+      row.push_back(finiteOrNull(c.covariance(a, b) / (c.standard_deviation[a] * c.standard_deviation[b])));
+    }
+    correlation.push_back(row);
+  }
+  o["correlation"] = {{"parameters", determined}, {"matrix", correlation}};
   o["undetermined"] = undeterminedJson(c.rank, parameterNames(ps));
   // the calibrated D-H table with standard deviations (angles rad, pitch length/rad; null = undetermined)
   auto row = [](const DhParams& v, const DhParams& sd) {
@@ -276,9 +300,11 @@ json calibrationJson(const CalibrationReport& r) {
     const auto k = static_cast<size_t>(i);
     json j = row(m.joint(i).link, r.dh.links[k]);
     j["type"] = jointTypeName(m.joint(i).type);
-    j["pitch"] = m.joint(i).type == JointType::Helical ? m.joint(i).pitch : 0.0;
+    if (m.joint(i).type == JointType::Helical) {  // (docs/file_formats.md: pitch on helical rows only)
+      j["pitch"] = m.joint(i).pitch;
+      j["sd"]["pitch"] = finiteOrNull(r.dh.pitch[k]);
+    }
     j["scale"] = m.joint(i).scale;
-    j["sd"]["pitch"] = finiteOrNull(r.dh.pitch[k]);
     j["sd"]["scale"] = finiteOrNull(r.dh.scale[k]);
     joints.push_back(j);
   }

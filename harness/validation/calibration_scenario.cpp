@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <sstream>
 
@@ -58,10 +59,22 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
                          scenario.tip + "' in " + scenario.model + " has " + std::to_string(robot.dof()) +
                          " (calibration '" + config.name + "' of " + scenario.path + ")");
   }
+  // the measurements' length unit: a URDF's is the metre, a joint-variable robot file states its own, an
+  // MJCF states none; a nominal in another unit would be fitted as a robot of the wrong size
+  // (MuJoCo reads a URDF's lengths in metres whatever a joint-variable file states, as simulate says)
+  const bool urdf = std::filesystem::path(scenario.model).extension() == ".urdf";
+  const std::string measured_unit = urdf                               ? std::string("m")
+                                    : !scenario.joint_variables.empty() ? readRobotFile(scenario.joint_variables).length_unit
+                                                                        : std::string();
+  if (!measured_unit.empty() && !nominal_file.length_unit.empty() && measured_unit != nominal_file.length_unit) {
+    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': the measurements of " + scenario.model +
+                         " are in " + measured_unit + " but the nominal " + config.nominal + " is in " +
+                         nominal_file.length_unit + ": give a nominal in the measurements' unit");
+  }
   if (config.noise_position > nominal.lengthScale()) {
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': noise.position " +
-                         std::to_string(config.noise_position) + " exceeds the robot size L = " +
-                         std::to_string(nominal.lengthScale()));
+                         shortest(config.noise_position) + " exceeds the robot size L = " +
+                         shortest(nominal.lengthScale()));
   }
   if (identificationEntries(config.poses, nominal.dof(), 7.0) > kMaxJacobianEntries) {
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': " + std::to_string(config.poses) +

@@ -1,0 +1,156 @@
+// Rough edges a real user hits (issue "rough edges"): one test per numbered item, each failing on the
+// code before its fix. Items 1-4 are in output_files_test.cpp and hostile_input_test.cpp, item 8 in
+// harness_test.cpp (ValidateReport.UserStringsInSummaryAreEscaped).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "cli_runner.hpp"
+
+namespace {
+
+using namespace lowpair_test;
+
+const std::string kNominal = modelPath("puma560_okamura_nominal.yaml");
+
+// A measurement CSV of the 6-joint nominal from `simulate`.
+std::string simulated(const std::string& name, const std::string& options) {
+  const std::string path = scratch() + "/" + name;
+  const CliRun r = runCli("simulate " + shellQuote(kNominal) + " " + options + " --out " + shellQuote(path));
+  EXPECT_EQ(r.status, 0) << r.err;
+  return path;
+}
+
+// Item 5: a stream of comment lines ends at the line limit (it never ended); a file for another robot is
+// rejected at its header (before the rest is read: the broken line 3 is never reached); hexadecimal
+// floats, which no writer produces, are not numbers here.
+TEST(RoughEdges, MeasurementReaderLimitsAndHeader) {
+  {
+    const std::string path = scratch() + "/comments.csv";
+    std::ofstream out(path);
+    for (long long k = 0; k < 1100001; ++k) out << "#\n";
+  }
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(scratch() + "/comments.csv"),
+                 "more than 1100000 lines (comments and blank lines count)");
+  const std::string five = writeScratchFile("five.csv", "q1,q2,q3,q4,q5,x,y,z\nbroken line\n");
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(five), "has 5 joint columns",
+                 five);
+  const std::string hex =
+      writeScratchFile("hex.csv", "q1,q2,q3,q4,q5,q6,x,y,z\n0x1.8p+4,0,0,0,0,0,1,2,3\n");
+  expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(hex),
+                 "'0x1.8p+4' is not a decimal number", hex + ":2");
+}
+
+// Item 6: a link that is the child of two joints (a closed loop) was opened silently by urdfdom.
+TEST(RoughEdges, UrdfLinkWithTwoParentsIsRejected) {
+  const std::string urdf = writeScratchFile("loop.urdf", R"(<robot name="loop">
+  <link name="base"/><link name="a"/><link name="b"/><link name="tool"/>
+  <joint name="j1" type="continuous"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/></joint>
+  <joint name="j2" type="continuous"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>
+  <joint name="j3" type="continuous"><parent link="base"/><child link="b"/><axis xyz="0 0 1"/></joint>
+  <joint name="t" type="fixed"><parent link="b"/><child link="tool"/><origin xyz="1 0 0"/></joint>
+</robot>
+)");
+  expectRejected("poe2dh " + shellQuote(urdf) + " --tip tool", "link 'b' is the child of joints 'j2' and 'j3'",
+                 urdf + ": line 5: ");
+}
+
+// A POE robot file of n revolute joints about z, each 0.1 further along x.
+std::string longChain(int n) {
+  std::ostringstream out;
+  out << "name: chain" << n << "\nlength_unit: m\npoe:\n  joints:\n";
+  for (int i = 0; i < n; ++i) out << "    - {type: revolute, twist: [0, 0, 1, 0, " << -0.1 * i << ", 0]}\n";
+  out << "  tool_pose: [[1, 0, 0, " << 0.1 * n << "], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n";
+  return writeScratchFile("chain" + std::to_string(n) + ".yaml", out.str());
+}
+
+// Item 7: an MJCF nests one body per joint; past tinyxml2's depth of 100 lowpair cannot read it back, so
+// export refuses instead of writing it. A chain that fits is written and reads back.
+TEST(RoughEdges, MjcfExportRefusesWhatCannotBeReadBack) {
+  const std::string fits = longChain(90), deep = longChain(100);
+  const std::string xml = scratch() + "/chain90.xml";
+  ASSERT_EQ(runCli("export " + shellQuote(fits) + " --format mjcf --out " + shellQuote(xml)).status, 0);
+  const CliRun back = runCli("poe2dh " + shellQuote(xml) + " --tip tool --json");
+  EXPECT_EQ(back.status, 0) << back.err;
+  expectRejected("export " + shellQuote(deep) + " --format mjcf --out " + shellQuote(scratch() + "/chain100.xml"),
+                 "100 joints: an MJCF nests one body per joint", deep);
+  EXPECT_FALSE(std::ifstream(scratch() + "/chain100.xml").good());
+}
+
+// Item 9: a scenario's calibration case compares the measurements' unit with the nominal's (a URDF in
+// metres against a nominal in mm was reported as a robot error of 186 m); simulate rejects a rotation
+// noise for position measurements as calibrate does; numbers in one-line errors have at most 17 digits.
+TEST(RoughEdges, ScenarioUnitsSimulateNoiseAndShortNumbers) {
+  const std::string scenario = writeScratchFile(
+      "units.yaml", "name: units\nmodel: " + modelPath("rhino_xr3_slide.urdf") +
+                        "\ntip: tool\nsamples: 10\ncalibration:\n  - name: mixed\n    nominal: " +
+                        modelPath("rhino_xr3_slide.yaml") +
+                        "\n    poses: 40\n    validation_poses: 10\n    tolerance: {position: 1}\n");
+  expectRejected("validate " + shellQuote(scenario), "are in m but the nominal", scenario);
+  expectRejected("simulate " + shellQuote(kNominal) + " --poses 3 --measure position --noise-rotation 0.001",
+                 "position measurements have no rotation to perturb", "--noise-rotation");
+  const std::string huge = writeScratchFile(
+      "huge_noise.yaml", "name: huge\nmodel: " + modelPath("stanford_corke_actual.xml") +
+                             "\ntip: tool\nsamples: 10\ncalibration:\n  - name: loud\n    nominal: " +
+                             modelPath("stanford_corke.yaml") +
+                             "\n    poses: 40\n    validation_poses: 10\n    noise: {position: 1e300}\n"
+                             "    tolerance: {position: 1}\n");
+  const CliRun r = runCli("validate " + shellQuote(huge));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_LT(r.err.size(), 400u) << r.err;
+  EXPECT_EQ(r.err.find("000000000000000000"), std::string::npos) << r.err;
+}
+
+// Item 11: a tip that is not found lists what exists.
+TEST(RoughEdges, TipNotFoundListsTheNames) {
+  expectRejected("fk " + shellQuote(modelPath("elbow_mls.xml")) + " --tip nowhere --q 0,0,0,0,0,0", "sites: 'tool'");
+  expectRejected("fk " + shellQuote(modelPath("elbow_mls.urdf")) + " --tip nowhere --q 0,0,0,0,0,0", "links: '");
+}
+
+// Item 14: calibrate --json: pitch only on helical rows, rotation statistics null for position
+// measurements, the length unit, and the correlations of the determined parameters.
+TEST(RoughEdges, CalibrateJsonFields) {
+  const std::string m = simulated("position.csv", "--poses 40 --seed 3 --measure position --noise-position 0.01");
+  const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m) + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["before"]["max_rotation"].is_null());
+  EXPECT_TRUE(j["after"]["rms_rotation"].is_null());
+  EXPECT_EQ(j["length_unit"], "mm");
+  for (const auto& row : j["dh"]["joints"]) {
+    EXPECT_EQ(row.contains("pitch"), row["type"] == "helical") << row.dump();
+  }
+  const auto& c = j["correlation"];
+  const size_t n = c["parameters"].size();
+  ASSERT_GT(n, 0u);
+  ASSERT_EQ(c["matrix"].size(), n);
+  for (size_t a = 0; a < n; ++a) {
+    // a correlation matrix: unit diagonal (to rounding of cov / (sd sd)), entries in [-1, 1]
+    EXPECT_NEAR(c["matrix"][a][a].get<double>(), 1.0, 1e-12);
+    for (size_t b = 0; b < n; ++b) EXPECT_LE(std::abs(c["matrix"][a][b].get<double>()), 1.0 + 1e-12);
+  }
+}
+
+// Item 16: every bundled scenario validates at least 10,000 random samples.
+TEST(RoughEdges, EveryScenarioHasTenThousandSamples) {
+  int scenarios = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(LOWPAIR_SCENARIOS)) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++scenarios;
+    std::ifstream in(entry.path());
+    std::string line;
+    long long samples = -1;
+    while (std::getline(in, line)) {
+      if (line.rfind("samples:", 0) == 0) samples = std::stoll(line.substr(8));
+    }
+    EXPECT_GE(samples, 10000) << entry.path();
+  }
+  EXPECT_GE(scenarios, 8);
+}
+
+}  // namespace
