@@ -102,7 +102,7 @@ RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale =
   out.singular_values = VecX::Zero(cols);
   out.singular_values.head(svd.singularValues().size()) = svd.singularValues();
   const double s1 = cols > 0 ? out.singular_values[0] : 0.0;
-  out.tolerance = kRankFactor * static_cast<double>(cols) * kEps * s1;
+  out.tolerance = numericalRankTolerance(s1, static_cast<double>(cols));
   out.rank = 0;
   while (out.rank < cols && out.singular_values[out.rank] > out.tolerance) ++out.rank;
   if (out.rank == cols && cols > 0) {
@@ -508,7 +508,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
     return Eigen::JacobiSVD<MatX>(weightedJacobian(at, measurements, measure, w) * basis,
                                Eigen::ComputeThinU | Eigen::ComputeThinV);
   };
-  auto usable = [&](const VecX& s, int i) { return s[i] > kRankFactor * rank * kEps * s[0]; };
+  // the nominal's rule (its n: every parameter), not one relaxed to the reduced problem's `rank` columns
+  auto usable = [&](const VecX& s, int i) { return s[i] > numericalRankTolerance(s[0], static_cast<double>(n)); };
 
   // Levenberg-Marquardt with the damping relative to sigma_1^2 (mu): no sigma_1^2 is ever formed, so a
   // Jacobian near the overflow limit (a tiny stated noise) damps like any other, and mu's bounds end the

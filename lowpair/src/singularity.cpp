@@ -317,7 +317,7 @@ void dimensionlessJacobian(const PoeModel& model, Eigen::Ref<Mat6X> J) {
   J.topRows(3) /= L;
 }
 
-double rankTolerance(double sigma_max, int dof) { return kRankFactor * std::max(kTwistDim, dof) * kEps * sigma_max; }
+double rankTolerance(double sigma_max, int dof) { return numericalRankTolerance(sigma_max, std::max(kTwistDim, dof)); }
 
 int numericalRank(const Eigen::Ref<const VecX>& sigma, double tolerance) { return countAbove(sigma, tolerance); }
 

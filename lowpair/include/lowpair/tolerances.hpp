@@ -31,6 +31,12 @@ constexpr double kIllConditioned = 1e3;
 // --- singularity analysis (singularity.hpp explains each) ---------------------------------------------
 /// Rank tolerance factor (see the file comment).
 constexpr double kRankFactor = 1e3;
+/// The rank rule, the one behind every rank lowpair reports (manipulator Jacobians in singularity.cpp,
+/// identification Jacobians in calibration.cpp): a singular value counts when it is above
+/// kRankFactor * n * eps * sigma_max, n the matrix's larger dimension that rounding grows with (the joints,
+/// at least 6, for a manipulator Jacobian; the parameters for an identification Jacobian, whose rows are
+/// averaged by the column scaling). A reduced problem keeps the n of the matrix it came from.
+constexpr double numericalRankTolerance(double sigma_max, double n) { return kRankFactor * n * kEps * sigma_max; }
 /// Angle (rad) and relative distance (times L) tolerance of the line classes.
 constexpr double kLineTolerance = 1e-13;
 /// The same tolerance once the rank test has found a deficiency. A pose whose sigma_min is at the rank
