@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_runner.hpp"
 
@@ -151,6 +152,43 @@ TEST(RoughEdges, EveryScenarioHasTenThousandSamples) {
     EXPECT_GE(samples, 10000) << entry.path();
   }
   EXPECT_GE(scenarios, 8);
+}
+
+}  // namespace
+
+namespace {
+
+// Item 5, last part: a joint value outside the nominal's range is named with its line: a warning just
+// outside, an error beyond 10 range widths (a prismatic q of 1e100 in a 0.3-1.3 range was fitted silently).
+TEST(RoughEdges, JointValuesOutsideTheRangeAreNamed) {
+  const std::string robot = modelPath("puma560_corke.yaml");  // joint 1: [-160, 160] deg
+  const std::string m = scratch() + "/ranges.csv";
+  ASSERT_EQ(runCli("simulate " + shellQuote(robot) + " --poses 30 --seed 4 --noise-position 1e-5 --noise-rotation 1e-5"
+                   " --out " + shellQuote(m)).status, 0);
+  std::ifstream in(m);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  size_t first_data = 0;
+  while (lines[first_data].empty() || lines[first_data][0] == '#') ++first_data;
+  ++first_data;  // the header
+  auto withQ1 = [&](const std::string& name, const std::string& q1) {
+    std::string text;
+    for (size_t k = 0; k < lines.size(); ++k) {
+      std::string line = lines[k];
+      if (k == first_data) line = q1 + line.substr(line.find(','));
+      text += line + "\n";
+    }
+    return writeScratchFile(name, text);
+  };
+  const std::string far = withQ1("far.csv", "1e6");
+  expectRejected("calibrate " + shellQuote(robot) + " --measurements " + shellQuote(far),
+                 "q1 = 1e+06 is outside joint 1's range", far + ":" + std::to_string(first_data + 1) + ": ");
+  const std::string near = withQ1("near.csv", "2.9");
+  const CliRun r = runCli("calibrate " + shellQuote(robot) + " --measurements " + shellQuote(near) +
+                          " --noise-position 1e-5 --noise-rotation 1e-5");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.rfind("warning: " + near + ":" + std::to_string(first_data + 1) + ": q1 = 2.9 is outside", 0), 0u)
+      << r.err;
 }
 
 }  // namespace

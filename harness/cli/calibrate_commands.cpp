@@ -114,8 +114,37 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
                              " is in " + file.length_unit + ": measure in the nominal's unit");
       }
     };
+    // joint values outside the nominal's ranges: a warning each (the first few), an error beyond
+    // kFarOutsideRange range widths (a wrong column or unit, never fitted silently)
+    auto check_ranges = [&](const MeasurementFile& m) {
+      constexpr double kFarOutsideRange = 10.0;
+      constexpr int kMaxRangeWarnings = 5;
+      int warnings = 0;
+      for (size_t k = 0; k < m.measurements.size(); ++k) {
+        for (int i = 0; i < nominal.dof(); ++i) {
+          const auto& range = nominal.joint(i).range;
+          const double q = m.measurements[k].q[i];
+          if (!range || (q >= (*range)[0] && q <= (*range)[1])) continue;
+          const double width = (*range)[1] - (*range)[0];
+          const double beyond = q < (*range)[0] ? (*range)[0] - q : q - (*range)[1];
+          const std::string where = m.path + ":" + std::to_string(m.lines[k]) + ": q" + std::to_string(i + 1) +
+                                    " = " + shortest(q) + " is outside joint " + std::to_string(i + 1) +
+                                    "'s range [" + shortest((*range)[0]) + ", " + shortest((*range)[1]) + "] of " +
+                                    file.path;
+          if (beyond > kFarOutsideRange * width) {
+            throw RobotFileError(where + " by more than " + shortest(kFarOutsideRange) +
+                                 " times its width: a wrong column or unit?");
+          }
+          if (warnings++ < kMaxRangeWarnings) std::cerr << "warning: " << where << "\n";
+        }
+      }
+      if (warnings > kMaxRangeWarnings) {
+        std::cerr << "warning: " << m.path << ": " << warnings << " joint values outside the ranges in all\n";
+      }
+    };
     const MeasurementFile fit = readMeasurements(o->measurements, check_matches);
     check_matches(fit);  // a length_unit comment may also follow the header
+    check_ranges(fit);
     if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
         identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) > kMaxJacobianEntries) {
       throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
@@ -129,6 +158,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     if (!o->validation.empty()) {
       validation = readMeasurements(o->validation, check_matches);
       check_matches(*validation);
+      check_ranges(*validation);
     }
     for (const auto& [value, flag, limit] : {std::tuple{o->noise_position, "--noise-position", kMaxMagnitude},
                                              std::tuple{o->noise_rotation, "--noise-rotation", M_PI}}) {

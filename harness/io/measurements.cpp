@@ -237,6 +237,7 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
       m.T_base_tool.R = quaternion.normalized().toRotationMatrix();
     }
     file.measurements.push_back(std::move(m));
+    file.lines.push_back(lines.number());
   }
   if (!have_header) throw RobotFileError(path + ": no header line " + kExpectedColumns);
   if (file.measurements.empty()) throw RobotFileError(path + ": no measurements");

@@ -44,6 +44,7 @@ struct MeasurementFile {
   Measure measure = Measure::Pose;  ///< Position when the file has no quaternion columns
   int dof = 0;                      ///< n, the number of joint columns
   std::vector<Measurement> measurements;  ///< rotation = identity for position measurements
+  std::vector<long long> lines;           ///< the file line of each measurement (for messages)
   std::string length_unit;  ///< from a `# length_unit: U` comment; "" when the file states none
 };
 
