@@ -192,3 +192,42 @@ TEST(RoughEdges, JointValuesOutsideTheRangeAreNamed) {
 }
 
 }  // namespace
+
+namespace {
+
+// Item 10: an MJCF states no unit. A robot file 1000 times larger than the model is named as a unit
+// mix-up, --length-unit states the model's unit (the robot file is converted), and model mode takes
+// --tolerance POS,ROT as scenarios do.
+TEST(RoughEdges, ValidateUnitsAndTolerance) {
+  const std::string mm = writeScratchFile("elbow_mm.yaml", R"(name: elbow-mm
+length_unit: mm
+poe:
+  joints:
+    - {type: revolute, twist: [0, 0, 1, 0, 0, 0]}
+    - {type: revolute, twist: [-1, 0, 0, 0, -1000, 0]}
+    - {type: revolute, twist: [-1, 0, 0, 0, -1000, 1000]}
+    - {type: revolute, twist: [0, 0, 1, 2000, 0, 0]}
+    - {type: revolute, twist: [-1, 0, 0, 0, -1000, 2000]}
+    - {type: revolute, twist: [0, 1, 0, -1000, 0, 0]}
+  tool_pose: [[1, 0, 0, 0], [0, 1, 0, 2000], [0, 0, 1, 1000], [0, 0, 0, 1]]
+)");
+  const std::string model = shellQuote(modelPath("elbow_mls.xml"));
+  const CliRun mixed = runCli("validate " + model + " --tip tool --robot " + shellQuote(mm) + " --samples 100");
+  EXPECT_EQ(mixed.status, 1) << mixed.err;
+  EXPECT_NE(mixed.err.find("its lengths are 1000 times those of"), std::string::npos) << mixed.err;
+  EXPECT_NE(mixed.err.find("is the robot file in mm and the model in m?"), std::string::npos) << mixed.err;
+  const CliRun stated =
+      runCli("validate " + model + " --tip tool --robot " + shellQuote(mm) + " --samples 100 --length-unit m");
+  EXPECT_EQ(stated.status, 0) << stated.out << stated.err;
+  EXPECT_EQ(stated.err.find("note:"), std::string::npos) << stated.err;
+  // a looser tolerance is reported as given
+  const CliRun loose = runCli("validate " + model + " --tip tool --samples 100 --tolerance 1e-9,1e-10 --json");
+  ASSERT_EQ(loose.status, 0) << loose.err;
+  const auto j = nlohmann::json::parse(loose.out);
+  const auto& poe = j["scenarios"][0]["comparisons"][0];
+  EXPECT_EQ(poe["tolerance_rotation"].get<double>(), 1e-10) << poe.dump();
+  expectRejected("validate " + model + " --tip tool --tolerance 1e-9", "expected POS,ROT", "--tolerance");
+  expectRejected("validate " + model + " --tip tool --length-unit furlong", "not one lowpair converts", "--length-unit");
+}
+
+}  // namespace

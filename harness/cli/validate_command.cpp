@@ -1,5 +1,6 @@
 // lowpair validate [SCENARIO.yaml... | MODEL --tip NAME [--base NAME] [--robot FILE]...] [options]
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -44,7 +45,7 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 void addValidateCommand(CLI::App& app, Commands& commands) {
   struct Options {
     std::vector<std::string> inputs, robots;
-    std::string tip, base, shard = "1/1", report;
+    std::string tip, base, shard = "1/1", report, length_unit, tolerance;
     int samples = -1, threads = 0;
     long long seed = -1;
     bool as_json = false;
@@ -56,6 +57,10 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
   v->add_option("--tip", o->tip, "model mode: tip site or body");
   v->add_option("--base", o->base, "model mode: base body (default: the world)");
   v->add_option("--robot", o->robots, "model mode: robot file(s) to cross-check against the model");
+  v->add_option("--length-unit", o->length_unit,
+                "model mode: the MJCF's length unit (m, mm, cm, ...); robot files in another unit are converted");
+  v->add_option("--tolerance", o->tolerance,
+                "model mode: POS,ROT pose tolerances (translation relative to L, rotation in rad; default 1e-12,1e-12)");
   v->add_option("--samples", o->samples, "random samples per scenario (default: the scenario's, else 10000)")
       ->check(CLI::Range(0, kMaxSamples));
   // seeds are whole numbers in [0, 2^53], as in scenario files (a larger value used to be clamped silently)
@@ -92,10 +97,31 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
       s.tip = o->tip;
       s.base = o->base;
       s.robot_files = o->robots;
+      if (!o->length_unit.empty()) {
+        if (!metresPerUnit(o->length_unit)) {
+          throw UsageError("--length-unit", "'" + o->length_unit + "' is not one lowpair converts (m, mm, cm, dm, um, km, in, ft)");
+        }
+        if (endsWith(o->inputs[0], ".urdf") && o->length_unit != "m") {
+          throw UsageError("--length-unit", "a URDF is in metres (URDF fixes its unit)");
+        }
+        s.length_unit = o->length_unit;
+      }
+      if (!o->tolerance.empty()) {
+        double pos = 0, rot = 0;
+        char comma = 0;
+        std::istringstream in(o->tolerance);
+        if (!(in >> pos >> comma >> rot) || comma != ',' || !in.eof() || !(pos > 0) || !(rot > 0) ||
+            !std::isfinite(pos) || !std::isfinite(rot)) {
+          throw UsageError("--tolerance", "expected POS,ROT, two positive numbers, got '" + o->tolerance + "'");
+        }
+        s.tol_translation = pos;
+        s.tol_rotation = rot;
+      }
       scenarios.push_back(s);
     } else {
-      if (!o->tip.empty() || !o->base.empty() || !o->robots.empty()) {
-        throw UsageError("validate", "--tip/--base/--robot go with a model file (.xml or .urdf), not scenarios");
+      if (!o->tip.empty() || !o->base.empty() || !o->robots.empty() || !o->length_unit.empty() || !o->tolerance.empty()) {
+        throw UsageError("validate", "--tip/--base/--robot/--length-unit/--tolerance go with a model file (.xml or .urdf), "
+                                     "not scenarios (a scenario states them as keys)");
       }
       const auto files = o->inputs.empty() ? defaultScenarios() : o->inputs;
       for (const auto& f : files) {

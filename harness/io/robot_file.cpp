@@ -25,32 +25,37 @@ std::optional<double> metresPerUnit(const std::string& length_unit) {
   return std::nullopt;
 }
 
-RobotFile inMetres(const RobotFile& file) {
-  const std::optional<double> f = metresPerUnit(file.length_unit);
-  if (!f) {
+RobotFile inUnit(const RobotFile& file, const std::string& unit) {
+  const std::optional<double> f_file = metresPerUnit(file.length_unit);
+  if (!f_file) {
     throw RobotFileError(file.path + ": " +
                          (file.length_unit.empty() ? std::string("states no length_unit")
                                                    : "length_unit '" + file.length_unit + "' is not one lowpair converts") +
-                         ": give length_unit (m, mm, cm, dm, um, km, in or ft) to write lengths in metres");
+                         ": give length_unit (m, mm, cm, dm, um, km, in or ft) to write lengths in " + unit);
   }
+  const std::optional<double> f_unit = metresPerUnit(unit);
+  if (!f_unit) throw RobotFileError("'" + unit + "' is not a length unit lowpair converts (m, mm, cm, dm, um, km, in, ft)");
+  const double f = *f_file / *f_unit;
   const PoeModel model = file.poeModel();
   std::vector<Joint> joints = model.joints();
   for (Joint& j : joints) {
     if (j.type == JointType::Prismatic) {
-      j.scale *= *f;  // x [m] = f scale (q + offset): q keeps its unit
+      j.scale *= f;  // x [unit] = f scale (q + offset): q keeps its unit
     } else {
-      j.twist.tail<3>() *= *f;
-      j.pitch *= *f;
+      j.twist.tail<3>() *= f;
+      j.pitch *= f;
     }
   }
   Pose tool = model.toolPose();
-  tool.p *= *f;
+  tool.p *= f;
   RobotFile out = file;
-  out.length_unit = "m";
+  out.length_unit = unit;
   out.dh.reset();
   out.poe = PoeModel(std::move(joints), tool, model.name());
   return out;
 }
+
+RobotFile inMetres(const RobotFile& file) { return inUnit(file, "m"); }
 
 double RobotFile::angleFactor() const { return angle_unit == "deg" ? M_PI / 180.0 : 1.0; }
 

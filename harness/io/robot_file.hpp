@@ -56,6 +56,10 @@ std::optional<double> metresPerUnit(const std::string& length_unit);
 /// @throws RobotFileError when the file states no length unit or one lowpair does not convert
 RobotFile inMetres(const RobotFile& file);
 
+/// `file` with every length in `unit` (one metresPerUnit knows), as inMetres does for metres.
+/// @throws RobotFileError when the file states no length unit, or either unit is not one lowpair converts
+RobotFile inUnit(const RobotFile& file, const std::string& unit);
+
 /// A POE robot file holding `model` (readRobotFile reads it back to rounding: twists `scale * unit twist`
 /// with 17 significant digits, the tool as `tool_pose`), with `like`'s length and angle units (offsets and
 /// revolute ranges converted to its angle_unit), `name`, `description` and `comments` as leading `#` lines.

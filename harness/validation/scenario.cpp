@@ -90,7 +90,7 @@ Scenario readScenario(const std::string& path) {
   s.path = path;
   try {
     in.allowOnly(root, "the scenario", {"name", "description", "model", "tip", "base", "joint_variables",
-                                        "robot_files", "samples", "seed", "ranges", "tolerance", "poses",
+                                        "robot_files", "length_unit", "samples", "seed", "ranges", "tolerance", "poses",
                                         "singular_poses", "singularity_map", "calibration"});
     s.name = root["name"] ? in.string(root["name"], "name") : fs::path(path).stem().string();
     if (!root["model"]) yamlError(path, root, "missing 'model' (an MJCF or URDF file)");
@@ -102,6 +102,13 @@ Scenario readScenario(const std::string& path) {
     if (const YAML::Node files = root["robot_files"]) {
       if (!files.IsSequence()) yamlError(path, files, "robot_files must be a list");
       for (const auto& f : files) s.robot_files.push_back(relative(path, in.string(f, "robot_files[]")));
+    }
+    if (root["length_unit"]) {
+      s.length_unit = in.string(root["length_unit"], "length_unit");
+      if (!metresPerUnit(s.length_unit)) {
+        yamlError(path, root["length_unit"], "length_unit '" + s.length_unit +
+                                                 "' is not one lowpair converts (m, mm, cm, dm, um, km, in, ft)");
+      }
     }
     if (root["samples"]) s.samples = static_cast<int>(in.integer(root["samples"], "samples", 0, kMaxSamples));
     if (root["seed"]) s.seed = static_cast<unsigned long long>(in.integer(root["seed"], "seed", 0, kMaxSeed));

@@ -58,6 +58,10 @@ struct Scenario {
   int samples = 10000;
   unsigned long long seed = 1;
   std::vector<std::array<double, 2>> ranges;  ///< per joint, in the sampled variable (empty = defaults)
+  /// The model's length unit (YAML `length_unit`, `validate --length-unit`): robot files that state another
+  /// are converted into it before the comparison. A URDF's is "m" (URDF fixes it); "" for an MJCF that
+  /// states none: robot files are compared as they are.
+  std::string length_unit;
   double tol_rotation = 1e-12;                ///< rad
   double tol_translation = 1e-12;             ///< times the robot size L
   double tol_jacobian_rotation = 1e-12;       ///< rad (per unit joint rate)

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <limits>
@@ -70,6 +71,31 @@ struct Setup {
   std::vector<std::unique_ptr<Comparison>> comparisons;
 };
 
+// A robot file whose size L differs from the model's by a power of ten (10, 100, 1000) is almost always
+// a unit mix-up (an MJCF states no unit): say so once on stderr, naming the units that would explain it and
+// the option that fixes it.
+void noteScaleMismatch(const RobotFile& file, const PoeModel& model, const std::string& model_unit,
+                       const std::string& model_path) {
+  const double ratio = file.poeModel().lengthScale() / model.lengthScale();
+  for (const double factor : {10.0, 100.0, 1000.0, 0.1, 0.01, 0.001}) {
+    if (std::abs(ratio / factor - 1.0) > 0.01) continue;
+    // the unit the model's numbers would be in if the robot file's unit is right
+    std::string implied = "another unit";
+    if (const std::optional<double> m = metresPerUnit(file.length_unit)) {
+      for (const char* unit : {"km", "m", "dm", "cm", "mm", "um"}) {
+        if (std::abs(*metresPerUnit(unit) / (*m * factor) - 1.0) < 1e-9) implied = unit;
+      }
+    }
+    std::fprintf(stderr,
+                 "note: %s: its lengths are %g times those of %s: is the robot file in %s and the model in %s? "
+                 "state the model's unit with --length-unit U (a scenario's length_unit)%s\n",
+                 file.path.c_str(), factor, model_path.c_str(),
+                 file.length_unit.empty() ? "another unit" : file.length_unit.c_str(), implied.c_str(),
+                 model_unit.empty() ? "" : (" (stated: " + model_unit + ")").c_str());
+    return;
+  }
+}
+
 Setup prepare(const Scenario& scenario) {
   Setup setup;
   setup.robot = std::make_unique<MujocoRobot>(scenario.model, scenario.tip, scenario.base);
@@ -95,8 +121,13 @@ Setup prepare(const Scenario& scenario) {
   }
   for (const auto& path : scenario.robot_files) {
     RobotFile file = readRobotFile(path);
-    // a URDF is in metres: a robot file in another unit is compared in metres (as export converts it)
-    if (urdf && !file.length_unit.empty() && file.length_unit != "m") file = inMetres(file);
+    // a URDF is in metres, an MJCF in its scenario's length_unit when one is stated: a robot file in another
+    // unit is compared in the model's (as export converts it)
+    const std::string model_unit = urdf ? std::string("m") : scenario.length_unit;
+    if (!model_unit.empty() && !file.length_unit.empty() && file.length_unit != model_unit) {
+      file = inUnit(file, model_unit);
+    }
+    noteScaleMismatch(file, poe, model_unit, scenario.model);
     const PoeModel m = matchingModel(file, robot, scenario.model, scenario.tip);
     std::string name = "robot_file_vs_mujoco:" + fs::path(path).filename().string();
     if (file.poe) {
