@@ -231,3 +231,49 @@ poe:
 }
 
 }  // namespace
+
+namespace {
+
+// Item 12 (in part): the D-H table prints lengths to about 1e-6 L and angles to 1e-6 deg (a UR10e-like
+// table in metres printed a3 = 0.57155 as 0.5716), and the residual table 3 significant digits.
+TEST(RoughEdges, PrintedPrecision) {
+  const std::string dh = writeScratchFile("ur_like.yaml", R"(name: ur-like
+length_unit: m
+angle_unit: deg
+dh:
+  joints:
+    - {type: revolute, theta: 0, d: 0.1807, alpha: 90, a: 0}
+    - {type: revolute, theta: 0, d: 0, alpha: 0, a: -0.6127}
+    - {type: revolute, theta: 0, d: 0, alpha: 0, a: -0.57155}
+    - {type: revolute, theta: 0, d: 0.17415, alpha: 90, a: 0}
+    - {type: revolute, theta: 0, d: 0.11985, alpha: -90.000123, a: 0}
+    - {type: revolute, theta: 0, d: 0.11655, alpha: 0, a: 0}
+)");
+  const CliRun r = runCli("poe2dh " + shellQuote(dh));
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* value : {"0.571550", "0.174150", "0.119850", "0.116550"}) {
+    EXPECT_NE(r.out.find(value), std::string::npos) << value << " in\n" << r.out;
+  }
+  // alpha of row 5 to 1e-6 deg (the canonical table may flip its sign or take the supplement)
+  EXPECT_TRUE(r.out.find("90.000123") != std::string::npos || r.out.find("89.999877") != std::string::npos) << r.out;
+  const std::string m = simulated("digits.csv", "--poses 40 --seed 5 --noise-position 0.01 --noise-rotation 1e-5");
+  const CliRun c = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m) +
+                          " --noise-position 0.01 --noise-rotation 1e-5");
+  ASSERT_EQ(c.status, 0) << c.err;
+  std::istringstream lines(c.out);
+  std::string line;
+  while (std::getline(lines, line) && line.rfind("measurements, after", 0) != 0) {
+  }
+  std::istringstream fields(line.substr(std::string("measurements, after").size()));
+  std::string rms;
+  fields >> rms;
+  // 3 significant digits: the mantissa has 3 digits (e.g. 0.00823 or 8.23e-03)
+  std::string digits;
+  for (const char ch : rms.substr(0, rms.find('e'))) {
+    if (ch >= '0' && ch <= '9') digits += ch;
+  }
+  digits.erase(0, digits.find_first_not_of('0'));
+  EXPECT_EQ(digits.size(), 3u) << line;
+}
+
+}  // namespace

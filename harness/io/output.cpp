@@ -1,5 +1,6 @@
 #include "io/output.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -165,6 +166,14 @@ json poeJson(const RobotFile& file, const PoeModel& model) {
 }
 
 namespace {
+// Decimals that resolve a length to about 1e-6 L (lengths are known to rounding, far better: the table
+// shows what a controller's D-H entries need) and an angle to 1e-6 deg.
+int lengthDecimals(double L) {
+  const double resolution = 1e-6 * (L > 0 && std::isfinite(L) ? L : 1.0);
+  return std::clamp(static_cast<int>(std::ceil(-std::log10(resolution) - 1e-9)), 0, 12);
+}
+constexpr int kAngleDecimals = 6;
+
 void printWarnings(std::ostream& out, const DhConversion& c, const FkCheck& check) {
   out << "FK check: POE vs D-H over " << check.samples << " configurations: max rotation "
       << fixed(check.max_rotation, 2) << " rad, max translation " << fixed(check.max_translation, 2) << "\n";
@@ -179,16 +188,19 @@ void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c, co
   out << robotLabel(file) << ": standard D-H (Wu et al. eq. 10), L = " << fixed(c.size)
       << " " << u << "\n";
   out << "H = A(base) * prod_i [Q_i(scale_i q_i) * A(row i)] * Rz(theta_T) Tz(d_T),  A = Rz(theta) Tz(d) Rx(alpha) Tx(a)\n\n";
+  const int ld = lengthDecimals(c.size);
+  const auto len = [ld](double x) { return fixed(x, ld); };
+  const auto deg = [](double x) { return fixed(x * kDeg, kAngleDecimals); };
   char line[256];
-  std::snprintf(line, sizeof line, "%-6s %-9s %-9s %12s %14s %12s %14s %14s %12s\n", "row", "frames", "joint",
+  std::snprintf(line, sizeof line, "%-6s %-9s %-9s %14s %16s %14s %16s %14s %12s\n", "row", "frames", "joint",
                 "theta(deg)", ("d(" + u + ")").c_str(), "alpha(deg)", ("a(" + u + ")").c_str(),
                 ("pitch(" + pitchUnit(file) + ")").c_str(), "scale");
   out << line;
   auto row = [&](const std::string& label, const std::string& frames, const std::string& type, const DhParams& r,
                  const std::string& pitch, const std::string& scale) {
-    std::snprintf(line, sizeof line, "%-6s %-9s %-9s %12s %14s %12s %14s %14s %12s\n", label.c_str(), frames.c_str(),
-                  type.c_str(), fixed(r.theta * kDeg).c_str(), fixed(r.d).c_str(), fixed(r.alpha * kDeg).c_str(),
-                  fixed(r.a).c_str(), pitch.c_str(), scale.c_str());
+    std::snprintf(line, sizeof line, "%-6s %-9s %-9s %14s %16s %14s %16s %14s %12s\n", label.c_str(), frames.c_str(),
+                  type.c_str(), deg(r.theta).c_str(), len(r.d).c_str(), deg(r.alpha).c_str(), len(r.a).c_str(),
+                  pitch.c_str(), scale.c_str());
     out << line;
   };
   row("base", "B->0", "", c.model.base(), "", "");
@@ -201,8 +213,8 @@ void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c, co
     row(std::to_string(i + 1), std::to_string(i) + "->" + std::to_string(i + 1), jointTypeName(dj.type), dj.link, pitch,
         scale);
   }
-  std::snprintf(line, sizeof line, "%-6s %-9s %-9s %12s %14s\n", "tool", (std::to_string(n) + "->T").c_str(), "",
-                fixed(c.model.toolTheta() * kDeg).c_str(), fixed(c.model.toolD()).c_str());
+  std::snprintf(line, sizeof line, "%-6s %-9s %-9s %14s %16s\n", "tool", (std::to_string(n) + "->T").c_str(), "",
+                deg(c.model.toolTheta()).c_str(), len(c.model.toolD()).c_str());
   out << line << "\n";
   out << "Row i: joint i moves about (revolute) or along (prismatic) the z axis of frame i-1, then A(row i) leads to\n"
          "frame i; row n also carries the tool's first part (Wu et al. Fig. 3).\n";
@@ -216,26 +228,29 @@ void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversio
       << "\n";
   out << "H = Rz(theta_B) Tz(d_B) * prod_i [Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + q) Tz(d_i)] * Rx(alpha_n) Tx(a_n) "
          "Rz(theta_T) Tz(d_T)\n\n";
+  const int ld = lengthDecimals(c.size);
+  const auto len = [ld](double x) { return fixed(x, ld); };
+  const auto deg = [](double x) { return fixed(x * kDeg, kAngleDecimals); };
   char line[256];
-  std::snprintf(line, sizeof line, "%-6s %-9s %12s %14s %12s %14s %14s %12s\n", "row", "joint", "alpha(deg)",
+  std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s\n", "row", "joint", "alpha(deg)",
                 ("a(" + u + ")").c_str(), "theta(deg)", ("d(" + u + ")").c_str(),
                 ("pitch(" + pitchUnit(file) + ")").c_str(), "scale");
   out << line;
-  std::snprintf(line, sizeof line, "%-6s %-9s %12s %14s %12s %14s\n", "base", "", "", "", fixed(m.base_theta * kDeg).c_str(),
-                fixed(m.base_d).c_str());
+  std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s\n", "base", "", "", "", deg(m.base_theta).c_str(),
+                len(m.base_d).c_str());
   out << line;
   for (size_t i = 0; i < m.joints.size(); ++i) {
     const ModifiedDhJoint& j = m.joints[i];
     const std::string pitch = j.type == JointType::Helical ? fixed(j.pitch * file.angleFactor(), 8) : "";
     char scale[32];
     std::snprintf(scale, sizeof scale, "%.9g", j.scale);
-    std::snprintf(line, sizeof line, "%-6zu %-9s %12s %14s %12s %14s %14s %12s\n", i + 1, jointTypeName(j.type),
-                  fixed(j.alpha * kDeg).c_str(), fixed(j.a).c_str(), fixed(j.theta * kDeg).c_str(), fixed(j.d).c_str(),
+    std::snprintf(line, sizeof line, "%-6zu %-9s %14s %16s %14s %16s %14s %12s\n", i + 1, jointTypeName(j.type),
+                  deg(j.alpha).c_str(), len(j.a).c_str(), deg(j.theta).c_str(), len(j.d).c_str(),
                   pitch.c_str(), scale);
     out << line;
   }
-  std::snprintf(line, sizeof line, "%-6s %-9s %12s %14s %12s %14s\n", "tool", "", fixed(m.tool_alpha * kDeg).c_str(),
-                fixed(m.tool_a).c_str(), fixed(m.tool_theta * kDeg).c_str(), fixed(m.tool_d).c_str());
+  std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s\n", "tool", "", deg(m.tool_alpha).c_str(),
+                len(m.tool_a).c_str(), deg(m.tool_theta).c_str(), len(m.tool_d).c_str());
   out << line << "\n";
   printWarnings(out, c, check);
 }

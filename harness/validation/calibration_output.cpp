@@ -35,6 +35,13 @@ std::string deviation(double sd) {
   return buf;
 }
 
+// A residual statistic to 3 significant digits ("0.00802", "1.2e-15" -> "1.2e-15"): comparable at a glance.
+std::string residual(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
 std::vector<std::string> parameterNames(const std::vector<Parameter>& parameters) {
   std::vector<std::string> names;
   for (const Parameter& p : parameters) names.push_back(p.name);
@@ -347,9 +354,9 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
                 ("max pos (" + u + ")").c_str(), "rms rot (rad)", "max rot (rad)");
   out << line;
   auto stats = [&](const std::string& label, const ResidualStatistics& s, bool rotation) {
-    std::snprintf(line, sizeof line, "%-22s %16s %16s %16s %16s\n", label.c_str(), deviation(s.rms_position).c_str(),
-                  deviation(s.max_position).c_str(), rotation ? deviation(s.rms_rotation).c_str() : "-",
-                  rotation ? deviation(s.max_rotation).c_str() : "-");
+    std::snprintf(line, sizeof line, "%-22s %16s %16s %16s %16s\n", label.c_str(), residual(s.rms_position).c_str(),
+                  residual(s.max_position).c_str(), rotation ? residual(s.rms_rotation).c_str() : "-",
+                  rotation ? residual(s.max_rotation).c_str() : "-");
     out << line;
   };
   const bool fit_rot = r.fit.measure == Measure::Pose;
