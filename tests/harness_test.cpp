@@ -319,3 +319,33 @@ TEST(ValidateReport, UserStringsInSummaryAreEscaped) {
   // the calibration's text block: its fence is longer than the name's run of three backticks
   EXPECT_NE(md.find("\n````\ncalibration of"), std::string::npos) << md;
 }
+
+// Rough edges 13: the report's pictures. Tick labels that the (noenhanced) terminal can print ('1e%L', not
+// the literal '10^{%L}'), exact zeros left out of log axes (they were drawn at 1e-18 as if data) and
+// counted, the singularity map's colour range from its data, axes with units and the fixed joints stated,
+// the calibration plot's unit named.
+TEST(ValidateReport, PicturesSayWhatTheyShow) {
+  const std::string dir = tempDir() + "/report_pictures";
+  const CliRun r =
+      run("validate " + std::string(LOWPAIR_SCENARIOS) + "/stanford_corke_actual.yaml --samples 300 --report " + dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto slurp = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+  };
+  const std::string script = slurp(dir + "/stanford-corke-actual.gnuplot");
+  ASSERT_FALSE(script.empty());
+  EXPECT_EQ(script.find("10^{"), std::string::npos);
+  EXPECT_NE(script.find("set format y '1e%L'"), std::string::npos);
+  EXPECT_EQ(script.find("set cbrange [-8:0]"), std::string::npos) << "the colour range comes from the data";
+  EXPECT_NE(script.find("'q2 (rad)'"), std::string::npos);
+  EXPECT_NE(script.find("other joints fixed: q1 = "), std::string::npos);
+  EXPECT_NE(script.find("'position error (m)'"), std::string::npos);
+  // the elbow's POE and MuJoCo agree exactly on many samples: those zeros are NaN (not drawn) and counted
+  const std::string elbow = tempDir() + "/report_zeros";
+  ASSERT_EQ(run("validate " + model("elbow_mls.xml") + " --tip tool --samples 300 --report " + elbow).status, 0);
+  const std::string errors = slurp(elbow + "/elbow_mls_errors.dat");
+  EXPECT_EQ(errors.find("1e-18"), std::string::npos) << "zeros drawn at 1e-18";
+  EXPECT_NE(errors.find("NaN"), std::string::npos);
+  EXPECT_NE(slurp(elbow + "/elbow_mls.gnuplot").find("errors exactly 0, not drawn (log axis)"), std::string::npos);
+}

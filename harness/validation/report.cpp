@@ -270,6 +270,7 @@ std::string plotted(const ScenarioResult& r) {
 void plots(const fs::path& dir, const ScenarioResult& r) {
   const std::string base = safe(r.scenario.name);
   const fs::path data = dir / (base + "_errors.dat");
+  long long exact_zeros = 0;  // plotted errors that are exactly 0 (not drawn on a log axis)
   {
     // the bounded subsample of every comparison (the same samples for all: one stride per run)
     std::ostringstream out;
@@ -281,8 +282,16 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
     for (size_t k = 0; k < points; ++k) {
       out << static_cast<long long>(k) * stride;
       for (const auto& c : r.comparisons) {
-        // log axes: exact agreement (0) is drawn at 1e-18
-        out << " " << std::max(1e-18f, c.rotation_errors[k]) << " " << std::max(1e-18f, c.translation_errors[k]);
+        // log axes: an exact agreement (0) has no place on them; it is written as NaN, which gnuplot does not
+        // draw, and counted in the picture's title
+        for (const float e : {c.rotation_errors[k], c.translation_errors[k]}) {
+          if (e > 0) {
+            out << " " << e;
+          } else {
+            out << " NaN";
+            ++exact_zeros;
+          }
+        }
       }
       out << "\n";
     }
@@ -327,8 +336,11 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
   gp << "set terminal pngcairo noenhanced size 1200,800 font ',10'\n"
      << "set output " << gpString(base + "_errors.png") << "\n"
      << "set multiplot layout 2,1 title " << gpString(r.scenario.name + ": error against MuJoCo, " + plotted(r) +
-                                                     " (L = " + std::to_string(r.size) + ")") << "\n"
-     << "set logscale y\nset format y '10^{%L}'\nset yrange [1e-18:1e-9]\nset key top left\nset grid\n"
+                                                     " (L = " + shortest(r.size) + ")" +
+                                                     (exact_zeros > 0 ? "; " + std::to_string(exact_zeros) +
+                                                                            " errors exactly 0, not drawn (log axis)"
+                                                                      : std::string())) << "\n"
+     << "set logscale y\nset format y '1e%L'\nset yrange [1e-18:1e-9]\nset key top left\nset grid\n"
      << "set ylabel 'rotation error (rad)'\n"
      << "plot ";
   for (size_t c = 0; c < r.comparisons.size(); ++c) {
@@ -373,13 +385,33 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
       writeChecked(dir / map_name, out.str());
     }
     const std::string jx = std::to_string(r.map_joints[0]), jy = std::to_string(r.map_joints[1]);
-    gp << "reset\nset terminal pngcairo noenhanced size 900,760 font ',10'\n"
+    auto unitOf = [&](int joint) {
+      return r.map_prismatic[static_cast<size_t>(joint - 1)] ? std::string("length") : std::string("rad");
+    };
+    // the colour range of the data, so the singular curves are the darkest it shows
+    double lo = 0, hi = 0;
+    if (!r.map_log_sigma.empty()) {
+      lo = *std::min_element(r.map_log_sigma.begin(), r.map_log_sigma.end());
+      hi = *std::max_element(r.map_log_sigma.begin(), r.map_log_sigma.end());
+    }
+    if (!(hi > lo)) hi = lo + 1;
+    std::string fixed_values;
+    for (size_t i = 0; i < r.map_fixed.size(); ++i) {
+      const int joint = static_cast<int>(i) + 1;
+      if (joint == r.map_joints[0] || joint == r.map_joints[1]) continue;
+      fixed_values += (fixed_values.empty() ? "" : ", ") + std::string("q") + std::to_string(joint) + " = " +
+                      shortest(r.map_fixed[i]);
+    }
+    gp << "reset\nset terminal pngcairo noenhanced size 1000,860 font ',10'\n"
        << "set output " << gpString(base + "_singularity_map.png") << "\n"
-       << "set title " << gpString(r.scenario.name + ": log10 sigma_min of the dimensionless Jacobian over joints " + jx +
-                                   " and " + jy + " (others fixed); dark = singular") << "\n"
-       << "set xlabel 'q" << jx << "'\nset ylabel 'q" << jy << "'\n"
-       << "set view map\nset palette defined (-8 'black', -5 'dark-red', -2 'orange', 0 'yellow')\n"
-       << "set cbrange [-8:0]\nset cblabel 'log10 sigma_min'\nset xrange [*:*] noextend\nset yrange [*:*] noextend\n"
+       << "set title " << gpString(r.scenario.name + ": log10 sigma_min of the dimensionless Jacobian; dark = singular") << "\n"
+       << "set label 1 " << gpString("other joints fixed: " + (fixed_values.empty() ? std::string("none") : fixed_values))
+       << " at graph 0, graph -0.12 left\nset bmargin 7\n"
+       << "set xlabel " << gpString("q" + jx + " (" + unitOf(r.map_joints[0]) + ")") << "\nset ylabel "
+       << gpString("q" + jy + " (" + unitOf(r.map_joints[1]) + ")") << "\n"
+       << "set view map\nset palette defined (0 'black', 0.3 'dark-red', 0.7 'orange', 1 'yellow')\n"
+       << "set cbrange [" << shortest(lo) << ":" << shortest(hi) << "]\nset cblabel 'log10 sigma_min'\n"
+       << "set xrange [*:*] noextend\nset yrange [*:*] noextend\n"
        << "splot " << gpString(map_name) << " using 1:2:3 with pm3d notitle\n";
   }
   for (size_t k = 0; k < r.calibrations.size(); ++k) {
@@ -390,9 +422,15 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
       std::ostringstream out;
       out << "# validation pose, position error before, after (length unit of the nominal)\n";
       for (size_t i = 0; i < c.validation_position_before.size(); ++i) {
-        // log axis: an exact 0 is drawn at 1e-18
-        out << i + 1 << " " << std::max(1e-18, c.validation_position_before[i]) << " "
-            << std::max(1e-18, c.validation_position_after[i]) << "\n";
+        out << i + 1;
+        for (const double e : {c.validation_position_before[i], c.validation_position_after[i]}) {
+          if (e > 0) {
+            out << " " << e;
+          } else {
+            out << " NaN";  // an exact 0 has no place on the log axis: not drawn
+          }
+        }
+        out << "\n";
       }
       writeChecked(dir / (name + ".dat"), out.str());
     }
@@ -401,7 +439,12 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
        << "set title " << gpString(r.scenario.name + ", calibration '" + c.config.name +
                                    "': position error on the noise-free validation poses") << "\n"
        << "set logscale y\nset format y '1e%L'\nset grid\nset key outside right top\n"
-       << "set xlabel 'validation pose'\nset ylabel 'position error (length unit of the nominal)'\n"
+       << "set xlabel 'validation pose'\nset ylabel "
+       << gpString("position error (" +
+                   (c.report && !c.report->nominal.length_unit.empty() ? c.report->nominal.length_unit
+                                                                       : std::string("length unit of the nominal")) +
+                   ")")
+       << "\n"
        << "plot " << gpString(name + ".dat") << " using 1:2 with linespoints pt 7 ps 0.4 title 'nominal (before)', "
        << gpString(name + ".dat") << " using 1:3 with linespoints pt 7 ps 0.4 title 'calibrated (after)'";
     if (c.config.tolerance_position > 0) {

@@ -269,6 +269,10 @@ void singularityMap(const Scenario& scenario, const Setup& setup, ScenarioResult
   }
   const int size = 151;
   result.map_joints = joints;
+  result.map_fixed.assign(q.data(), q.data() + q.size());
+  for (int i = 0; i < n; ++i) {
+    result.map_prismatic.push_back(setup.robot->joints()[static_cast<size_t>(i)].type == JointType::Prismatic);
+  }
   result.map_size = size;
   result.map_range_x = setup.ranges[static_cast<size_t>(joints[0] - 1)];
   result.map_range_y = setup.ranges[static_cast<size_t>(joints[1] - 1)];

@@ -83,6 +83,8 @@ struct ScenarioResult {
   std::vector<SingularPoseResult> singular_poses;
   /// log10 sigma_min of the dimensionless Jacobian over the map grid (row-major, map_size^2).
   std::vector<int> map_joints;
+  std::vector<double> map_fixed;         ///< q of every joint where the map holds it (the map's two vary)
+  std::vector<bool> map_prismatic;       ///< per joint: a length (prismatic), else an angle (rad)
   std::array<double, 2> map_range_x{}, map_range_y{};
   int map_size = 0;
   std::vector<double> map_log_sigma;
