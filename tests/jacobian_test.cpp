@@ -47,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "expect_invalid.hpp"
 #include "lowpair/convert.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
@@ -674,18 +675,8 @@ TEST(Jacobian, ConversionsInvertAndMayAlias) {
   EXPECT_LE(worst, 64 * kEpsD);
 }
 
-namespace {
-// `call` throws std::invalid_argument whose message is exactly `message`.
-template <class Call>
-void expectInvalid(const Call& call, const std::string& message) {
-  try {
-    call();
-    ADD_FAILURE() << "no exception; expected \"" << message << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), message);
-  }
-}
-}  // namespace
+using lowpair_test::expectInvalid;
+
 
 // Sizes are checked in every build type (this suite runs in Release): q, the Data (a Data made for a model
 // with fewer joints was an out-of-bounds write in Release) and the output columns.

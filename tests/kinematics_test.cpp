@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "expect_invalid.hpp"
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
@@ -19,6 +20,7 @@
 #include "sincos.hpp"
 
 using namespace lowpair;
+using lowpair_test::expectInvalid;
 
 namespace {
 
@@ -190,17 +192,6 @@ PoeModel planarChain(int n) {
   Pose tool;
   tool.p << n, 0, 0;
   return PoeModel(specs, tool, std::to_string(n) + "R");
-}
-
-// `call` throws std::invalid_argument whose message is exactly `message`.
-template <class Call>
-void expectInvalid(const Call& call, const std::string& message) {
-  try {
-    call();
-    ADD_FAILURE() << "no exception; expected \"" << message << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), message);
-  }
 }
 
 }  // namespace

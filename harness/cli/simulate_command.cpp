@@ -80,8 +80,6 @@ Truth modelTruth(const SimulateOptions& o) {
   truth.variable = sampled.file_model ? o.joint_variables + " (motion x = scale (q + offset))"
                                       : "MuJoCo's qpos - qpos0 of " + o.robot.path;
   truth.length_unit = sampled.length_unit;
-  // MuJoCo reads a URDF's lengths as URDF fixes them, in metres, whatever the joint-variable file states
-  if (fs::path(o.robot.path).extension() == ".urdf") truth.length_unit = "m";
   truth.ranges = sampled.ranges;
   std::vector<JointMotion> variables = std::move(sampled.motions);
   auto evaluator = std::make_shared<MujocoRobot::Evaluator>(*robot);

@@ -44,10 +44,6 @@ int writeAll(int fd, const std::string& content) {
   return 0;
 }
 
-}  // namespace
-
-namespace {
-
 // Writes `content` to an exclusive temporary beside `path`; returns the temporary's path.
 // @throws RobotFileError (the temporary removed)
 std::string writeTemporary(const std::string& path, const std::string& content) {
@@ -75,10 +71,6 @@ std::string writeTemporary(const std::string& path, const std::string& content) 
   fs::remove(temporary, ec);
   throw failure(errorText(error));
 }
-
-}  // namespace
-
-namespace {
 
 // Where an output path is written: `path` is the file to replace atomically, or, when `direct`, the
 // device, FIFO or descriptor path to open and write.
@@ -121,22 +113,22 @@ bool throughProc(const std::string& path) {
 OutputTarget classifyOutput(const std::string& path) {
   auto failure = [&path](const std::string& reason) { return RobotFileError(path + ": cannot write: " + reason); };
   if (path.empty() || !fs::path(path).has_filename()) throw failure("not a file name");
-  bool descriptor = throughProc(path);
+  // follow the links to the file they end at, stopping at a descriptor path: its magic link ("pipe:[123]",
+  // "/dev/pts/0") is not a path to rename onto
+  bool descriptor = false;
   std::string end = path;
   for (int hop = 0;; ++hop) {
+    if (throughProc(end)) {
+      descriptor = true;
+      break;
+    }
     struct stat link {};
     if (::lstat(end.c_str(), &link) != 0 || !S_ISLNK(link.st_mode)) break;
     if (hop >= kMaxSymlinkHops) throw failure("too many levels of symbolic links");
     std::error_code ec;
     const fs::path next = fs::read_symlink(end, ec);
     if (ec) throw failure(ec.message());
-    // a descriptor's magic link ("pipe:[123]", "socket:[4]", "/dev/pts/0") is not a path to rename onto
-    if (descriptor || throughProc(end)) {
-      descriptor = true;
-      break;
-    }
     end = next.is_absolute() ? next.string() : (fs::path(end).parent_path() / next).string();
-    descriptor = descriptor || throughProc(end);
   }
   struct stat info {};
   if (::stat(path.c_str(), &info) != 0) {
@@ -181,7 +173,7 @@ void writeFileAtomically(const std::string& path, const std::string& content) {
 StagedFiles::~StagedFiles() {
   std::error_code ec;
   for (const Entry& e : entries_) {
-    if (!e.direct) fs::remove(e.temporary, ec);
+    if (!e.direct()) fs::remove(e.temporary, ec);
   }
 }
 
@@ -189,16 +181,16 @@ void StagedFiles::stage(const std::string& path, const std::string& content) {
   entries_.reserve(entries_.size() + 1);  // the push_back below cannot throw once the temporary exists
   const OutputTarget target = classifyOutput(path);
   if (target.direct) {
-    entries_.push_back(Entry{target.path, std::string(), content, true, target.descriptor});
+    entries_.push_back(Entry{target.path, std::string(), content, target.descriptor});
   } else {
-    entries_.push_back(Entry{target.path, writeTemporary(target.path, content), std::string(), false});
+    entries_.push_back(Entry{target.path, writeTemporary(target.path, content), std::string(), -1});
   }
 }
 
 void StagedFiles::commit() {
   while (!entries_.empty()) {
     const Entry& e = entries_.front();
-    if (e.direct) {
+    if (e.direct()) {
       writeDirectly(e.target, e.descriptor, e.content);
     } else {
       std::error_code ec;

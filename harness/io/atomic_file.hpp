@@ -37,10 +37,10 @@ class StagedFiles {
 
  private:
   struct Entry {
-    std::string target, temporary;
-    std::string content;  // for a direct write only, written by commit()
-    bool direct = false;
-    int descriptor = -1;  // this process's descriptor, for /dev/stdout and the like
+    std::string target, temporary;  // no temporary: written directly by commit() (a device, FIFO, descriptor)
+    std::string content;            // for a direct write only
+    int descriptor = -1;            // this process's descriptor, for /dev/stdout and the like
+    bool direct() const { return temporary.empty(); }
   };
   std::vector<Entry> entries_;
 };

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <optional>
 #include <sstream>
 
@@ -50,8 +49,7 @@ MeasurementFile simulatedMeasurements(const CalibrationCase& c, MujocoRobot::Eva
 }
 
 CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const CalibrationCase& config,
-                                         const MujocoRobot& robot, const std::vector<JointMotion>& variables,
-                                         const std::vector<std::array<double, 2>>& ranges) {
+                                         const MujocoRobot& robot, const SampledVariable& sampled) {
   const RobotFile nominal_file = readRobotFile(config.nominal);
   const PoeModel nominal = nominal_file.poeModel();
   if (nominal.dof() != robot.dof()) {
@@ -59,13 +57,9 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
                          scenario.tip + "' in " + scenario.model + " has " + std::to_string(robot.dof()) +
                          " (calibration '" + config.name + "' of " + scenario.path + ")");
   }
-  // the measurements' length unit: a URDF's is the metre, a joint-variable robot file states its own, an
-  // MJCF states none; a nominal in another unit would be fitted as a robot of the wrong size
-  // (MuJoCo reads a URDF's lengths in metres whatever a joint-variable file states, as simulate says)
-  const bool urdf = std::filesystem::path(scenario.model).extension() == ".urdf";
-  const std::string measured_unit = urdf                               ? std::string("m")
-                                    : !scenario.joint_variables.empty() ? readRobotFile(scenario.joint_variables).length_unit
-                                                                        : std::string();
+  // the measurements' length unit against the nominal's: in another, it would be fitted as a robot of the
+  // wrong size
+  const std::string& measured_unit = sampled.length_unit;
   if (!measured_unit.empty() && !nominal_file.length_unit.empty() && measured_unit != nominal_file.length_unit) {
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': the measurements of " + scenario.model +
                          " are in " + measured_unit + " but the nominal " + config.nominal + " is in " +
@@ -83,9 +77,9 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
   MujocoRobot::Evaluator mujoco(robot);
   const std::string where = scenario.name + ", calibration '" + config.name + "'";
   const MeasurementFile fit =
-      simulatedMeasurements(config, mujoco, variables, ranges, 0, config.poses, true, where + ": simulated measurements");
+      simulatedMeasurements(config, mujoco, sampled.motions, sampled.ranges, 0, config.poses, true, where + ": simulated measurements");
   const std::optional<MeasurementFile> validation =
-      simulatedMeasurements(config, mujoco, variables, ranges, config.poses, config.validation_poses, false,
+      simulatedMeasurements(config, mujoco, sampled.motions, sampled.ranges, config.poses, config.validation_poses, false,
               where + ": noise-free validation measurements");
 
   CalibrationOptions options;

@@ -40,11 +40,10 @@ io::MeasurementFile simulatedMeasurements(const CalibrationCase& c, mujoco::Mujo
                                           const std::vector<JointMotion>& variables, const std::vector<Range>& ranges,
                                           int first, int count, bool noisy, std::string label);
 
-/// @param variables the sampled joint variable's map to MuJoCo's motion (x_i = variables[i].motion(q_i))
-/// @param ranges sampling ranges of q (validate's)
-/// @throws io::RobotFileError for a nominal robot file that cannot be read or does not match the chain
+/// @param sampled the scenario's sampled joint variable: its map to MuJoCo's motion, ranges and length unit
+/// @throws io::RobotFileError for a nominal robot file that cannot be read, does not match the chain, or is
+/// in another length unit than the measurements
 CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const CalibrationCase& config,
-                                         const mujoco::MujocoRobot& robot, const std::vector<JointMotion>& variables,
-                                         const std::vector<std::array<double, 2>>& ranges);
+                                         const mujoco::MujocoRobot& robot, const SampledVariable& sampled);
 
 }  // namespace lowpair::validation

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <random>
 #include <stdexcept>
 
@@ -96,6 +97,7 @@ SampledVariable sampledVariable(const mujoco::MujocoRobot& robot, const std::str
     for (int i = 0; i < n; ++i) v.motions[static_cast<size_t>(i)] = v.file_model->joint(i);
     v.length_unit = file.length_unit;
   }
+  if (std::filesystem::path(model_path).extension() == ".urdf") v.length_unit = "m";
   if (!given.empty() && static_cast<int>(given.size()) != n) {
     throw io::RobotFileError(subject + ": ranges has " + std::to_string(given.size()) + " entries for " +
                              std::to_string(n) + " joints");

@@ -40,7 +40,9 @@ struct SampledVariable {
   std::vector<JointMotion> motions;     ///< x_i = motions[i].motion(q_i)
   std::optional<PoeModel> file_model;   ///< the joint-variable robot file's model, when one is given
   std::vector<Range> ranges;            ///< per joint, in q
-  std::string length_unit;              ///< of q's prismatic joints: the file's, "" for MuJoCo's own
+  /// The unit of the measured lengths: "m" for a URDF (MuJoCo reads it in metres, whatever a joint-variable
+  /// file states), else the joint-variable file's, else "" (an MJCF states none)
+  std::string length_unit;
 };
 
 /// @throws io::RobotFileError for a joint-variable file that does not describe the chain, or a `given` of

@@ -66,8 +66,7 @@ struct Setup {
   std::unique_ptr<MujocoRobot> robot;
   std::unique_ptr<PoeModel> poe;  // extracted from MuJoCo: its joint variable is the motion x
   double L = 1.0;
-  std::vector<JointMotion> variables;  // x_i = variables[i].motion(q_i)
-  std::vector<std::array<double, 2>> ranges;  // per joint, in the sampled variable
+  SampledVariable sampled;  // q, its map to the motion x (x_i = motions[i].motion(q_i)), ranges and unit
   std::vector<std::unique_ptr<Comparison>> comparisons;
 };
 
@@ -105,10 +104,8 @@ Setup prepare(const Scenario& scenario) {
   const double L = setup.L = poe.lengthScale();
 
   // the sampled variable (a joint_variables robot file's q, or MuJoCo's own) and its ranges: sampling.hpp
-  SampledVariable sampled =
+  setup.sampled =
       sampledVariable(robot, scenario.joint_variables, scenario.model, scenario.tip, scenario.ranges, scenario.path);
-  setup.variables = std::move(sampled.motions);
-  setup.ranges = std::move(sampled.ranges);
 
   // the comparisons: poe, dh, each robot file (poses), then the Jacobian
   const double tr = scenario.tol_rotation, tt = scenario.tol_translation * L;
@@ -175,7 +172,7 @@ void runSamples(const Setup& setup, const SampleStream& stream, int threads, Sce
         const long long end = std::min(count, (chunk + 1) * kChunk);
         for (long long s = chunk * kChunk; s < end; ++s) {
           stream.q(s, q);
-          for (int i = 0; i < n; ++i) x[i] = setup.variables[static_cast<size_t>(i)].motion(q[i]);
+          for (int i = 0; i < n; ++i) x[i] = setup.sampled.motions[static_cast<size_t>(i)].motion(q[i]);
           const Pose T = mujoco.tipJacobian(x, J);  // one mj_kinematics: pose and Jacobian
           const ReferenceSample sample{x, T, J};
           for (size_t c = 0; c < n_cmp; ++c) {
@@ -223,7 +220,7 @@ SingularPoseResult checkSingularPose(const Setup& setup, MujocoRobot::Evaluator&
   const int n = setup.robot->dof();
   VecX x(n);
   Mat6X J(6, n);
-  for (int i = 0; i < n; ++i) x[i] = setup.variables[static_cast<size_t>(i)].motion(sp.q[static_cast<size_t>(i)]);
+  for (int i = 0; i < n; ++i) x[i] = setup.sampled.motions[static_cast<size_t>(i)].motion(sp.q[static_cast<size_t>(i)]);
   const SingularityReport report = analyzeSingularity(*setup.poe, x);
   mujoco.tipJacobian(x, J);
   SingularPoseResult out;
@@ -262,7 +259,7 @@ void singularityMap(const Scenario& scenario, const Setup& setup, ScenarioResult
   }
   VecX q(n), x(n);
   for (int i = 0; i < n; ++i) {
-    const auto& r = setup.ranges[static_cast<size_t>(i)];
+    const auto& r = setup.sampled.ranges[static_cast<size_t>(i)];
     q[i] = !scenario.map_fixed.empty() ? scenario.map_fixed[static_cast<size_t>(i)]
            : setup.robot->joints()[static_cast<size_t>(i)].type == JointType::Prismatic ? 0.5 * (r[0] + r[1])
                                                                                         : 0.4;
@@ -274,8 +271,8 @@ void singularityMap(const Scenario& scenario, const Setup& setup, ScenarioResult
     result.map_prismatic.push_back(setup.robot->joints()[static_cast<size_t>(i)].type == JointType::Prismatic);
   }
   result.map_size = size;
-  result.map_range_x = setup.ranges[static_cast<size_t>(joints[0] - 1)];
-  result.map_range_y = setup.ranges[static_cast<size_t>(joints[1] - 1)];
+  result.map_range_x = setup.sampled.ranges[static_cast<size_t>(joints[0] - 1)];
+  result.map_range_y = setup.sampled.ranges[static_cast<size_t>(joints[1] - 1)];
   result.map_log_sigma.assign(static_cast<size_t>(size * size), 0.0);
   Data data(*setup.poe);
   Mat6X J(6, n);
@@ -283,7 +280,7 @@ void singularityMap(const Scenario& scenario, const Setup& setup, ScenarioResult
     for (int b = 0; b < size; ++b) {
       q[joints[0] - 1] = result.map_range_x[0] + (result.map_range_x[1] - result.map_range_x[0]) * b / (size - 1);
       q[joints[1] - 1] = result.map_range_y[0] + (result.map_range_y[1] - result.map_range_y[0]) * a / (size - 1);
-      for (int i = 0; i < n; ++i) x[i] = setup.variables[static_cast<size_t>(i)].motion(q[i]);
+      for (int i = 0; i < n; ++i) x[i] = setup.sampled.motions[static_cast<size_t>(i)].motion(q[i]);
       computeJacobians(*setup.poe, data, x);
       getGeometricJacobian(data, J);
       result.map_log_sigma[static_cast<size_t>(a * size + b)] =
@@ -318,7 +315,7 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
   const long long total = options.samples ? *options.samples : scenario.samples;
   const unsigned long long seed = options.seed ? *options.seed : scenario.seed;
   const long long lo = total * (options.shard - 1) / options.shards, hi = total * options.shard / options.shards;
-  const SampleStream stream(std::move(poses), setup.ranges, seed, lo, hi);
+  const SampleStream stream(std::move(poses), setup.sampled.ranges, seed, lo, hi);
   if (stream.size() == 0) throw RobotFileError(subject(scenario) + ": nothing to validate (no samples in this shard and no named poses)");
 
   ScenarioResult result;
@@ -337,7 +334,7 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
   if (options.singularity_map && n >= 3) singularityMap(scenario, setup, result);
   if (options.shard == 1) {
     for (const CalibrationCase& c : scenario.calibrations) {
-      result.calibrations.push_back(runCalibrationCase(scenario, c, *setup.robot, setup.variables, setup.ranges));
+      result.calibrations.push_back(runCalibrationCase(scenario, c, *setup.robot, setup.sampled));
       result.pass = result.pass && result.calibrations.back().pass;
     }
   }
