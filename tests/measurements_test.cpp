@@ -301,13 +301,13 @@ TEST(MeasurementCsv, ErrorsNameFileAndLine) {
       {"# c\n\n" + header + good + good + good + "0,0,0,0,0,0,1,2,3,1,0,0\n", ":7: expected 13 numbers, got 12"},
       {header + "0,0,0,0,0,0,1,2,3,1,0,0,0,0\n", ":2: expected 13 numbers, got 14"},
       {header + good + "\n", ""},
-      {"q1,foo,x,y,z\n", ":1: unexpected column 'foo' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
-      {"x,y,z\n", ":1: unexpected column 'x' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
-      {"q1,q3,x,y,z\n", ":1: unexpected column 'q3' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
-      {"q1,x,y\n", ":1: missing column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
-      {"q1,x,y,z,qw,qx,qy\n", ":1: missing column 'qz' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
-      {"q1,x,y,z,qw,qx,qy,qz,extra\n", ":1: unexpected column 'extra' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
-      {"q1,x,z,y\n", ":1: unexpected column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"q1,foo,x,y,z\n", ":1: unexpected column 'foo' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"x,y,z\n", ":1: unexpected column 'x' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,q3,x,y,z\n", ":1: unexpected column 'q3' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,x,y\n", ":1: missing column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,x,y,z,qw,qx,qy\n", ":1: missing column 'qz' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,x,y,z,qw,qx,qy,qz,extra\n", ":1: unexpected column 'extra' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,x,z,y\n", ":1: unexpected column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
       {header + good + "\n\n0,0,abc,0,0,0,1,2,3,1,0,0,0\n", ":5: 'abc' is not a number"},
       {header + "0,0,,0,0,0,1,2,3,1,0,0,0\n", ":2: '' is not a number"},
       {header + "0,0,1.5x,0,0,0,1,2,3,1,0,0,0\n", ":2: '1.5x' is not a number"},
@@ -320,8 +320,8 @@ TEST(MeasurementCsv, ErrorsNameFileAndLine) {
       {header + "0,0,0,0,0,0,1,2,3,1.00001,0,0,0\n", ":2: qw..qz is not a unit quaternion (norm 1.00001)"},
       {header + "0,0,0,0,0,0,1,2,3,0,0,0,0\n", ":2: qw..qz is not a unit quaternion (norm 0)"},
       {"# only a header\n" + header, ": no measurements"},
-      {"", ": no header line (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
-      {"# comments\n\n", ": no header line (expected q1..qn,x,y,z[,qw,qx,qy,qz])"},
+      {"", ": no header line (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"# comments\n\n", ": no header line (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
       {"# length_unit: mm\n" + header + good + "  #length_unit:cm\n", ":4: length_unit 'cm' after length_unit 'mm'"},
       {header + "# length_unit:\n" + good, ":2: length_unit '' is not a unit label (one token of 1-16 printable ASCII characters)"},
       {"# length_unit: milli metre\n" + header + good,
@@ -374,4 +374,141 @@ TEST(MeasurementCsv, JointAndMeasurementLimits) {
   // the error on line 1000002 means the 1000000 measurements before it were read
   const std::string beyond = writeText("many.csv", many + "0,0,0,0\n");
   EXPECT_EQ(readError(beyond), beyond + ":1000002: more than 1000000 measurements");
+}
+
+// Target measurements (a laser tracker's SMRs): one row per target per pose, `q1..qn,target,x,y,z`.
+namespace {
+
+// `count` poses of `dof` joints, each measuring every target in `order` (indices into the names).
+std::vector<Measurement> targetMeasurements(int count, int dof, const std::vector<int>& order, unsigned seed) {
+  std::vector<Measurement> out;
+  for (const Measurement& pose : randomMeasurements(count, dof, seed)) {
+    for (const int k : order) {
+      Measurement m;
+      m.q = pose.q;
+      m.T_base_tool.p = pose.T_base_tool.p + Vec3::Constant(0.25 * k);
+      m.target = k;
+      out.push_back(m);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(MeasurementCsv, TargetsRoundTripIsBitExactWithNamesInOrderOfFirstAppearance) {
+  // names the CSV takes as they stand (YAML and CSV specials but no comma, space or quote)
+  const std::vector<std::string> names = {"smr_a", "SMR-2", "#3", "null", "~", "x;y|z", std::string(64, 'n')};
+  const std::vector<int> order = {2, 0, 6, 5, 4, 3, 1};  // the file names target 2 first
+  const auto measurements = targetMeasurements(20, 6, order, 11);
+  const std::string path =
+      writeText("targets.csv", formatMeasurements(Measure::Targets, measurements, {"length_unit: mm"}, names));
+  const MeasurementFile file = readMeasurements(path);
+  EXPECT_EQ(file.measure, Measure::Targets);
+  EXPECT_EQ(file.dof, 6);
+  EXPECT_EQ(file.length_unit, "mm");
+  const std::vector<std::string> first_seen = {names[2], names[0], names[6], names[5], names[4], names[3], names[1]};
+  EXPECT_EQ(file.target_names, first_seen);
+  ASSERT_EQ(file.measurements.size(), measurements.size());
+  for (size_t k = 0; k < measurements.size(); ++k) {
+    const Measurement& a = measurements[k];
+    const Measurement& b = file.measurements[k];
+    ASSERT_GE(b.target, 0);
+    ASSERT_LT(static_cast<size_t>(b.target), file.target_names.size());
+    EXPECT_EQ(file.target_names[static_cast<size_t>(b.target)], names[static_cast<size_t>(a.target)]) << "row " << k;
+    for (int i = 0; i < 6; ++i) EXPECT_TRUE(sameBits(a.q[i], b.q[i])) << a.q[i] << " read as " << b.q[i];
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(sameBits(a.T_base_tool.p[i], b.T_base_tool.p[i]));
+    EXPECT_EQ(b.T_base_tool.R, Mat3::Identity());
+  }
+  // the other measures leave the target unset
+  EXPECT_EQ(readMeasurements(writeText("position.csv", "q1,x,y,z\n0,1,2,3\n")).measurements[0].target, -1);
+  EXPECT_TRUE(readMeasurements(writeText("position.csv", "q1,x,y,z\n0,1,2,3\n")).target_names.empty());
+}
+
+TEST(MeasurementCsv, TargetsWriterFormatAndReaderTrimming) {
+  Measurement m;
+  m.q = Eigen::Vector2d(0.5, -2.0);
+  m.T_base_tool.p = Vec3(1.0, 2.5, -3.0);
+  m.target = 1;
+  EXPECT_EQ(formatMeasurements(Measure::Targets, {m}, {"smr"}, {"a", "b2"}), "# smr\nq1,q2,target,x,y,z\n0.5,-2,b2,1,2.5,-3\n");
+  // a name is trimmed of spaces and tabs as every field is; the same name twice is one target
+  const MeasurementFile file =
+      readMeasurements(writeText("trim.csv", " q1 ,target\t, x,y,z\n1, \tsmr1 ,2,3,4\n5,smr1,6,7,8\n9,smr2,0,0,0\n"));
+  EXPECT_EQ(file.target_names, (std::vector<std::string>{"smr1", "smr2"}));
+  ASSERT_EQ(file.measurements.size(), 3u);
+  EXPECT_EQ(file.measurements[0].target, 0);
+  EXPECT_EQ(file.measurements[1].target, 0);
+  EXPECT_EQ(file.measurements[2].target, 1);
+  EXPECT_EQ(file.measurements[1].T_base_tool.p, Vec3(6, 7, 8));
+  EXPECT_EQ(file.measurements[1].q[0], 5.0);
+}
+
+TEST(MeasurementCsv, TargetsWriterRefusesWhatWouldNotReadBack) {
+  Measurement m;
+  m.q = VecX::Constant(1, 0.0);
+  m.target = 0;
+  for (const std::string& bad : {std::string(), std::string("a b"), std::string("a,b"), std::string("a\"b"),
+                                 std::string("it's"), std::string(65, 'n'), std::string("\xC2\xB5m")}) {
+    EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, {bad}), std::invalid_argument) << bad;
+  }
+  EXPECT_NO_THROW(formatMeasurements(Measure::Targets, {m}, {}, {std::string(64, 'n')}));
+  EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, {"a", "a"}), std::invalid_argument);  // repeated
+  EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, {}), std::invalid_argument);          // no name for 0
+  m.target = 2;
+  EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, {"a", "b"}), std::invalid_argument);
+  m.target = -1;
+  EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, {"a"}), std::invalid_argument);
+  EXPECT_THROW(formatMeasurements(Measure::Position, {m}, {}, {"a"}), std::invalid_argument);  // names, no column
+  std::vector<std::string> many;
+  for (int k = 0; k <= kMaxTargets; ++k) many.push_back("t" + std::to_string(k));
+  m.target = 0;
+  EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, many), std::invalid_argument);
+}
+
+TEST(MeasurementCsv, TargetsErrorsNameFileAndLine) {
+  const std::string header = "q1,q2,target,x,y,z\n";
+  const std::string rule = " (a target name is 1-64 printable ASCII characters without spaces, commas or quotes)";
+  struct Case {
+    std::string text, error;
+  };
+  const Case cases[] = {
+      {header + "0,0,smr,1,2,3\n", ""},
+      {header + "0,0,smr,1,2,3\n0,0,,1,2,3\n", ":3: target '' is empty" + rule},
+      {header + "0,0,  \t ,1,2,3\n", ":2: target '' is empty" + rule},
+      {header + "0,0,smr a,1,2,3\n", ":2: target 'smr a' holds a space" + rule},
+      {header + "0,0,smr\"a\",1,2,3\n", ":2: target 'smr\"a\"' holds a quote" + rule},
+      {header + "0,0,'a',1,2,3\n", ":2: target ''a'' holds a quote" + rule},
+      {header + "0,0,\xC2\xB5m,1,2,3\n", ":2: target '??m' holds a byte outside printable ASCII" + rule},
+      {header + "0,0," + std::string(64, 'n') + ",1,2,3\n", ""},
+      {header + "0,0," + std::string(65, 'n') + ",1,2,3\n",
+       ":2: target '" + std::string(40, 'n') + "...' has 65 characters (at most 64)" + rule},
+      {header + "0,0,smr,1,2,abc\n", ":2: 'abc' is not a number"},
+      {header + "0,0,smr,1,2,nan\n", ":2: 'nan' is not a finite number"},
+      {header + "0,0,1,2,3\n", ":2: expected 6 fields, got 5"},
+      {header + "0,0,smr,1,2,3,4\n", ":2: expected 6 fields, got 7"},
+      // the header: target between the joints and x,y,z, and nothing after z
+      {"q1,x,y,z,target\n", ":1: unexpected column 'target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"target,q1,x,y,z\n", ":1: unexpected column 'target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,x,target,y,z\n", ":1: unexpected column 'target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,target,y,x,z\n", ":1: unexpected column 'y' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,target,x,y\n", ":1: missing column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,target,x,y,z,qw,qx,qy,qz\n", ":1: unexpected column 'qw' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,Target,x,y,z\n", ":1: unexpected column 'Target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,target,x,y,z\n", ": no measurements"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = writeText("t.csv", c.text);
+    EXPECT_EQ(readError(path), c.error.empty() ? "" : path + c.error) << c.text;
+  }
+}
+
+TEST(MeasurementCsv, AtMostAThousandTargetNames) {
+  std::string text = "q1,target,x,y,z\n";
+  for (int k = 0; k < kMaxTargets; ++k) text += "0,t" + std::to_string(k) + ",1,2,3\n";
+  text += "0,t0,1,2,3\n";  // a name seen before is not one more
+  const MeasurementFile file = readMeasurements(writeText("thousand.csv", text));
+  EXPECT_EQ(file.target_names.size(), static_cast<size_t>(kMaxTargets));
+  EXPECT_EQ(file.measurements.back().target, 0);
+  const std::string path = writeText("thousand_and_one.csv", text + "0,t1000,1,2,3\n");
+  EXPECT_EQ(readError(path), path + ":1003: more than 1000 distinct target names");
 }

@@ -405,13 +405,13 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
   const std::string name = robotName(file);
   ExportedRobot result;
   if (format == ExportFormat::Poe) {
-    result.text = formatPoeRobotFile(model, file, name, file.description, comments);
+    result.text = formatPoeRobotFile(model, file, name, file.description, comments, file.targets);
     return result;
   }
   if (format == ExportFormat::Dh) {
     const DhConversion conversion = poeToDh(model);
     result.notes = conversionWarnings(conversion, checkDhConversion(model, conversion.model));
-    result.text = formatDhRobotFile(conversion.model, file, name, file.description, comments);
+    result.text = formatDhRobotFile(conversion.model, file, name, file.description, comments, file.targets);
     return result;
   }
   // URDF lengths are metres (the spec; ROS and every URDF reader assume them): a robot file in another unit

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <stdexcept>
 #include <system_error>
+#include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "lowpair/tolerances.hpp"
@@ -20,20 +22,11 @@ namespace lowpair::io {
 
 namespace {
 
-const char* const kExpectedColumns = "(expected q1..qn,x,y,z[,qw,qx,qy,qz])";
+const char* const kExpectedColumns = "(expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)";
 constexpr double kUnitQuaternionTolerance = 1e-6;
 
-// Text from the file for a message: at most 40 bytes, anything but printable ASCII shown as '?'.
-std::string quoted(const std::string& text) {
-  constexpr size_t kMaxQuoted = 40;
-  std::string out = "'";
-  for (size_t i = 0; i < text.size() && i < kMaxQuoted; ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    out += c >= 0x20 && c < 0x7f ? static_cast<char>(c) : '?';
-  }
-  if (text.size() > kMaxQuoted) out += "...";
-  return out + "'";
-}
+// Text from the file for a message (robot_file.hpp).
+std::string quoted(const std::string& text) { return quotedFileText(text); }
 
 bool isBlank(char c) { return c == ' ' || c == '\t'; }
 
@@ -120,7 +113,7 @@ void readUnitComment(const std::string& line, std::string& unit, const Fail& fai
 struct Columns {
   int dof = 0;
   Measure measure = Measure::Pose;
-  size_t count() const { return static_cast<size_t>(dof) + (measure == Measure::Pose ? 7 : 3); }
+  size_t count() const { return static_cast<size_t>(dof) + (measure == Measure::Pose ? 7 : measure == Measure::Targets ? 4 : 3); }
 };
 
 // The header's columns. @param fail throws "FILE:LINE: what"
@@ -140,11 +133,14 @@ Columns parseHeader(const std::vector<std::string>& fields, const Fail& fail) {
     if (fields[k] != name || columns.dof == 0) fail("unexpected column " + quoted(fields[k]) + " " + kExpectedColumns);
     ++k;
   };
+  const bool targets = k < fields.size() && fields[k] == "target";
+  if (targets) expect("target");
   for (const char* name : {"x", "y", "z"}) expect(name);
   if (k == fields.size()) {
-    columns.measure = Measure::Position;
+    columns.measure = targets ? Measure::Targets : Measure::Position;
     return columns;
   }
+  if (targets) fail("unexpected column " + quoted(fields[k]) + " " + kExpectedColumns);
   for (const char* name : {"qw", "qx", "qy", "qz"}) expect(name);
   if (k < fields.size()) fail("unexpected column " + quoted(fields[k]) + " " + kExpectedColumns);
   return columns;
@@ -163,6 +159,46 @@ double parseNumber(const std::string& token, const Fail& fail) {
   if (!std::isfinite(x)) fail(quoted(token) + " is not a finite number");
   if (std::abs(x) > kMaxMagnitude) fail(quoted(token) + " is above 1e100 in magnitude (kMaxMagnitude)");
   return x;
+}
+
+// The index of target `name` in file.target_names, a new name appended. @param fail throws "FILE:LINE: what"
+template <class Fail>
+int targetIndex(const std::string& name, MeasurementFile& file, std::unordered_map<std::string, int>& index,
+                const Fail& fail) {
+  if (const auto it = index.find(name); it != index.end()) return it->second;
+  if (const std::string problem = targetNameProblem(name); !problem.empty()) {
+    fail("target " + quoted(name) + " " + problem + " (" + kTargetNameRule + ")");
+  }
+  if (file.target_names.size() >= static_cast<size_t>(kMaxTargets)) {
+    fail("more than " + std::to_string(kMaxTargets) + " distinct target names");
+  }
+  const int k = static_cast<int>(file.target_names.size());
+  file.target_names.push_back(name);
+  index.emplace(name, k);
+  return k;
+}
+
+// The names formatMeasurements writes: for Targets, names readMeasurements reads back as they are (valid,
+// distinct, at most kMaxTargets); for the other measures, none.
+void checkTargetNames(Measure measure, const std::vector<std::string>& target_names) {
+  if (measure != Measure::Targets) {
+    if (!target_names.empty()) {
+      throw std::invalid_argument(std::string("formatMeasurements: target names for ") + measureName(measure) +
+                                  " measurements");
+    }
+    return;
+  }
+  if (target_names.size() > static_cast<size_t>(kMaxTargets)) {
+    throw std::invalid_argument("formatMeasurements: " + std::to_string(target_names.size()) + " target names, at most " +
+                                std::to_string(kMaxTargets));
+  }
+  std::unordered_set<std::string> seen;
+  for (const std::string& name : target_names) {
+    if (const std::string problem = targetNameProblem(name); !problem.empty()) {
+      throw std::invalid_argument("formatMeasurements: target name " + quoted(name) + " " + problem);
+    }
+    if (!seen.insert(name).second) throw std::invalid_argument("formatMeasurements: target name " + quoted(name) + " repeats");
+  }
 }
 
 void appendNumber(std::string& out, double x) {
@@ -193,6 +229,7 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
   std::vector<std::string> fields;
   bool have_header = false;
   Columns columns;
+  std::unordered_map<std::string, int> target_index;  // name -> index into file.target_names
   while (lines.next(line)) {
     if (lines.number() > kMaxMeasurementLines) {
       fail("more than " + std::to_string(kMaxMeasurementLines) + " lines (comments and blank lines count)");
@@ -211,7 +248,8 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
       continue;
     }
     if (fields.size() != columns.count()) {
-      fail("expected " + std::to_string(columns.count()) + " numbers, got " + std::to_string(fields.size()));
+      fail("expected " + std::to_string(columns.count()) + (columns.measure == Measure::Targets ? " fields" : " numbers") +
+           ", got " + std::to_string(fields.size()));
     }
     if (file.measurements.size() >= static_cast<size_t>(kMaxMeasurements)) {
       fail("more than " + std::to_string(kMaxMeasurements) + " measurements");
@@ -223,7 +261,9 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
     const int n = columns.dof;
     m.q.resize(n);
     for (int i = 0; i < n; ++i) m.q[i] = parseNumber(fields[static_cast<size_t>(i)], fail);
-    for (int i = 0; i < 3; ++i) m.T_base_tool.p[i] = parseNumber(fields[static_cast<size_t>(n + i)], fail);
+    const int xyz = columns.measure == Measure::Targets ? n + 1 : n;  // the column of x
+    if (columns.measure == Measure::Targets) m.target = targetIndex(fields[static_cast<size_t>(n)], file, target_index, fail);
+    for (int i = 0; i < 3; ++i) m.T_base_tool.p[i] = parseNumber(fields[static_cast<size_t>(xyz + i)], fail);
     if (columns.measure == Measure::Pose) {
       double w[4];
       for (int i = 0; i < 4; ++i) w[i] = parseNumber(fields[static_cast<size_t>(n + 3 + i)], fail);
@@ -245,8 +285,9 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
 }
 
 std::string formatMeasurements(Measure measure, const std::vector<Measurement>& measurements,
-                               const std::vector<std::string>& comments) {
+                               const std::vector<std::string>& comments, const std::vector<std::string>& target_names) {
   if (measurements.empty()) throw std::invalid_argument("formatMeasurements: no measurements");
+  checkTargetNames(measure, target_names);
   const Eigen::Index n = measurements.front().q.size();
   std::string out;
   for (const std::string& comment : comments) {
@@ -261,7 +302,7 @@ std::string formatMeasurements(Measure measure, const std::vector<Measurement>& 
     }
   }
   for (Eigen::Index i = 0; i < n; ++i) out += "q" + std::to_string(i + 1) + ",";
-  out += measure == Measure::Pose ? "x,y,z,qw,qx,qy,qz\n" : "x,y,z\n";
+  out += measure == Measure::Pose ? "x,y,z,qw,qx,qy,qz\n" : measure == Measure::Targets ? "target,x,y,z\n" : "x,y,z\n";
   for (const Measurement& m : measurements) {
     if (m.q.size() != n) {
       throw std::invalid_argument("formatMeasurements: joint vectors of " + std::to_string(n) + " and " +
@@ -270,6 +311,13 @@ std::string formatMeasurements(Measure measure, const std::vector<Measurement>& 
     for (Eigen::Index i = 0; i < n; ++i) {
       appendNumber(out, m.q[i]);
       out += ',';
+    }
+    if (measure == Measure::Targets) {
+      if (m.target < 0 || static_cast<size_t>(m.target) >= target_names.size()) {
+        throw std::invalid_argument("formatMeasurements: target " + std::to_string(m.target) + " of " +
+                                    std::to_string(target_names.size()) + " target names");
+      }
+      out += target_names[static_cast<size_t>(m.target)] + ',';
     }
     for (int i = 0; i < 3; ++i) {
       if (i > 0) out += ',';

@@ -1,7 +1,7 @@
 #pragma once
 /// @file measurements.hpp
-/// The measurement CSV: joint variables and the measured tool frame, one measurement per line (written by
-/// `lowpair simulate`, read by `lowpair calibrate`).
+/// The measurement CSV: joint variables and the measured tool frame (or a point of it), one measurement per
+/// line (written by `lowpair simulate`, read by `lowpair calibrate`).
 ///
 /// Format:
 /// - Text, comma separated, lines ending in LF or CRLF; a UTF-8 byte order mark at the start is skipped.
@@ -10,14 +10,21 @@
 ///   ASCII characters, e.g. `mm`; `lowpair simulate` writes it when the unit is known). A second one with
 ///   another unit is an error. `calibrate` rejects measurements whose stated unit is not the nominal's.
 /// - Header: the first other line names the columns, exactly in this order (names trimmed of spaces and
-///   tabs): `q1,...,qn,x,y,z` (position measurements) or `q1,...,qn,x,y,z,qw,qx,qy,qz` (pose measurements),
-///   with 1 <= n <= 1000 joints numbered contiguously from q1.
+///   tabs): `q1,...,qn,x,y,z` (position measurements), `q1,...,qn,x,y,z,qw,qx,qy,qz` (pose measurements) or
+///   `q1,...,qn,target,x,y,z` (target measurements, Measure::Targets), with 1 <= n <= 1000 joints numbered
+///   contiguously from q1.
 ///   - `q1..qn`: the robot's joint variables (rad for revolute and helical joints, length for prismatic);
 ///   - `x,y,z`: the position of the tool frame in the base frame (`T_base_tool.p`), in the robot's length
-///     unit;
+///     unit; for target measurements, the measured point of the target named in `target` (the rotation
+///     of `T_base_tool` is then the identity);
+///   - `target`: a target name (robot_file.hpp targetNameProblem: 1-64 printable ASCII characters, none a
+///     space, comma or quote), one row per target measured at a pose (the rows of one pose repeat its q).
+///     The names are numbered in order of first appearance (MeasurementFile::target_names, indexed by
+///     Measurement::target); at most 1000 distinct names (kMaxTargets);
 ///   - `qw,qx,qy,qz`: the rotation of `T_base_tool` as a unit quaternion, scalar first. A norm within 1e-6
 ///     of 1 is accepted (and normalized); q and -q are the same rotation (the writer makes qw >= 0).
-/// - Data: every other line is one measurement, exactly one number per column. A number is a whole token
+/// - Data: every other line is one measurement, exactly one number per column (the `target` column: a
+///   name, trimmed of spaces and tabs). A number is a whole token
 ///   (trimmed of spaces and tabs) read by strtod in the C locale (e.g. `-1.5`, `2e-3`, `0x1p-3`) and must
 ///   be finite.
 /// - Limits: at least one and at most 1,000,000 measurements, lines of at most 65,536 bytes (without the
@@ -29,7 +36,8 @@
 /// ASCII shown as '?'.
 ///
 /// The writer prints numbers with 17 significant digits, so joint values and positions read back bit for
-/// bit; the rotation reads back to rounding (it passes through a quaternion).
+/// bit; the rotation reads back to rounding (it passes through a quaternion); target names read back as
+/// written (their indices in order of first appearance in the file).
 
 #include <functional>
 #include <string>
@@ -46,6 +54,9 @@ struct MeasurementFile {
   std::vector<Measurement> measurements;  ///< rotation = identity for position measurements
   std::vector<long long> lines;           ///< the file line of each measurement (for messages)
   std::string length_unit;  ///< from a `# length_unit: U` comment; "" when the file states none
+  /// Measure::Targets: the target names in order of first appearance (Measurement::target indexes them);
+  /// empty otherwise.
+  std::vector<std::string> target_names;
 };
 
 /// Limits of the reader (see the file comment).
@@ -70,9 +81,14 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
 
 /// The CSV text of `measurements`: `comments` as `# ...` lines (a comment holding line breaks becomes
 /// several), the header, then one line per measurement (17 significant digits; quaternion with qw >= 0
-/// for Pose).
-/// @throws std::invalid_argument for no measurement, or joint vectors of different sizes
+/// for Pose; for Targets the name `target_names[m.target]` in the `target` column).
+/// @param target_names Measure::Targets only (empty for the other measures): distinct target names, at
+/// most kMaxTargets
+/// @throws std::invalid_argument for no measurement, joint vectors of different sizes, target names for
+/// another measure, a name that is not a target name or repeats, or a Targets measurement whose `target`
+/// is not an index into `target_names`
 std::string formatMeasurements(Measure measure, const std::vector<Measurement>& measurements,
-                               const std::vector<std::string>& comments);
+                               const std::vector<std::string>& comments,
+                               const std::vector<std::string>& target_names = {});
 
 }  // namespace lowpair::io

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -11,10 +12,53 @@
 
 #include "lowpair/convert.hpp"
 #include "lowpair/se3.hpp"
+#include "lowpair/tolerances.hpp"
 #include "io/yaml_reader.hpp"
 
 namespace lowpair::io {
 
+namespace {
+
+// What makes `p` no target point ("" when it is one): non-finite, or beyond the 1e100 a robot's size may
+// reach (kMaxMagnitude, as the tool position: robotSize).
+std::string targetPointProblem(const Vec3& p) {
+  if (!p.allFinite()) return "is not finite";
+  const double norm = p.norm();  // (inf for coordinates near the double range: refused too)
+  if (!(norm <= kMaxMagnitude)) {
+    std::ostringstream out;
+    out << "has magnitude " << norm << ", above 1e100 (kMaxMagnitude)";
+    return out.str();
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string targetNameProblem(const std::string& name) {
+  if (name.empty()) return "is empty";
+  if (name.size() > kMaxTargetNameBytes) {
+    return "has " + std::to_string(name.size()) + " characters (at most " + std::to_string(kMaxTargetNameBytes) + ")";
+  }
+  for (const char ch : name) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == ' ') return "holds a space";
+    if (c == ',') return "holds a comma";
+    if (c == '"' || c == '\'') return "holds a quote";
+    if (c < 0x20 || c >= 0x7f) return "holds a byte outside printable ASCII";
+  }
+  return "";
+}
+
+std::string quotedFileText(const std::string& text) {
+  constexpr size_t kMaxQuoted = 40;
+  std::string out = "'";
+  for (size_t i = 0; i < text.size() && i < kMaxQuoted; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    out += c >= 0x20 && c < 0x7f ? static_cast<char>(c) : '?';
+  }
+  if (text.size() > kMaxQuoted) out += "...";
+  return out + "'";
+}
 
 std::optional<double> metresPerUnit(const std::string& length_unit) {
   static const std::pair<const char*, double> kUnits[] = {{"m", 1.0},   {"mm", 1e-3}, {"cm", 1e-2},   {"dm", 1e-1},
@@ -49,6 +93,14 @@ RobotFile inUnit(const RobotFile& file, const std::string& unit) {
   Pose tool = model.toolPose();
   tool.p *= f;
   RobotFile out = file;
+  for (Target& t : out.targets) {
+    if (!t.point_tool) continue;
+    *t.point_tool *= f;
+    const std::string problem = targetPointProblem(*t.point_tool);
+    if (!problem.empty()) {
+      throw RobotFileError(file.path + ": target " + quotedFileText(t.name) + ": point in " + unit + " " + problem);
+    }
+  }
   out.length_unit = unit;
   out.dh.reset();
   out.poe = PoeModel(std::move(joints), tool, model.name());
@@ -93,11 +145,49 @@ YAML::Node loadYamlFile(const std::string& path) {
   }
 }
 
+namespace {
+
+// `targets:`, a list of {name, point} (docs/file_formats.md).
+std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list) {
+  const std::string& path = in.path();
+  if (!list.IsSequence()) yamlError(path, list, "targets must be a list of {name: N, point: [x, y, z]}");
+  if (list.size() > static_cast<size_t>(kMaxTargets)) {
+    yamlError(path, list, "targets: " + std::to_string(list.size()) + " targets, at most " + std::to_string(kMaxTargets));
+  }
+  std::vector<Target> targets;
+  std::map<std::string, size_t> first;  // name -> index
+  for (size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node t = list[i];
+    const std::string where = "targets[" + std::to_string(i) + "]";
+    in.allowOnly(t, where, {"name", "point"});
+    if (!t["name"]) yamlError(path, t, where + ": missing 'name'");
+    if (!t["point"]) yamlError(path, t, where + ": missing 'point' (x, y, z in the tool frame)");
+    Target target;
+    target.name = in.string(t["name"], where + ".name");
+    const std::string problem = targetNameProblem(target.name);
+    if (!problem.empty()) {
+      yamlError(path, t["name"], where + ".name " + quotedFileText(target.name) + " " + problem + " (" + kTargetNameRule + ")");
+    }
+    if (const auto [it, added] = first.emplace(target.name, i); !added) {
+      yamlError(path, t["name"], where + ".name " + quotedFileText(target.name) + " repeats targets[" +
+                                     std::to_string(it->second) + "]'s");
+    }
+    const auto p = in.vector(t["point"], 3, where + ".point");
+    target.point_tool = Vec3(p[0], p[1], p[2]);
+    const std::string point_problem = targetPointProblem(*target.point_tool);
+    if (!point_problem.empty()) yamlError(path, t["point"], where + ".point " + point_problem);
+    targets.push_back(std::move(target));
+  }
+  return targets;
+}
+
+}  // namespace
+
 RobotFile readRobotFile(const std::string& path) {
   const YAML::Node root = loadYamlFile(path);
   YamlReader in(path);
   if (!root.IsMap()) yamlError(path, root, "a robot file must be a mapping with 'poe:' or 'dh:'");
-  in.allowOnly(root, "the robot file", {"name", "length_unit", "angle_unit", "description", "poe", "dh"});
+  in.allowOnly(root, "the robot file", {"name", "length_unit", "angle_unit", "description", "poe", "dh", "targets"});
 
   RobotFile file;
   file.path = path;
@@ -209,6 +299,7 @@ RobotFile readRobotFile(const std::string& path) {
       }
       file.dh.emplace(base, std::move(list), tool_theta, tool_d, file.name);
     }
+    if (root["targets"]) file.targets = readTargets(in, root["targets"]);
   } catch (const std::invalid_argument& e) {
     throw RobotFileError(path + ": " + e.what());
   } catch (const YAML::Exception& e) {
@@ -235,10 +326,40 @@ void beginRobotFile(YAML::Emitter& out, const RobotFile& like, const std::string
   out << YAML::Key << "angle_unit" << YAML::Value << like.angle_unit;
 }
 
+// `targets:` (none: no key), checked as readRobotFile checks them so that the file reads back.
+void writeTargets(YAML::Emitter& out, const std::vector<Target>& targets) {
+  if (targets.empty()) return;
+  if (targets.size() > static_cast<size_t>(kMaxTargets)) {
+    throw std::invalid_argument("robot file: " + std::to_string(targets.size()) + " targets, at most " +
+                                std::to_string(kMaxTargets));
+  }
+  std::set<std::string> names;
+  for (const Target& t : targets) {
+    const std::string name = quotedFileText(t.name);
+    if (const std::string problem = targetNameProblem(t.name); !problem.empty()) {
+      throw std::invalid_argument("robot file: target name " + name + " " + problem);
+    }
+    if (!names.insert(t.name).second) throw std::invalid_argument("robot file: target name " + name + " repeats");
+    if (!t.point_tool) throw std::invalid_argument("robot file: target " + name + " has no point");
+    if (const std::string problem = targetPointProblem(*t.point_tool); !problem.empty()) {
+      throw std::invalid_argument("robot file: target " + name + ": point " + problem);
+    }
+  }
+  out << YAML::Key << "targets" << YAML::Value << YAML::BeginSeq;
+  for (const Target& t : targets) {
+    const Vec3& p = *t.point_tool;
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << t.name;
+    out << YAML::Key << "point" << YAML::Value << YAML::Flow << std::vector<double>{p[0], p[1], p[2]};
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
 }  // namespace
 
 std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
-                               const std::string& description, const std::vector<std::string>& comments) {
+                               const std::string& description, const std::vector<std::string>& comments,
+                               const std::vector<Target>& targets) {
   const double k = like.angleFactor();
   YAML::Emitter out;
   beginRobotFile(out, like, name, description, comments);
@@ -262,12 +383,15 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
   out << YAML::Key << "tool_pose" << YAML::Value << YAML::BeginSeq;
   const Mat4 T = model.toolPose().matrix();
   for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{T(r, 0), T(r, 1), T(r, 2), T(r, 3)};
-  out << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
+  out << YAML::EndSeq << YAML::EndMap;
+  writeTargets(out, targets);
+  out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 
 std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const std::string& name,
-                              const std::string& description, const std::vector<std::string>& comments) {
+                              const std::string& description, const std::vector<std::string>& comments,
+                              const std::vector<Target>& targets) {
   const double k = like.angleFactor();
   YAML::Emitter out;
   beginRobotFile(out, like, name, description, comments);
@@ -297,7 +421,9 @@ std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const
   out << YAML::EndSeq;
   out << YAML::Key << "tool" << YAML::Value << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "theta" << YAML::Value << model.toolTheta() / k << YAML::Key << "d" << YAML::Value << model.toolD();
-  out << YAML::EndMap << YAML::EndMap << YAML::EndMap;
+  out << YAML::EndMap << YAML::EndMap;
+  writeTargets(out, targets);
+  out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 

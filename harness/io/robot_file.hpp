@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "lowpair/calibration.hpp"
 #include "lowpair/model.hpp"
 
 namespace lowpair::io {
@@ -28,6 +29,22 @@ constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{64} << 20;
 /// @throws RobotFileError `PATH: not a regular file ...` or `PATH: N bytes: over the 64 MiB ...`
 void requireBoundedModelFile(const std::string& path);
 
+/// Target names (a robot file's `targets:`, the measurement CSV's `target` column; docs/file_formats.md):
+/// 1 to kMaxTargetNameBytes printable ASCII characters, none of them a space, a comma or a quote (`'`, `"`),
+/// so that a name is one CSV field as it stands.
+constexpr size_t kMaxTargetNameBytes = 64;
+/// Most targets a robot file lists, and most distinct target names a measurement file holds.
+constexpr int kMaxTargets = 1000;
+/// The rule, as error messages state it.
+constexpr const char* kTargetNameRule = "a target name is 1-64 printable ASCII characters without spaces, commas or quotes";
+
+/// What makes `name` no target name ("is empty", "holds a space", ...); "" when it is one.
+std::string targetNameProblem(const std::string& name);
+
+/// `text` from a file for a message: in single quotes, cut to 40 bytes (then `...`), every byte outside
+/// printable ASCII shown as '?'.
+std::string quotedFileText(const std::string& text);
+
 struct RobotFile {
   std::string path;
   std::string name;
@@ -36,6 +53,9 @@ struct RobotFile {
   std::string description;
   std::optional<PoeModel> poe;  ///< exactly one of poe / dh is set
   std::optional<DhModel> dh;
+  /// `targets:`: points fixed on the tool (a laser tracker's SMRs), in the tool frame and length_unit; names
+  /// unique, every point_tool set (at most kMaxTargets).
+  std::vector<Target> targets;
 
   double angleFactor() const;  ///< radians per angle_unit
   int dof() const { return poe ? poe->dof() : dh->dof(); }
@@ -51,27 +71,37 @@ RobotFile readRobotFile(const std::string& path);
 std::optional<double> metresPerUnit(const std::string& length_unit);
 
 /// `file` with every length in metres (what a URDF holds): a POE file (a D-H file converted) whose twist
-/// moments, pitches and tool position are multiplied by metresPerUnit(length_unit), whose prismatic scales
-/// absorb the factor (q, its offset and range keep the file's unit), and whose length_unit is "m".
-/// @throws RobotFileError when the file states no length unit or one lowpair does not convert
+/// moments, pitches, tool position and target points are multiplied by metresPerUnit(length_unit), whose
+/// prismatic scales absorb the factor (q, its offset and range keep the file's unit), and whose length_unit
+/// is "m".
+/// @throws RobotFileError when the file states no length unit or one lowpair does not convert, or a target
+/// point would be above 1e100 (kMaxMagnitude) in the new unit
 RobotFile inMetres(const RobotFile& file);
 
 /// `file` with every length in `unit` (one metresPerUnit knows), as inMetres does for metres.
-/// @throws RobotFileError when the file states no length unit, or either unit is not one lowpair converts
+/// @throws RobotFileError when the file states no length unit, or either unit is not one lowpair converts, or
+/// a target point would be above 1e100 (kMaxMagnitude) in `unit`
 RobotFile inUnit(const RobotFile& file, const std::string& unit);
 
 /// A POE robot file holding `model` (readRobotFile reads it back to rounding: twists `scale * unit twist`
 /// with 17 significant digits, the tool as `tool_pose`), with `like`'s length and angle units (offsets and
 /// revolute ranges converted to its angle_unit), `name`, `description` and `comments` as leading `#` lines.
-/// Strings are emitted by yaml-cpp (quoted and escaped as needed).
+/// Strings are emitted by yaml-cpp (quoted and escaped as needed). `targets` become the file's `targets:`
+/// (points with 17 significant digits: they read back bit for bit; none: no key).
+/// @throws std::invalid_argument for targets readRobotFile would refuse (a name that is not a target name or
+/// repeats, a target without point_tool, a point not finite or above 1e100, more than kMaxTargets)
 std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
-                               const std::string& description, const std::vector<std::string>& comments);
+                               const std::string& description, const std::vector<std::string>& comments,
+                               const std::vector<Target>& targets = {});
 
 /// A D-H robot file of `model` (docs/file_formats.md; readRobotFile reads it back to rounding: numbers with
 /// 17 significant digits, strings quoted and escaped by yaml-cpp) with `like`'s units (angles, pitch and
 /// revolute ranges in its angle_unit), `name`, `description` and `comments` as leading `#` lines.
-/// A joint offset (0 in every table poeToDh makes) is folded into its row (movedRow).
+/// A joint offset (0 in every table poeToDh makes) is folded into its row (movedRow). `targets` as for
+/// formatPoeRobotFile (in the D-H tool frame).
+/// @throws std::invalid_argument as formatPoeRobotFile for targets
 std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const std::string& name,
-                              const std::string& description, const std::vector<std::string>& comments);
+                              const std::string& description, const std::vector<std::string>& comments,
+                              const std::vector<Target>& targets = {});
 
 }  // namespace lowpair::io

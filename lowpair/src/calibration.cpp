@@ -77,6 +77,34 @@ void measurementRows(const Mat6X& S, const Vec3& p, Measure measure, int dof, Ei
 
 int rowsPerPose(Measure measure) { return measure == Measure::Pose ? 6 : 3; }
 
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The rows of one pose: one measurement (Pose, Position), or one per target (Targets: the points `T p_t`,
+// their 3 columns `R` after the spatial-twist columns S).
+void poseRows(const Mat6X& S, const Pose& T, Measure measure, const std::vector<Vec3>& targets, int dof,
+              Eigen::Ref<MatX> rows) {
+  if (measure != Measure::Targets) {
+    measurementRows(S, T.p, measure, dof, rows.leftCols(S.cols()));
+    return;
+  }
+  rows.setZero();
+  for (size_t t = 0; t < targets.size(); ++t) {
+    auto block = rows.middleRows(3 * static_cast<Eigen::Index>(t), 3);
+    measurementRows(S, T.R * targets[t] + T.p, Measure::Position, dof, block.leftCols(S.cols()));
+    block.middleCols<3>(S.cols() + 3 * static_cast<Eigen::Index>(t)) = T.R;
+  }
+}
+
+// Rows per pose (Targets: 3 per target).
+int rowsPerPose(Measure measure, const std::vector<Vec3>& targets) {
+  return measure == Measure::Targets ? 3 * static_cast<int>(targets.size()) : rowsPerPose(measure);
+}
+
+void checkTargets(Measure measure, const std::vector<Vec3>& targets) {
+  LP_CHECK((measure == Measure::Targets) == !targets.empty(), "Measure::Targets needs targets' points, and only it");
+  for (const Vec3& t : targets) LP_CHECK(t.allFinite(), "a target's point is not finite");
+}
+
 void checkPoses(const std::vector<VecX>& q, int dof) {
   LP_CHECK(!q.empty(), "identifiability needs at least one pose");
   for (const VecX& qi : q) checkJointVector(qi, dof);
@@ -135,16 +163,25 @@ MatX dimensionless(const MatX& J, Measure measure, double L) {
   MatX A = J;
   const int per = rowsPerPose(measure);
   for (Eigen::Index r = 0; r < A.rows(); ++r) {
-    if (measure == Measure::Position || r % per >= 3) A.row(r) /= L;
+    if (measure != Measure::Pose || r % per >= 3) A.row(r) /= L;
   }
   return A;
 }
 
 }  // namespace
 
-const char* measureName(Measure measure) { return measure == Measure::Pose ? "pose" : "position"; }
+const char* measureName(Measure measure) {
+  switch (measure) {
+    case Measure::Pose: return "pose";
+    case Measure::Position: return "position";
+    case Measure::Targets: return "targets";
+  }
+  return "pose";
+}
 
-ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool free_pitch) {
+int rowsPerMeasurement(Measure measure) { return rowsPerPose(measure); }
+
+ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool free_pitch, int targets) {
   ParameterCount count;
   for (const Joint& j : model.joints()) {
     if (j.type == JointType::Prismatic) {
@@ -156,16 +193,72 @@ ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool fr
     }
   }
   count.scales = model.dof();
-  count.tool = measure == Measure::Pose ? 6 : 3;
+  count.tool = measure == Measure::Pose ? 6 : measure == Measure::Position ? 3 : 3 * targets;
   return count;
 }
 
 // --- the error model ---------------------------------------------------------------------------------
 
-ErrorModel::ErrorModel(const PoeModel& model, bool free_pitch) : model_(model), free_pitch_(free_pitch) {
+const char* parameterSetName(ParameterSet set) {
+  switch (set) {
+    case ParameterSet::Full: return "full";
+    case ParameterSet::Lines: return "lines";
+    case ParameterSet::Offsets: return "offsets";
+    case ParameterSet::Named: return "named";
+  }
+  return "full";
+}
+
+namespace {
+
+bool inSet(ParameterKind kind, ParameterSet set) {
+  switch (kind) {
+    case ParameterKind::Tilt:
+    case ParameterKind::Shift:
+    case ParameterKind::Pitch:
+      return set == ParameterSet::Full || set == ParameterSet::Lines;
+    case ParameterKind::Scale:
+      return set == ParameterSet::Full;
+    case ParameterKind::Offset:
+    case ParameterKind::BaseRotation:
+    case ParameterKind::BaseTranslation:
+      return set == ParameterSet::Offsets;
+    case ParameterKind::ToolRotation:
+    case ParameterKind::ToolTranslation:
+    case ParameterKind::TargetPoint:
+      return true;
+  }
+  return false;
+}
+
+// The point about which the base parameters turn the model: the first joint's line point nearest the
+// frame origin (the robot's foot, wherever the measurement frame is), or the origin for a prismatic joint.
+Vec3 baseCenter(const PoeModel& model) {
+  if (model.dof() == 0) return Vec3::Zero();
+  const Joint& j = model.joint(0);
+  return j.type == JointType::Prismatic ? Vec3::Zero() : Vec3(j.axis().cross(j.moment()));
+}
+
+}  // namespace
+
+namespace {
+ErrorModelSpec specWithPitch(bool free_pitch) {
+  ErrorModelSpec spec;
+  spec.free_pitch = free_pitch;
+  return spec;
+}
+}  // namespace
+
+ErrorModel::ErrorModel(const PoeModel& model, bool free_pitch) : ErrorModel(model, specWithPitch(free_pitch)) {}
+
+ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : model_(model), spec_(spec) {
   auto add = [&](ParameterKind kind, int joint, int component, std::string name, const char* unit) {
-    parameters_.push_back(Parameter{kind, joint, component, std::move(name), unit});
+    all_.push_back(Parameter{kind, joint, component, std::move(name), unit});
   };
+  const char* axes[3] = {"x", "y", "z"};
+  center_ = baseCenter(model);
+  for (int k = 0; k < 3; ++k) add(ParameterKind::BaseRotation, -1, k, std::string("base.r") + axes[k], "rad");
+  for (int k = 0; k < 3; ++k) add(ParameterKind::BaseTranslation, -1, k, std::string("base.") + axes[k], "length");
   for (int i = 0; i < model.dof(); ++i) {
     const Joint& j = model.joint(i);
     const std::string tag = jointTag(i);
@@ -189,27 +282,68 @@ ErrorModel::ErrorModel(const PoeModel& model, bool free_pitch) : model_(model), 
       add(ParameterKind::Tilt, i, 1, tag + ".tilt2", "rad");
       add(ParameterKind::Shift, i, 0, tag + ".shift1", "length");
       add(ParameterKind::Shift, i, 1, tag + ".shift2", "length");
-      if (hasPitch(j, free_pitch)) add(ParameterKind::Pitch, i, 0, tag + ".pitch", "length/rad");
+      if (hasPitch(j, spec.free_pitch)) add(ParameterKind::Pitch, i, 0, tag + ".pitch", "length/rad");
     }
     add(ParameterKind::Scale, i, 0, tag + ".scale", "1");
+    add(ParameterKind::Offset, i, 0, tag + ".offset", j.type == JointType::Prismatic ? "length" : "rad");
     basis_.push_back(basis);
   }
-  const char* axes[3] = {"x", "y", "z"};
-  for (int k = 0; k < 3; ++k) add(ParameterKind::ToolRotation, -1, k, std::string("tool.r") + axes[k], "rad");
-  for (int k = 0; k < 3; ++k) add(ParameterKind::ToolTranslation, -1, k, std::string("tool.") + axes[k], "length");
+  if (spec.targets.empty()) {
+    for (int k = 0; k < 3; ++k) add(ParameterKind::ToolRotation, -1, k, std::string("tool.r") + axes[k], "rad");
+    for (int k = 0; k < 3; ++k) add(ParameterKind::ToolTranslation, -1, k, std::string("tool.") + axes[k], "length");
+  } else {
+    LP_CHECK(spec.target_names.empty() || spec.target_names.size() == spec.targets.size(),
+             "error model: " << spec.target_names.size() << " target names for " << spec.targets.size() << " targets");
+    for (size_t t = 0; t < spec.targets.size(); ++t) {
+      LP_CHECK(spec.targets[t].allFinite(), "error model: target " << t + 1 << " has a non-finite point");
+      const std::string name = spec.target_names.empty() ? std::to_string(t + 1) : spec.target_names[t];
+      for (int k = 0; k < 3; ++k) add(ParameterKind::TargetPoint, static_cast<int>(t), k, "target." + name + "." + axes[k], "length");
+    }
+  }
+  if (spec.set == ParameterSet::Named) {
+    LP_CHECK(!spec.names.empty(), "error model: no parameter named");
+    for (const std::string& name : spec.names) {
+      const auto it = std::find_if(all_.begin(), all_.end(), [&](const Parameter& p) { return p.name == name; });
+      if (it == all_.end()) {
+        std::ostringstream known;
+        for (size_t k = 0; k < all_.size() && k < 12; ++k) known << (k ? ", " : "") << all_[k].name;
+        LP_CHECK(false, "error model: no parameter named '" << name << "' (the model's: " << known.str()
+                                                            << (all_.size() > 12 ? ", ..." : "") << ")");
+      }
+      const int index = static_cast<int>(it - all_.begin());
+      LP_CHECK(std::find(selected_.begin(), selected_.end(), index) == selected_.end(),
+               "error model: parameter '" << name << "' named twice");
+      selected_.push_back(index);
+    }
+    std::sort(selected_.begin(), selected_.end());
+  } else {
+    for (size_t k = 0; k < all_.size(); ++k) {
+      if (inSet(all_[k].kind, spec.set)) selected_.push_back(static_cast<int>(k));
+    }
+  }
+  for (int k : selected_) parameters_.push_back(all_[static_cast<size_t>(k)]);
+}
+
+VecX ErrorModel::expanded(const Eigen::Ref<const VecX>& delta) const {
+  LP_CHECK(delta.size() == size(), "error model: expected " << size() << " parameters, got " << delta.size());
+  LP_CHECK(delta.allFinite(), "error model: non-finite parameter increment");
+  VecX all = VecX::Zero(static_cast<Eigen::Index>(all_.size()));
+  for (int k = 0; k < size(); ++k) all[selected_[static_cast<size_t>(k)]] = delta[k];
+  return all;
 }
 
 PoeModel ErrorModel::apply(const Eigen::Ref<const VecX>& delta) const {
-  LP_CHECK(delta.size() == size(), "error model: expected " << size() << " parameters, got " << delta.size());
-  LP_CHECK(delta.allFinite(), "error model: non-finite parameter increment");
+  const VecX d = expanded(delta);
   std::vector<Joint> joints = model_.joints();
   Eigen::Index k = 0;
+  const Vec3 base_r = d.segment<3>(0), base_t = d.segment<3>(3);
+  k = 6;
   for (int i = 0; i < model_.dof(); ++i) {
     Joint& j = joints[static_cast<size_t>(i)];
     const auto& basis = basis_[static_cast<size_t>(i)];
     const int directions = j.type == JointType::Prismatic ? 2 : 4;
     Vec6 eta = Vec6::Zero();
-    for (int b = 0; b < directions; ++b) eta += delta[k++] * basis[static_cast<size_t>(b)];
+    for (int b = 0; b < directions; ++b) eta += d[k++] * basis[static_cast<size_t>(b)];
     const Vec6 xi = adjointApply(expSE3(eta), j.twist);
     if (j.type == JointType::Prismatic) {
       j.twist << Vec3::Zero(), xi.tail<3>().normalized();
@@ -218,8 +352,8 @@ PoeModel ErrorModel::apply(const Eigen::Ref<const VecX>& delta) const {
       const Vec3 v = xi.tail<3>();
       const Vec3 v_line = v - w.dot(v) * w;  // the moment p x w without pitch
       double pitch = j.type == JointType::Helical ? j.pitch : 0.0;
-      if (hasPitch(j, free_pitch_)) pitch += delta[k++];
-      if (free_pitch_) {  // the type follows the pitch: revolute when the pitch is rounding relative to L
+      if (hasPitch(j, spec_.free_pitch)) pitch += d[k++];
+      if (spec_.free_pitch) {  // the type follows the pitch: revolute when the pitch is rounding relative to L
         const bool rounding = std::abs(pitch) <= kPitchZero * kEps * model_.lengthScale();
         j.type = rounding ? JointType::Revolute : JointType::Helical;
         if (rounding) pitch = 0.0;
@@ -227,29 +361,53 @@ PoeModel ErrorModel::apply(const Eigen::Ref<const VecX>& delta) const {
       j.pitch = j.type == JointType::Helical ? pitch : 0.0;
       j.twist << w, v_line + j.pitch * w;
     }
-    j.scale += delta[k++];
+    j.scale += d[k++];
     LP_CHECK(j.scale > 0.0, jointLabel(i, j.name) << ": the increment makes the scale " << j.scale << " (not positive)");
+    j.offset += d[k++];
   }
-  const Vec3 r = delta.segment<3>(k), t = delta.segment<3>(k + 3);
-  const Pose& T = model_.toolPose();
-  const Pose tool = expSE3(twist(r, T.p.cross(r) + t)) * T;
-  return PoeModel(std::move(joints), tool, model_.name());
-}
-
-ErrorModel ErrorModel::rebased(const PoeModel& model) const {
-  LP_CHECK(model.dof() == model_.dof(), "error model: rebased onto a model with another joint count");
-  ErrorModel out = *this;
-  out.model_ = model;
+  Pose tool = model_.toolPose();
+  if (spec_.targets.empty()) {
+    const Vec3 r = d.segment<3>(k), t = d.segment<3>(k + 3);
+    tool = expSE3(twist(r, tool.p.cross(r) + t)) * tool;
+  }
+  PoeModel out(std::move(joints), tool, model_.name());
+  if (base_r.any() || base_t.any()) out = movedModel(out, expSE3(twist(base_r, center_.cross(base_r) + base_t)));
   return out;
 }
 
-Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows) const {
+std::vector<Vec3> ErrorModel::applyTargets(const Eigen::Ref<const VecX>& delta) const {
+  const VecX d = expanded(delta);
+  std::vector<Vec3> out = spec_.targets;
+  const Eigen::Index first = d.size() - 3 * static_cast<Eigen::Index>(out.size());
+  for (size_t t = 0; t < out.size(); ++t) out[t] += d.segment<3>(first + 3 * static_cast<Eigen::Index>(t));
+  return out;
+}
+
+ErrorModel ErrorModel::rebased(const PoeModel& model) const { return rebased(model, spec_.targets); }
+
+ErrorModel ErrorModel::rebased(const PoeModel& model, const std::vector<Vec3>& targets) const {
+  LP_CHECK(model.dof() == model_.dof(), "error model: rebased onto a model with another joint count");
+  LP_CHECK(targets.size() == spec_.targets.size(), "error model: rebased with another number of targets");
+  ErrorModel out = *this;
+  out.model_ = model;
+  out.spec_.targets = targets;
+  return out;
+}
+
+Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows, int target) const {
   checkJointVector(q, model_.dof());
   LP_CHECK(rows.rows() == rowsPerPose(measure) && rows.cols() == size(), "error model: rows must be "
                                                                            << rowsPerPose(measure) << " x " << size());
-  Mat6X S(6, size());
-  Pose P, E;  // P = exp(xi_1 x_1) ... exp(xi_{i-1} x_{i-1}) before joint i
+  const bool targets = !spec_.targets.empty();
+  LP_CHECK(targets == (measure == Measure::Targets), "error model: Measure::Targets needs targets, and only it");
+  LP_CHECK(!targets || (target >= 0 && target < static_cast<int>(spec_.targets.size())),
+           "error model: target " << target << " of " << spec_.targets.size());
+  const auto twists = static_cast<Eigen::Index>(all_.size()) - (targets ? 3 * static_cast<Eigen::Index>(spec_.targets.size()) : 0);
+  Mat6X S(6, twists);
   Eigen::Index c = 0;
+  for (int k = 0; k < 3; ++k) S.col(c++) = twist(Vec3::Unit(k), center_.cross(Vec3::Unit(k)));
+  for (int k = 0; k < 3; ++k) S.col(c++) = twist(Vec3::Zero(), Vec3::Unit(k));
+  Pose P, E;  // P = exp(xi_1 x_1) ... exp(xi_{i-1} x_{i-1}) before joint i
   for (int i = 0; i < model_.dof(); ++i) {
     const Joint& j = model_.joint(i);
     jointExp(j, q[i], E);
@@ -259,24 +417,37 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
       const Vec6& eta = basis_[static_cast<size_t>(i)][static_cast<size_t>(b)];
       S.col(c++) = twistDifference(adjointApply(P, eta), adjointApply(next, eta), model_.dof());
     }
-    if (hasPitch(j, free_pitch_)) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), j.axis())) * j.motion(q[i]);
-    S.col(c++) = adjointApply(P, j.twist) * (q[i] + j.offset);
+    if (hasPitch(j, spec_.free_pitch)) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), j.axis())) * j.motion(q[i]);
+    const Vec6 xi = adjointApply(P, j.twist);
+    S.col(c++) = xi * (q[i] + j.offset);  // scale
+    S.col(c++) = xi * j.scale;            // offset
     P = next;
   }
   const Pose T = P * model_.toolPose();
-  const Vec3 p_tool = model_.toolPose().p;
-  for (int k = 0; k < 3; ++k) S.col(c++) = adjointApply(P, twist(Vec3::Unit(k), p_tool.cross(Vec3::Unit(k))));
-  for (int k = 0; k < 3; ++k) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), Vec3::Unit(k)));
-  measurementRows(S, T.p, measure, model_.dof(), rows);
+  if (!targets) {
+    const Vec3 p_tool = model_.toolPose().p;
+    for (int k = 0; k < 3; ++k) S.col(c++) = adjointApply(P, twist(Vec3::Unit(k), p_tool.cross(Vec3::Unit(k))));
+    for (int k = 0; k < 3; ++k) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), Vec3::Unit(k)));
+  }
+  const int per = rowsPerPose(measure);
+  MatX all(per, static_cast<Eigen::Index>(all_.size()));
+  all.setZero();
+  const Vec3 point = targets ? Vec3(T.R * spec_.targets[static_cast<size_t>(target)] + T.p) : T.p;
+  measurementRows(S, point, measure == Measure::Targets ? Measure::Position : measure, model_.dof(), all.leftCols(twists));
+  if (targets) all.middleCols<3>(twists + 3 * static_cast<Eigen::Index>(target)) = T.R;
+  for (int k = 0; k < size(); ++k) rows.col(k) = all.col(selected_[static_cast<size_t>(k)]);
+  if (targets) return Pose{T.R, point};
   return T;
 }
 
-MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch) {
+MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
+                            const std::vector<Vec3>& targets) {
   checkPoses(q, model.dof());
+  checkTargets(measure, targets);
   int cols = 6;
   for (const Joint& j : model.joints()) cols += 6 + (hasPitch(j, free_pitch) ? 1 : 0) + 2;
-  const int per = rowsPerPose(measure);
-  MatX J(per * static_cast<Eigen::Index>(q.size()), cols);
+  const int per = rowsPerPose(measure, targets);
+  MatX J(per * static_cast<Eigen::Index>(q.size()), cols + 3 * static_cast<Eigen::Index>(targets.size()));
   Mat6X S(6, cols);
   for (size_t m = 0; m < q.size(); ++m) {
     Pose P, E;
@@ -293,15 +464,15 @@ MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, M
       P = next;
     }
     for (int k = 0; k < 6; ++k) S.col(c++) = adjointApply(P, Vec6::Unit(k));
-    const Pose T = P * model.toolPose();
-    measurementRows(S, T.p, measure, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
+    poseRows(S, P * model.toolPose(), measure, targets, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
   }
   return J;
 }
 
 MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
-                              std::vector<std::string>* names) {
+                              std::vector<std::string>* names, const std::vector<Vec3>& targets) {
   checkPoses(q, model.dof());
+  checkTargets(measure, targets);
   std::vector<std::string> columns = {"base.theta", "base.d", "base.alpha", "base.a"};
   for (int i = 0; i < model.dof(); ++i) {
     const std::string tag = jointTag(i);
@@ -312,8 +483,11 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
   columns.push_back("tool.theta");
   columns.push_back("tool.d");
   const auto cols = static_cast<Eigen::Index>(columns.size());
-  const int per = rowsPerPose(measure);
-  MatX J(per * static_cast<Eigen::Index>(q.size()), cols);
+  for (size_t t = 0; t < targets.size(); ++t) {
+    for (const char* axis : {".x", ".y", ".z"}) columns.push_back("target." + std::to_string(t + 1) + axis);
+  }
+  const int per = rowsPerPose(measure, targets);
+  MatX J(per * static_cast<Eigen::Index>(q.size()), static_cast<Eigen::Index>(columns.size()));
   Mat6X S(6, cols);
   for (size_t m = 0; m < q.size(); ++m) {
     Eigen::Index c = 0;
@@ -342,7 +516,7 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
     S.col(c++) = twist(F.R.col(2), F.p.cross(F.R.col(2)));
     S.col(c++) = twist(Vec3::Zero(), F.R.col(2));
     const Pose T = F * dhToolTransform(model.toolTheta(), model.toolD());
-    measurementRows(S, T.p, measure, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
+    poseRows(S, T, measure, targets, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
   }
   if (names) *names = std::move(columns);
   return J;
@@ -358,41 +532,74 @@ RankAnalysis analyzeRank(const MatX& jacobian, Measure measure, double L, int po
 }
 
 Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
-                                       bool free_pitch) {
+                                       bool free_pitch, const std::vector<Vec3>& targets) {
   checkPoses(q, model.dof());
+  checkTargets(measure, targets);
   Identifiability out;
   out.measure = measure;
   out.free_pitch = free_pitch;
-  out.expected = identifiableCount(model, measure, free_pitch);
-  const ErrorModel em(model, free_pitch);
+  out.expected = identifiableCount(model, measure, free_pitch, static_cast<int>(targets.size()));
+  ErrorModelSpec spec;
+  spec.free_pitch = free_pitch;
+  spec.targets = targets;
+  const ErrorModel em(model, spec);
   out.parameters = em.parameters();
-  const int per = rowsPerPose(measure);
+  const int per = rowsPerMeasurement(measure), k = measure == Measure::Targets ? static_cast<int>(targets.size()) : 1;
   const auto poses = static_cast<int>(q.size());
-  MatX J(per * static_cast<Eigen::Index>(poses), em.size());
-  for (int m = 0; m < poses; ++m) em.jacobian(q[static_cast<size_t>(m)], measure, J.middleRows(per * m, per));
+  MatX J(per * static_cast<Eigen::Index>(poses) * k, em.size());
+  for (int m = 0; m < poses; ++m) {
+    for (int t = 0; t < k; ++t) {
+      em.jacobian(q[static_cast<size_t>(m)], measure, J.middleRows(per * (m * k + t), per), measure == Measure::Targets ? t : -1);
+    }
+  }
   const double L = model.lengthScale();
   out.poe = analyzeRank(J, measure, L, poses);
-  const MatX full = fullErrorModelJacobian(model, q, measure, free_pitch);
+  const MatX full = fullErrorModelJacobian(model, q, measure, free_pitch, targets);
   out.full_model_rank = analyzeRank(full, measure, L, poses).rank;
   out.full_model_columns = static_cast<int>(full.cols());
   const DhConversion dh = poeToDh(model);
-  out.dh = analyzeRank(dhIdentificationJacobian(dh.model, q, measure, free_pitch, &out.dh_parameters), measure, L,
-                       poses);
+  out.dh = analyzeRank(dhIdentificationJacobian(dh.model, q, measure, free_pitch, &out.dh_parameters, targets), measure,
+                       L, poses);
   return out;
 }
 
 // --- calibration -------------------------------------------------------------------------------------
 
+namespace {
+
+void checkTargetIndex(const Measurement& m, Measure measure, size_t targets) {
+  if (measure != Measure::Targets) return;
+  LP_CHECK(m.target >= 0 && static_cast<size_t>(m.target) < targets,
+           "measurement of target " << m.target << ": there are " << targets << " targets");
+}
+
+// The measured quantity the model predicts (Targets: the point `T p_t`, rotation `T.R`).
+Pose predict(const PoeModel& model, Data& data, const Measurement& m, Measure measure, const std::vector<Vec3>& targets) {
+  forwardKinematics(model, data, m.q);
+  if (measure != Measure::Targets) return data.T_base_tool;
+  checkTargetIndex(m, measure, targets.size());
+  const Pose& T = data.T_base_tool;
+  return Pose{T.R, T.R * targets[static_cast<size_t>(m.target)] + T.p};
+}
+
+}  // namespace
+
+Pose predictedMeasurement(const PoeModel& model, const Measurement& m, Measure measure, const std::vector<Vec3>& targets) {
+  checkJointVector(m.q, model.dof());
+  Data data(model);
+  return predict(model, data, m, measure, targets);
+}
+
 ResidualStatistics residualStatistics(const PoeModel& model, const std::vector<Measurement>& measurements,
-                                      Measure measure) {
+                                      Measure measure, const std::vector<Vec3>& targets) {
   ResidualStatistics s;
   Data data(model);
   double sum_p = 0.0, sum_r = 0.0;
   for (const Measurement& m : measurements) {
     checkJointVector(m.q, model.dof());
-    forwardKinematics(model, data, m.q);
-    const double ep = (m.T_base_tool.p - data.T_base_tool.p).norm();
-    const double er = measure == Measure::Pose ? rotationAngle(data.T_base_tool.R.transpose() * m.T_base_tool.R) : 0.0;
+    const Pose T = predict(model, data, m, measure, targets);
+    const double ep = (m.T_base_tool.p - T.p).norm();
+    const double er = measure == Measure::Pose ? rotationAngle(T.R.transpose() * m.T_base_tool.R) : 0.0;
     sum_p += ep * ep;
     sum_r += er * er;
     s.max_position = std::max(s.max_position, ep);
@@ -406,22 +613,160 @@ ResidualStatistics residualStatistics(const PoeModel& model, const std::vector<M
   return s;
 }
 
+PoeModel movedModel(const PoeModel& model, const Pose& T_frame_base) {
+  LP_CHECK(T_frame_base.p.allFinite() && T_frame_base.R.allFinite(), "movedModel: non-finite pose");
+  std::vector<Joint> joints = model.joints();
+  for (Joint& j : joints) {
+    const Vec6 xi = adjointApply(T_frame_base, j.twist);
+    if (j.type == JointType::Prismatic) {
+      j.twist << Vec3::Zero(), xi.tail<3>().normalized();
+    } else {
+      const Vec3 w = xi.head<3>().normalized();
+      j.twist << w, xi.tail<3>();
+    }
+  }
+  return PoeModel(std::move(joints), T_frame_base * model.toolPose(), model.name());
+}
+
+const char* lossName(Loss loss) {
+  switch (loss) {
+    case Loss::Squared: return "squared";
+    case Loss::Huber: return "huber";
+    case Loss::Cauchy: return "cauchy";
+  }
+  return "squared";
+}
+
 namespace {
 
+void checkMeasurements(const PoeModel& nominal, const std::vector<Measurement>& measurements, Measure measure,
+                       size_t targets) {
+  LP_CHECK(!measurements.empty(), "calibrate: no measurements");
+  for (size_t m = 0; m < measurements.size(); ++m) {
+    const Measurement& x = measurements[m];
+    LP_CHECK(x.q.size() == nominal.dof(), "measurement " << m + 1 << ": " << x.q.size() << " joint values for "
+                                                          << nominal.dof() << " joints");
+    LP_CHECK(x.q.allFinite() && x.T_base_tool.p.allFinite() && x.T_base_tool.R.allFinite(),
+             "measurement " << m + 1 << ": non-finite number");
+    checkTargetIndex(x, measure, targets);
+  }
+  LP_CHECK(measure != Measure::Targets || targets > 0, "calibrate: target measurements need at least one target");
+}
+
+// Horn / Kabsch-Umeyama: the rotation R and translation t minimizing sum |y - (R x + t)|^2 (+ rotations:
+// sum L^2 |R_meas - R R_pred|_F^2). `determined` false when the points are collinear and no rotation is given.
+Pose rigidFit(const std::vector<Vec3>& x, const std::vector<Vec3>& y, const std::vector<Mat3>* R_pred,
+              const std::vector<Mat3>* R_meas, double L, bool& determined) {
+  Vec3 cx = Vec3::Zero(), cy = Vec3::Zero();
+  for (size_t i = 0; i < x.size(); ++i) {
+    cx += x[i];
+    cy += y[i];
+  }
+  cx /= static_cast<double>(x.size());
+  cy /= static_cast<double>(y.size());
+  Mat3 M = Mat3::Zero();
+  for (size_t i = 0; i < x.size(); ++i) M += (y[i] - cy) * (x[i] - cx).transpose();
+  const Eigen::JacobiSVD<Mat3> points(M);
+  determined = points.singularValues()[1] > 1e-9 * points.singularValues()[0];
+  if (R_pred) {
+    for (size_t i = 0; i < R_pred->size(); ++i) M += L * L * (*R_meas)[i] * (*R_pred)[i].transpose();
+    determined = true;
+  }
+  Pose g;
+  if (!determined) return g;
+  const Eigen::JacobiSVD<Mat3> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Mat3 D = Mat3::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  g.R = svd.matrixU() * D * svd.matrixV().transpose();
+  g.p = cy - g.R * cx;
+  return g;
+}
+
+Registration registration(const PoeModel& model, const std::vector<Measurement>& measurements, Measure measure,
+                          const std::vector<Target>& targets, bool frame) {
+  checkMeasurements(model, measurements, measure, targets.size());
+  Registration out;
+  out.targets.resize(targets.size(), Vec3::Zero());
+  out.estimated.resize(targets.size(), false);
+  bool estimate = false;
+  for (size_t t = 0; t < targets.size(); ++t) {
+    if (targets[t].point_tool) {
+      LP_CHECK(targets[t].point_tool->allFinite(), "target " << targets[t].name << ": non-finite point");
+      out.targets[t] = *targets[t].point_tool;
+    } else {
+      out.estimated[t] = estimate = true;
+    }
+  }
+  const double L = model.lengthScale();
+  Data data(model);
+  std::vector<Pose> T(measurements.size());
+  for (size_t m = 0; m < measurements.size(); ++m) {
+    forwardKinematics(model, data, measurements[m].q);
+    T[m] = data.T_base_tool;
+  }
+  std::vector<Vec3> x(measurements.size()), y(measurements.size());
+  std::vector<Mat3> R_pred, R_meas;
+  if (measure == Measure::Pose) {
+    for (size_t m = 0; m < measurements.size(); ++m) {
+      R_pred.push_back(T[m].R);
+      R_meas.push_back(measurements[m].T_base_tool.R);
+    }
+  }
+  for (size_t m = 0; m < measurements.size(); ++m) y[m] = measurements[m].T_base_tool.p;
+  // alternate: the frame for the current points, then each unknown point for the frame (the mean of its
+  // measured points in the predicted tool frame), until neither moves by more than rounding
+  constexpr int kMaxAlternations = 1000;
+  constexpr double kSettled = 1e-13;
+  for (out.iterations = 1; out.iterations <= kMaxAlternations; ++out.iterations) {
+    for (size_t m = 0; m < measurements.size(); ++m) {
+      const int t = measurements[m].target;
+      x[m] = measure == Measure::Targets ? Vec3(T[m].R * out.targets[static_cast<size_t>(t)] + T[m].p) : T[m].p;
+    }
+    Pose g;
+    if (frame) {
+      g = rigidFit(x, y, measure == Measure::Pose ? &R_pred : nullptr, measure == Measure::Pose ? &R_meas : nullptr, L,
+                   out.determined);
+    }
+    double moved = rotationAngle(g.R.transpose() * out.T_meas_base.R) + (g.p - out.T_meas_base.p).norm() / L;
+    out.T_meas_base = g;
+    if (estimate) {
+      std::vector<Vec3> sum(targets.size(), Vec3::Zero());
+      std::vector<int> count(targets.size(), 0);
+      const Pose g_inv = g.inverse();
+      for (size_t m = 0; m < measurements.size(); ++m) {
+        const auto t = static_cast<size_t>(measurements[m].target);
+        if (!out.estimated[t]) continue;
+        sum[t] += T[m].R.transpose() * (g_inv.R * y[m] + g_inv.p - T[m].p);
+        ++count[t];
+      }
+      for (size_t t = 0; t < targets.size(); ++t) {
+        if (!out.estimated[t]) continue;
+        LP_CHECK(count[t] > 0, "target " << targets[t].name << " has no point and no measurement to estimate it from");
+        const Vec3 p = sum[t] / count[t];
+        moved = std::max(moved, (p - out.targets[t]).norm() / L);
+        out.targets[t] = p;
+      }
+    }
+    if (!estimate || moved <= kSettled) break;
+  }
+  out.iterations = std::min(out.iterations, kMaxAlternations);
+  return out;
+}
+
+// The weights of the residuals: noise per coordinate, and the robust loss' per measurement.
 struct Weights {
   double position = 1.0, rotation = 1.0;  // sigma_position (length), sigma_rotation (rad)
 };
 
 // Weighted residual r = [log(R_meas R^T) / sigma_r; (p_meas - p) / sigma_p] per measurement (or the
-// position part alone) and its squared norm.
-double residual(const PoeModel& model, const std::vector<Measurement>& measurements, Measure measure,
-                const Weights& w, VecX& r) {
-  const int per = rowsPerPose(measure);
+// position part alone), each measurement's block times sqrt(its robust weight), and its squared norm.
+double residual(const PoeModel& model, const std::vector<Vec3>& targets, const std::vector<Measurement>& measurements,
+                Measure measure, const Weights& w, const VecX& robust, VecX& r) {
+  const int per = rowsPerMeasurement(measure);
   r.resize(per * static_cast<Eigen::Index>(measurements.size()));
   Data data(model);
   for (size_t m = 0; m < measurements.size(); ++m) {
-    forwardKinematics(model, data, measurements[m].q);
-    const Pose& T = data.T_base_tool;
+    const Pose T = predict(model, data, measurements[m], measure, targets);
     const Pose& M = measurements[m].T_base_tool;
     auto rows = r.segment(per * static_cast<Eigen::Index>(m), per);
     if (measure == Measure::Pose) {
@@ -430,44 +775,79 @@ double residual(const PoeModel& model, const std::vector<Measurement>& measureme
     } else {
       rows = (M.p - T.p) / w.position;
     }
+    rows *= std::sqrt(robust[static_cast<Eigen::Index>(m)]);
   }
   return r.squaredNorm();
 }
 
 MatX weightedJacobian(const ErrorModel& em, const std::vector<Measurement>& measurements, Measure measure,
-                      const Weights& w) {
-  const int per = rowsPerPose(measure);
+                      const Weights& w, const VecX& robust) {
+  const int per = rowsPerMeasurement(measure);
   MatX J(per * static_cast<Eigen::Index>(measurements.size()), em.size());
   for (size_t m = 0; m < measurements.size(); ++m) {
     auto rows = J.middleRows(per * static_cast<Eigen::Index>(m), per);
-    em.jacobian(measurements[m].q, measure, rows);
+    em.jacobian(measurements[m].q, measure, rows, measurements[m].target);
     if (measure == Measure::Pose) {
       rows.topRows<3>() /= w.rotation;
       rows.bottomRows<3>() /= w.position;
     } else {
       rows /= w.position;
     }
+    rows *= std::sqrt(robust[static_cast<Eigen::Index>(m)]);
   }
   return J;
 }
 
+// The median of the normalized residual u of a measurement with noise-unit Gaussian residuals: u is chi
+// with 3 degrees of freedom for a point; for a pose, chi with 6 over sqrt(2). (Medians of chi-square with 3
+// and 6 degrees of freedom: 2.365974 and 5.348121.)
+double medianNormalized(Measure measure) {
+  return measure == Measure::Pose ? std::sqrt(5.348121 / 2.0) : std::sqrt(2.365974);
+}
+
+double robustWeight(Loss loss, double u) {
+  switch (loss) {
+    case Loss::Squared: return 1.0;
+    case Loss::Huber: return u <= kHuberThreshold ? 1.0 : kHuberThreshold / u;
+    case Loss::Cauchy: return 1.0 / (1.0 + (u / kCauchyScale) * (u / kCauchyScale));
+  }
+  return 1.0;
+}
+
+double median(std::vector<double> x) {
+  if (x.empty()) return 0.0;
+  const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
+  std::nth_element(x.begin(), mid, x.end());
+  return *mid;
+}
+
+// Per measurement: u = sqrt(|r_m|^2 / (rows / 3)) of the (robust-unweighted) weighted residual.
+std::vector<double> normalizedResiduals(const VecX& r, Measure measure) {
+  const int per = rowsPerMeasurement(measure);
+  std::vector<double> u(static_cast<size_t>(r.size() / per));
+  for (size_t m = 0; m < u.size(); ++m) {
+    u[m] = std::sqrt(r.segment(per * static_cast<Eigen::Index>(m), per).squaredNorm() / (per / 3.0));
+  }
+  return u;
+}
+
 }  // namespace
+
+Registration registerMeasurementFrame(const PoeModel& model, const std::vector<Measurement>& measurements,
+                                      Measure measure, const std::vector<Target>& targets) {
+  return registration(model, measurements, measure, targets, true);
+}
 
 CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                             const CalibrationOptions& options) {
-  LP_CHECK(!measurements.empty(), "calibrate: no measurements");
-  for (size_t m = 0; m < measurements.size(); ++m) {
-    const Measurement& x = measurements[m];
-    LP_CHECK(x.q.size() == nominal.dof(), "measurement " << m + 1 << ": " << x.q.size() << " joint values for "
-                                                          << nominal.dof() << " joints");
-    LP_CHECK(x.q.allFinite() && x.T_base_tool.p.allFinite() && x.T_base_tool.R.allFinite(),
-             "measurement " << m + 1 << ": non-finite number");
-  }
+  const Measure measure = options.measure;
+  checkMeasurements(nominal, measurements, measure, options.targets.size());
   for (const auto& s : {options.sigma_position, options.sigma_rotation}) {
     LP_CHECK(!s || (*s > 0.0 && std::isfinite(*s)), "calibrate: noise levels must be positive and finite");
   }
   LP_CHECK(options.max_iterations >= 0, "calibrate: max_iterations must be >= 0");
-  const Measure measure = options.measure;
+  LP_CHECK(options.outlier_threshold > 0.0 && std::isfinite(options.outlier_threshold),
+           "calibrate: the outlier threshold must be positive and finite");
   const double L = nominal.lengthScale();
   Weights w;
   const bool stated = options.sigma_position || options.sigma_rotation;
@@ -482,10 +862,25 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
     w.rotation = 1.0;
   }
 
-  const auto poses = static_cast<int>(measurements.size());
-  ErrorModel em(nominal, options.free_pitch);
+  // the measurement frame (and the unknown targets' points), then the fit from there
+  const Registration reg = registration(nominal, measurements, measure, options.targets, options.register_frame);
+  const PoeModel start = movedModel(nominal, reg.T_meas_base);
+  ErrorModelSpec spec;
+  spec.free_pitch = options.free_pitch;
+  spec.set = options.parameters;
+  spec.names = options.parameter_names;
+  spec.targets = reg.targets;
+  for (const Target& t : options.targets) spec.target_names.push_back(t.name);
+  if (std::any_of(spec.target_names.begin(), spec.target_names.end(), [](const std::string& n) { return n.empty(); })) {
+    spec.target_names.clear();
+  }
+  ErrorModel em(start, spec);
+
+  const auto count = static_cast<Eigen::Index>(measurements.size());
+  const auto poses = static_cast<int>(count);
+  VecX robust = VecX::Ones(count);
   VecX r;
-  double cost = residual(nominal, measurements, measure, w, r);
+  double cost = residual(start, reg.targets, measurements, measure, w, robust, r);
   auto overflow = [&] {
     std::ostringstream text;
     text << "calibrate: the weighted residuals or Jacobian overflow (sigma_position " << w.position
@@ -494,9 +889,9 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   };
   // (the column norms square the entries: a stated noise small enough to leave the residuals finite may
   // still overflow them, and a column left unscaled would take the whole rank)
-  const MatX J_nominal = weightedJacobian(em, measurements, measure, w);
+  const MatX J_nominal = weightedJacobian(em, measurements, measure, w, robust);
   if (!std::isfinite(cost) || !J_nominal.colwise().squaredNorm().allFinite()) throw overflow();
-  // the determined subspace, fixed at the nominal: steps are `basis * y`
+  // the determined subspace, fixed at the (registered) nominal: steps are `basis * y`
   VecX D0;
   MatX V0;
   RankAnalysis nominal_rank = analyzeDimensionless(J_nominal, poses, &D0, &V0);
@@ -505,8 +900,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   const MatX basis = D0.asDiagonal() * V0.leftCols(rank);
   // the reduced problem at an iterate: A = J basis (rows x rank) and its SVD
   auto reduced = [&](const ErrorModel& at) {
-    return Eigen::JacobiSVD<MatX>(weightedJacobian(at, measurements, measure, w) * basis,
-                               Eigen::ComputeThinU | Eigen::ComputeThinV);
+    return Eigen::JacobiSVD<MatX>(weightedJacobian(at, measurements, measure, w, robust) * basis,
+                                  Eigen::ComputeThinU | Eigen::ComputeThinV);
   };
   // the nominal's rule (its n: every parameter), not one relaxed to the reduced problem's `rank` columns
   auto usable = [&](const VecX& s, int i) { return s[i] > numericalRankTolerance(s[0], static_cast<double>(n)); };
@@ -516,60 +911,122 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   // inner loop after at most log10(kMuMax / kMuMin) + 1 rejections.
   constexpr double kMuStart = 1e-6, kMuMin = 1e-12, kMuMax = 1e16, kMuStep = 10.0;
   constexpr double kRelativeDecrease = 1e-10;  // converged when an undamped step gains less than this
-  double mu = kMuStart;
   int iterations = 0;
-  bool converged = false;
-  while (!converged && iterations < options.max_iterations) {
-    ++iterations;
-    if (rank == 0 || cost == 0.0) {
-      converged = true;
-      break;
-    }
-    const Eigen::JacobiSVD<MatX> svd = reduced(em);
-    const VecX& s = svd.singularValues();
-    const VecX g = svd.matrixU().transpose() * r;
-    if (!s.allFinite() || !g.allFinite()) throw overflow();
-    const double s1 = s[0];
-    if (!(s1 > 0.0)) {
-      converged = true;
-      break;
-    }
-    bool accepted = false;
-    for (; !accepted && mu <= kMuMax; mu = std::max(mu, kMuMin) * kMuStep) {
-      // y = sum_i v_i s_i g_i / (s_i^2 + mu s_1^2), in units of s_1: (s_i/s_1) g_i / ((s_i/s_1)^2 + mu) / s_1
-      VecX y = VecX::Zero(rank);
-      for (int i = 0; i < s.size(); ++i) {
-        const double t = s[i] / s1;
-        if (usable(s, i)) y += svd.matrixV().col(i) * (t * g[i] / (t * t + mu) / s1);
+  auto fit = [&]() {  // one Levenberg-Marquardt run at the current robust weights; true when converged
+    double mu = kMuStart;
+    for (int pass = 0; pass < options.max_iterations; ++pass) {
+      ++iterations;
+      if (rank == 0 || cost == 0.0) return true;
+      const Eigen::JacobiSVD<MatX> svd = reduced(em);
+      const VecX& s = svd.singularValues();
+      const VecX g = svd.matrixU().transpose() * r;
+      if (!s.allFinite() || !g.allFinite()) throw overflow();
+      const double s1 = s[0];
+      if (!(s1 > 0.0)) return true;
+      bool accepted = false, converged = false;
+      for (; !accepted && mu <= kMuMax; mu = std::max(mu, kMuMin) * kMuStep) {
+        // y = sum_i v_i s_i g_i / (s_i^2 + mu s_1^2), in units of s_1: (s_i/s_1) g_i / ((s_i/s_1)^2 + mu) / s_1
+        VecX y = VecX::Zero(rank);
+        for (int i = 0; i < s.size(); ++i) {
+          const double t = s[i] / s1;
+          if (usable(s, i)) y += svd.matrixV().col(i) * (t * g[i] / (t * t + mu) / s1);
+        }
+        if (!y.allFinite()) continue;
+        VecX r_new;
+        double cost_new = kInf;
+        std::optional<PoeModel> candidate;
+        std::vector<Vec3> targets;
+        try {
+          const VecX step = basis * y;
+          candidate.emplace(em.apply(step));
+          targets = em.applyTargets(step);
+          cost_new = residual(*candidate, targets, measurements, measure, w, robust, r_new);
+        } catch (const std::invalid_argument&) {  // a step through a non-positive scale or beyond the limits
+        }
+        if (cost_new < cost) {
+          accepted = true;
+          // a small gain counts only for an undamped-enough step (a heavily damped one is small anyway)
+          converged = cost - cost_new <= kRelativeDecrease * cost && mu <= kMuStart;
+          cost = cost_new;
+          r = std::move(r_new);
+          em = em.rebased(*candidate, targets);
+          mu /= kMuStep * kMuStep;  // the loop's increment follows: net one step down
+        }
       }
-      if (!y.allFinite()) continue;
-      VecX r_new;
-      double cost_new = kInf;
-      std::optional<PoeModel> candidate;
-      try {
-        candidate.emplace(em.apply(basis * y));
-        cost_new = residual(*candidate, measurements, measure, w, r_new);
-      } catch (const std::invalid_argument&) {  // a step through a non-positive scale or beyond the limits
-      }
-      if (cost_new < cost) {
-        accepted = true;
-        // a small gain counts only for an undamped-enough step (a heavily damped one is small anyway)
-        converged = cost - cost_new <= kRelativeDecrease * cost && mu <= kMuStart;
-        cost = cost_new;
-        r = std::move(r_new);
-        em = em.rebased(*candidate);
-        mu /= kMuStep * kMuStep;  // the loop's increment follows: net one step down
-      }
+      if (!accepted || converged) return true;  // no step decreases the cost: the rounding floor
     }
-    if (!accepted) converged = true;  // no step decreases the cost: the rounding floor
+    return false;
+  };
+  bool converged = fit();
+
+  // the noise unit of the normalized residuals: 1 when stated, else from the median residual
+  auto unweighted = [&] {
+    VecX plain;
+    residual(em.model(), em.targets(), measurements, measure, w, VecX::Ones(count), plain);
+    return normalizedResiduals(plain, measure);
+  };
+  auto scaleOf = [&](const std::vector<double>& u) {
+    const double s = stated ? 1.0 : median(u) / medianNormalized(measure);
+    return s > 0.0 ? s : 1.0;
+  };
+  int reweightings = 0;
+  if (options.loss != Loss::Squared) {
+    // iteratively reweighted: from the least-squares fit, Huber first (convex), then the chosen loss
+    constexpr int kMaxReweightings = 50;
+    constexpr double kWeightsSettled = 1e-4;
+    for (const Loss loss : {Loss::Huber, options.loss}) {
+      if (loss == Loss::Huber && options.loss != Loss::Huber && reweightings > 0) continue;
+      for (int pass = 0; pass < kMaxReweightings; ++pass) {
+        const std::vector<double> u = unweighted();
+        const double scale = scaleOf(u);
+        VecX next(count);
+        for (Eigen::Index m = 0; m < count; ++m) next[m] = robustWeight(loss, u[static_cast<size_t>(m)] / scale);
+        const double change = (next - robust).cwiseAbs().maxCoeff();
+        robust = next;
+        ++reweightings;
+        cost = residual(em.model(), em.targets(), measurements, measure, w, robust, r);
+        converged = fit();
+        if (change <= kWeightsSettled) break;
+      }
+      if (loss == options.loss) break;
+    }
   }
+
+  // per measurement: errors, normalized residuals, weights, outliers
+  const std::vector<double> u = unweighted();
+  const double scale = scaleOf(u);
+  std::vector<MeasurementResidual> residuals(static_cast<size_t>(count));
+  {
+    Data data(em.model());
+    for (size_t m = 0; m < residuals.size(); ++m) {
+      const Pose T = predict(em.model(), data, measurements[m], measure, em.targets());
+      MeasurementResidual& x = residuals[m];
+      x.position = (measurements[m].T_base_tool.p - T.p).norm();
+      x.rotation = measure == Measure::Pose ? rotationAngle(T.R.transpose() * measurements[m].T_base_tool.R) : kNaN;
+      x.normalized = u[m] / scale;
+      x.weight = robust[static_cast<Eigen::Index>(m)];
+      x.outlier = x.normalized > options.outlier_threshold;
+    }
+  }
+  const int outliers = static_cast<int>(std::count_if(residuals.begin(), residuals.end(),
+                                                      [](const MeasurementResidual& x) { return x.outlier; }));
+
+  // the variance factor: least squares over every measurement, a robust loss over those not flagged
+  const int per = rowsPerMeasurement(measure);
+  double redundancy = static_cast<double>(r.size()) - rank, weighted_cost = 0.0;
+  for (size_t m = 0; m < residuals.size(); ++m) {
+    if (options.loss != Loss::Squared && residuals[m].outlier) {
+      redundancy -= per;
+      continue;
+    }
+    weighted_cost += u[m] * u[m] * (per / 3.0);
+  }
+  const double variance_factor = redundancy > 0 ? weighted_cost / redundancy : kNaN;
+  const double factor = stated ? 1.0 : variance_factor;
 
   // covariance at the result on the determined subspace: Cov = basis W S^-2 W^T basis^T (times the variance
   // factor when the noise was not stated). Redundancy: with no more residuals than determined parameters the
   // fit passes through the noise and the cost says nothing about it (variance factor NaN).
-  const double redundancy = static_cast<double>(r.size()) - rank;
-  const double variance_factor = redundancy > 0 ? cost / redundancy : std::numeric_limits<double>::quiet_NaN();
-  const double factor = stated ? 1.0 : variance_factor;
   MatX axes = MatX::Zero(n, rank);
   VecX sd = VecX::Constant(n, kInf);
   if (rank > 0 && factor >= 0.0) {
@@ -592,12 +1049,111 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
       if (std::abs(V0(k, rank + i)) > 1e-8) sd[k] = kInf;  // moves along an undetermined direction
     }
   }
-  CalibrationResult out{em.model(), em, identifiableCount(nominal, measure, options.free_pitch), std::move(nominal_rank),
-                        residualStatistics(nominal, measurements, measure),
-                        residualStatistics(em.model(), measurements, measure), iterations, converged,
-                        w.position, w.rotation, stated, variance_factor, axes * axes.transpose(), sd, axes, null};
-  out.sigma_position_stated = options.sigma_position.has_value();
-  out.sigma_rotation_stated = options.sigma_rotation.has_value();
+  CalibrationResult out{em.model(),
+                        em,
+                        identifiableCount(nominal, measure, options.free_pitch, static_cast<int>(options.targets.size())),
+                        std::move(nominal_rank),
+                        residualStatistics(start, measurements, measure, reg.targets),
+                        residualStatistics(em.model(), measurements, measure, em.targets()),
+                        iterations,
+                        converged,
+                        w.position,
+                        w.rotation,
+                        stated,
+                        variance_factor,
+                        axes * axes.transpose(),
+                        sd,
+                        axes,
+                        null,
+                        options.sigma_position.has_value(),
+                        options.sigma_rotation.has_value(),
+                        measure,
+                        options.parameters,
+                        reg,
+                        em.targets(),
+                        options.loss,
+                        scale,
+                        !stated,
+                        reweightings,
+                        std::move(residuals),
+                        outliers,
+                        false,
+                        {}};
+
+  // the verdict
+  std::ostringstream why;
+  if (!converged) {
+    why << "the fit did not converge in " << iterations << " iterations";
+  } else if (options.loss != Loss::Squared && outliers > kMaxOutlierFraction * static_cast<double>(count)) {
+    why << outliers << " of " << count << " measurements are beyond " << options.outlier_threshold
+        << " noise units (more than a quarter: a robust loss cannot tell blunders from a wrong model)";
+  } else if (stated && variance_factor > kMaxVarianceFactor) {
+    why << "variance factor " << variance_factor << " > " << kMaxVarianceFactor << ": the residuals are "
+        << std::sqrt(variance_factor) << " times the stated noise";
+  } else if (!stated) {
+    const ResidualStatistics& a = out.after;
+    if (a.rms_position > kMaxRelativeRmsPosition * L) {
+      why << "RMS position " << a.rms_position << " left is " << 100.0 * a.rms_position / L
+          << " % of the robot's size L = " << L << " (at most " << 100.0 * kMaxRelativeRmsPosition << " %)";
+    } else if (measure == Measure::Pose && a.rms_rotation > kMaxRmsRotation) {
+      why << "RMS rotation " << a.rms_rotation << " rad left (at most " << kMaxRmsRotation << " rad)";
+    }
+  }
+  out.reason = why.str();
+  out.accepted = out.reason.empty();
+  return out;
+}
+
+CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
+                              const CalibrationOptions& options, int folds) {
+  LP_CHECK(folds >= 2, "crossValidate: at least 2 folds");
+  // folds over poses: consecutive measurements with the same joint vector (a pose's targets) stay together
+  std::vector<int> pose(measurements.size(), 0);
+  for (size_t m = 1; m < measurements.size(); ++m) {
+    pose[m] = pose[m - 1] + (measurements[m].q == measurements[m - 1].q ? 0 : 1);
+  }
+  const int poses = measurements.empty() ? 0 : pose.back() + 1;
+  LP_CHECK(poses >= folds, "crossValidate: " << poses << " poses for " << folds << " folds");
+  CrossValidation out;
+  out.folds = folds;
+  for (const ParameterSet set : {ParameterSet::Full, ParameterSet::Lines, ParameterSet::Offsets}) {
+    CrossValidation::Candidate c;
+    c.set = set;
+    CalibrationOptions o = options;
+    o.parameters = set;
+    double sum_p = 0.0, sum_r = 0.0;
+    int held = 0;
+    for (int f = 0; f < folds && !c.failed; ++f) {
+      std::vector<Measurement> train, test;
+      for (size_t m = 0; m < measurements.size(); ++m) (pose[m] % folds == f ? test : train).push_back(measurements[m]);
+      try {
+        const CalibrationResult fit = calibrate(nominal, train, o);
+        c.parameters = fit.error_model.size();
+        if (!fit.converged) c.failed = true;
+        const ResidualStatistics s = residualStatistics(fit.model, test, o.measure, fit.targets);
+        sum_p += s.rms_position * s.rms_position * s.count;
+        sum_r += s.rms_rotation * s.rms_rotation * s.count;
+        held += s.count;
+      } catch (const std::invalid_argument&) {
+        c.failed = true;
+      }
+    }
+    if (held > 0) {
+      c.rms_position = std::sqrt(sum_p / held);
+      c.rms_rotation = std::sqrt(sum_r / held);
+    }
+    out.candidates.push_back(c);
+  }
+  const CrossValidation::Candidate* best = nullptr;
+  for (const auto& c : out.candidates) {
+    if (c.failed) continue;
+    if (!best || c.rms_position < best->rms_position ||
+        (c.rms_position == best->rms_position && c.parameters < best->parameters)) {
+      best = &c;
+    }
+  }
+  LP_CHECK(best, "crossValidate: no parameter level could be fitted on every fold");
+  out.chosen = best->set;
   return out;
 }
 

@@ -25,7 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     FUZZ_CHECK((x.T_base_tool.R.transpose() * x.T_base_tool.R - lowpair::Mat3::Identity()).norm() < 1e-9);
   }
   // the writer's text reads back: joint values and positions bit for bit
-  const std::string text = lowpair::io::formatMeasurements(m.measure, m.measurements, {"fuzz"});
+  const std::string text = lowpair::io::formatMeasurements(m.measure, m.measurements, {"fuzz"}, m.target_names);
   lowpair::io::MeasurementFile back;
   try {
     back = lowpair::io::readMeasurements(again.write(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
@@ -34,7 +34,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     std::abort();
   }
   FUZZ_CHECK(back.measure == m.measure && back.dof == m.dof && back.measurements.size() == m.measurements.size());
+  FUZZ_CHECK(back.target_names == m.target_names);
   for (size_t i = 0; i < m.measurements.size(); ++i) {
+    FUZZ_CHECK(back.measurements[i].target == m.measurements[i].target);
     FUZZ_CHECK(back.measurements[i].q == m.measurements[i].q);
     FUZZ_CHECK(back.measurements[i].T_base_tool.p == m.measurements[i].T_base_tool.p);
   }

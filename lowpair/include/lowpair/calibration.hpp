@@ -31,38 +31,80 @@
 
 namespace lowpair {
 
-/// What a measurement observes of the tool.
-enum class Measure { Pose, Position };
+/// What a measurement observes of the tool: its frame, its origin, or points fixed on it (targets: a laser
+/// tracker's SMRs, several per pose, each at an unknown or known point of the tool).
+enum class Measure { Pose, Position, Targets };
 
-/// "pose" / "position".
+/// "pose" / "position" / "targets".
 const char* measureName(Measure measure);
 
-/// One measurement: joint variables of the model and the tool frame in the base frame (for position-only
-/// measurements only `T_base_tool.p` is used).
+/// Rows per measurement: 6 for Pose (`[dtheta; dp]`), 3 otherwise.
+int rowsPerMeasurement(Measure measure);
+
+/// One measurement: joint variables of the model and what was measured in the measurement frame (the base
+/// frame of the model being calibrated): the tool frame (Pose), its origin (Position: `T_base_tool.p`), or
+/// one target's point (Targets: `T_base_tool.p`, `target` its index).
 struct Measurement {
   VecX q;
   Pose T_base_tool;
+  int target = -1;  ///< Targets: index into the targets (CalibrationOptions::targets); -1 otherwise
+};
+
+/// A point fixed on the tool (an SMR): its name and, when known, its position in the tool frame (length).
+struct Target {
+  std::string name;
+  std::optional<Vec3> point_tool;
 };
 
 /// The paper's count `5h + 4r + 2t + n + tool` (§V) with its breakdown.
 struct ParameterCount {
   int helical = 0, revolute = 0, prismatic = 0;  ///< joints of each type (revolute with free pitch: helical)
   int scales = 0;                                ///< n, one scale per joint
-  int tool = 6;                                  ///< 6 (full pose) or 3 (position only)
+  int tool = 6;  ///< 6 (full pose), 3 (position only) or 3k (k targets: their points; the tool frame is theirs)
   int total() const { return 5 * helical + 4 * revolute + 2 * prismatic + scales + tool; }
 };
 
 /// @param free_pitch revolute joints get a pitch parameter (counted as helical)
-ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool free_pitch = false);
+/// @param targets k, for Measure::Targets (tool: 3k)
+ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool free_pitch = false, int targets = 1);
 
-enum class ParameterKind { Tilt, Shift, Pitch, Scale, ToolRotation, ToolTranslation };
+enum class ParameterKind {
+  Tilt, Shift, Pitch, Scale, ToolRotation, ToolTranslation,
+  Offset,                         ///< a joint offset (level `offsets`: not part of the minimal set, §V)
+  BaseRotation, BaseTranslation,  ///< the whole model moved in the measurement frame (level `offsets`)
+  TargetPoint                     ///< a target's point on the tool, tool-frame x, y, z
+};
+
+/// Which parameters a calibration fits (docs/calibration.md "Which parameters"):
+/// - Full: the minimal complete set (the count `5h + 4r + 2t + n + 6`, or `+ 3k` with k targets);
+/// - Lines: the joint lines (tilts, shifts, pitches) and the tool (or targets), no scales;
+/// - Offsets: the joint offsets, the base (the model moved as a whole: the measurement frame) and the tool
+///   (or targets); the base's turn about the first axis and the tool's about the last duplicate those
+///   joints' offsets (reported as undetermined, left where the registration put them);
+/// - Named: the parameters named in `names`, any of the three levels' (`j2.offset`, `base.rz`, `j3.tilt1`).
+enum class ParameterSet { Full, Lines, Offsets, Named };
+
+/// "full" / "lines" / "offsets" / "named".
+const char* parameterSetName(ParameterSet set);
+
+/// What an error model parameterizes.
+struct ErrorModelSpec {
+  bool free_pitch = false;          ///< revolute joints get a pitch parameter as well
+  ParameterSet set = ParameterSet::Full;
+  std::vector<std::string> names;   ///< ParameterSet::Named
+  /// Targets' points in the tool frame: with at least one, the tool's 6 parameters are replaced by 3 per
+  /// target (`target.NAME.x`, `.y`, `.z`, tool frame); names from `target_names` ("1", "2", ... when empty).
+  std::vector<Vec3> targets;
+  std::vector<std::string> target_names;
+};
 
 /// One identification parameter (a column of the identification Jacobian).
 struct Parameter {
   ParameterKind kind = ParameterKind::Tilt;
   int joint = -1;      ///< 0-based joint, -1 for the tool
   int component = 0;   ///< 0/1 for tilt and shift, 0..2 (x, y, z) for the tool
-  std::string name;    ///< "j3.tilt1", "j3.shift2", "j3.pitch", "j3.scale", "tool.rx", "tool.z" (1-based joints)
+  std::string name;    ///< "j3.tilt1", "j3.shift2", "j3.pitch", "j3.scale", "j3.offset", "tool.rx", "tool.z",
+                       ///< "base.rx", "base.z", "target.smr_a.x" (1-based joints)
   std::string unit;    ///< "rad", "length", "length/rad", "1"
 };
 
@@ -71,9 +113,14 @@ class ErrorModel {
  public:
   /// @param free_pitch give revolute joints a pitch parameter as well
   explicit ErrorModel(const PoeModel& model, bool free_pitch = false);
+  /// @throws std::invalid_argument for a Named set naming a parameter the model does not have (or none)
+  ErrorModel(const PoeModel& model, const ErrorModelSpec& spec);
 
   const PoeModel& model() const { return model_; }
-  bool freePitch() const { return free_pitch_; }
+  bool freePitch() const { return spec_.free_pitch; }
+  const ErrorModelSpec& spec() const { return spec_; }
+  /// The targets' points (tool frame) at this model; empty without targets.
+  const std::vector<Vec3>& targets() const { return spec_.targets; }
   const std::vector<Parameter>& parameters() const { return parameters_; }
   int size() const { return static_cast<int>(parameters_.size()); }
   /// The model moved by `delta` (one entry per parameter): `Ad(exp(eta))` per joint, pitch and scale
@@ -81,19 +128,26 @@ class ErrorModel {
   /// joint's type follows its new pitch (revolute when |pitch| <= kPitchZero eps L, the pitch then 0).
   /// @throws std::invalid_argument when a scale would become <= 0 or a number non-finite
   PoeModel apply(const Eigen::Ref<const VecX>& delta) const;
+  /// The targets' points moved by `delta` (tool frame).
+  std::vector<Vec3> applyTargets(const Eigen::Ref<const VecX>& delta) const;
   /// The same parameters, their directions (the eta twists) kept from this model, at another model of the
   /// same robot (a calibration iterate): the coordinates of every iterate then mean the same thing.
   ErrorModel rebased(const PoeModel& model) const;
+  ErrorModel rebased(const PoeModel& model, const std::vector<Vec3>& targets) const;
   /// Identification Jacobian at `q`: d(measured quantity)/d(parameters), 6 rows `[dtheta; dp]` (Pose) or
-  /// 3 rows `dp` (Position), `size()` columns; units: rad and length per parameter unit. Also returns
-  /// the model's `T_base_tool(q)`.
-  Pose jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows) const;
+  /// 3 rows `dp` (Position; Targets: of target `target`'s point), `size()` columns; units: rad and length
+  /// per parameter unit. Also returns the model's `T_base_tool(q)`.
+  Pose jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows, int target = -1) const;
 
  private:
   PoeModel model_;
-  bool free_pitch_ = false;
+  ErrorModelSpec spec_;
+  std::vector<Parameter> all_;       // every candidate parameter, in column order of the full computation
+  std::vector<int> selected_;        // indices into all_ of the parameters
   std::vector<Parameter> parameters_;
   std::vector<std::array<Vec6, 4>> basis_;  // per joint: eta of tilt1, tilt2, shift1, shift2 (prismatic: 2)
+  Vec3 center_ = Vec3::Zero();              // the base parameters turn the model about this point
+  VecX expanded(const Eigen::Ref<const VecX>& delta) const;  // delta over all_ (0 where not selected)
 };
 
 /// The error model without local reduction: per joint the 6 coordinates of `eta` (base frame), the pitch
@@ -101,13 +155,15 @@ class ErrorModel {
 /// redundant by construction (2 per revolute/helical joint, 4 per prismatic joint, every offset); its rank
 /// is the number of identifiable parameters (what identifiability compares with the count).
 /// @return `6n + pitches + 2n + 6` columns, rows as ErrorModel::jacobian
-MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch);
+/// Measure::Targets: rows per pose and target (3 each), and 3 more columns per target (its point, tool frame).
+MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
+                            const std::vector<Vec3>& targets = {});
 
 /// The D-H parameterization of the same robot (poeToDh of the model): base `theta, d, alpha, a`, per
 /// joint `theta, d, alpha, a` (+ `pitch` when helical or freed) + `scale`, tool `theta, d`; analytic
 /// columns. @param names receives the column names ("base.theta", "j2.a", "tool.d", ...)
 MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
-                              std::vector<std::string>* names = nullptr);
+                              std::vector<std::string>* names = nullptr, const std::vector<Vec3>& targets = {});
 
 /// Rank rule for the identification Jacobians: rows made dimensionless (position rows / L), columns
 /// scaled to unit norm (a zero column stays zero), then `rank = #{sigma_i > kRankFactor cols eps sigma_1}`
@@ -148,8 +204,9 @@ struct Identifiability {
 
 /// @throws std::invalid_argument for poses of the wrong size or non-finite, and as poeToDh when the model's
 /// D-H table is beyond the magnitude limits (its `dh` rank cannot be computed)
+/// @param targets Measure::Targets: the targets' points (tool frame); every pose measures each
 Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
-                                       bool free_pitch = false);
+                                       bool free_pitch = false, const std::vector<Vec3>& targets = {});
 
 /// Residual statistics of a model against measurements: position error `|p_meas - p_model|` (length) and
 /// rotation error `rotationAngle(R_model^T R_meas)` (rad; 0 for position measurements).
@@ -159,8 +216,52 @@ struct ResidualStatistics {
   double rms_rotation = 0.0, max_rotation = 0.0;
 };
 
+/// @param targets the targets' points (tool frame), for Measure::Targets
 ResidualStatistics residualStatistics(const PoeModel& model, const std::vector<Measurement>& measurements,
-                                      Measure measure);
+                                      Measure measure, const std::vector<Vec3>& targets = {});
+
+/// The measured point or pose a model predicts for one measurement (Targets: `T(q) point`).
+Pose predictedMeasurement(const PoeModel& model, const Measurement& m, Measure measure,
+                          const std::vector<Vec3>& targets = {});
+
+/// `model` moved as a whole by `T_frame_base`: every twist `Ad(T) xi`, the tool `T T_tool`. Its forward
+/// kinematics is `T_frame_base T_base_tool(q)`: the same robot seen from another frame.
+PoeModel movedModel(const PoeModel& model, const Pose& T_frame_base);
+
+/// The closed-form rigid registration (Horn; Kabsch-Umeyama without scale) of the measurement frame:
+/// the pose `T_meas_base` of the model's base frame in the measurement frame that best maps the model's
+/// predicted points (tool origins or targets' points; for Pose data the rotations as well, weighted by L^2)
+/// onto the measured ones. Targets without a point are estimated in turn (each the mean of its measured
+/// points expressed in the predicted tool frame), alternating with the registration until both settle.
+struct Registration {
+  Pose T_meas_base;
+  std::vector<Vec3> targets;  ///< every target's point (tool frame): given or estimated
+  std::vector<bool> estimated;
+  int iterations = 0;
+  bool determined = true;  ///< false: the predicted points are collinear (and no rotations): identity kept
+};
+
+/// @throws std::invalid_argument as calibrate for bad measurements
+Registration registerMeasurementFrame(const PoeModel& model, const std::vector<Measurement>& measurements,
+                                      Measure measure, const std::vector<Target>& targets = {});
+
+/// Robust losses by iteratively reweighted least squares (docs/calibration.md "Blunders"): on a
+/// measurement's normalized residual u (below), weight 1 (Squared), min(1, kHuber / u) (Huber), or
+/// 1 / (1 + (u / kCauchy)^2) (Cauchy).
+enum class Loss { Squared, Huber, Cauchy };
+const char* lossName(Loss loss);
+constexpr double kHuberThreshold = 3.0;  ///< in normalized residuals (noise units)
+constexpr double kCauchyScale = 4.0;     ///< in normalized residuals
+
+/// One measurement's fit: position (length) and rotation (rad; NaN for points) errors, and the
+/// normalized residual `u = sqrt(|r|^2 / (rows / 3))` of its weighted residual r (position / sigma_position,
+/// rotation / sigma_rotation; with no stated noise, over the robust scale instead): `|e| / sigma` for a
+/// point, the root mean square of the two for a pose.
+struct MeasurementResidual {
+  double position = 0.0, rotation = 0.0, normalized = 0.0;
+  double weight = 1.0;   ///< the robust loss' weight at the result (1 for Squared)
+  bool outlier = false;  ///< normalized > CalibrationOptions::outlier_threshold
+};
 
 struct CalibrationOptions {
   Measure measure = Measure::Pose;
@@ -171,7 +272,21 @@ struct CalibrationOptions {
   std::optional<double> sigma_position;  ///< length
   std::optional<double> sigma_rotation;  ///< rad
   int max_iterations = 100;
+  /// Measure::Targets: the targets (index = Measurement::target); unknown points are estimated.
+  std::vector<Target> targets;
+  /// Register the measurement frame in closed form before the fit (registerMeasurementFrame).
+  bool register_frame = true;
+  Loss loss = Loss::Squared;
+  double outlier_threshold = 5.0;  ///< normalized residual above which a measurement is flagged
+  ParameterSet parameters = ParameterSet::Full;
+  std::vector<std::string> parameter_names;  ///< ParameterSet::Named
 };
+
+/// The rule behind CalibrationResult::accepted (docs/calibration.md "The verdict").
+constexpr double kMaxVarianceFactor = 100.0;     ///< stated noise: residuals at most 10x the noise
+constexpr double kMaxRelativeRmsPosition = 0.01;  ///< no stated noise: RMS position at most 1 % of L
+constexpr double kMaxRmsRotation = 0.01;          ///< no stated noise: RMS rotation at most 0.01 rad
+constexpr double kMaxOutlierFraction = 0.25;      ///< robust losses: at most a quarter flagged
 
 struct CalibrationResult {
   PoeModel model;                    ///< calibrated
@@ -196,6 +311,26 @@ struct CalibrationResult {
   /// Which weight was stated; the other of a stated pair is derived (sigma_rotation = sigma_position / L or
   /// sigma_position = sigma_rotation L).
   bool sigma_position_stated = false, sigma_rotation_stated = false;
+
+  Measure measure = Measure::Pose;
+  ParameterSet parameter_set = ParameterSet::Full;
+  /// The registration: the pose of the nominal's base frame in the measurement frame (identity when not
+  /// registered). `before` is the nominal placed there (with its targets as registered/estimated).
+  Registration registration;
+  std::vector<Vec3> targets;  ///< calibrated targets' points (tool frame of `model`)
+  Loss loss = Loss::Squared;
+  /// Robust losses: the noise unit of the normalized residuals: 1 (stated noise) or the a posteriori scale
+  /// from the median residual (`median u / median of chi with rows dof`), in weighted-residual units.
+  double robust_scale = 1.0;
+  bool robust_scale_from_median = false;
+  int reweightings = 0;  ///< IRLS passes
+  std::vector<MeasurementResidual> residuals;  ///< one per measurement, in order
+  int outliers = 0;
+  /// The verdict: converged, and the residuals consistent with the stated noise (variance factor, over
+  /// the measurements not flagged for robust losses, at most kMaxVarianceFactor; at most a quarter flagged),
+  /// or without stated noise the RMS below 1 % of L and 0.01 rad. `reason` says why not (empty if accepted).
+  bool accepted = false;
+  std::string reason;
 };
 
 /// Levenberg–Marquardt in the error model's coordinates (directions fixed at the nominal, re-centred at
@@ -206,6 +341,25 @@ struct CalibrationResult {
 /// joint count differs from the model's or with non-finite numbers, or for no measurement.
 CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                             const CalibrationOptions& options = {});
+
+/// k-fold cross-validation of the parameter levels (Full, Lines, Offsets): measurement i is in fold i % k;
+/// each level is fitted on k - 1 folds and predicts the held-out one (the RMS of position errors, length,
+/// and rotation, rad). `chosen` is the level with the least held-out RMS position (ties: fewer parameters).
+struct CrossValidation {
+  struct Candidate {
+    ParameterSet set = ParameterSet::Full;
+    int parameters = 0;
+    double rms_position = 0.0, rms_rotation = 0.0;
+    bool failed = false;  ///< a fold's fit threw or did not converge: not a candidate
+  };
+  std::vector<Candidate> candidates;
+  ParameterSet chosen = ParameterSet::Full;
+  int folds = 0;
+};
+
+/// @throws std::invalid_argument for fewer measurements than 2 folds' worth, or as calibrate
+CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
+                              const CalibrationOptions& options, int folds = 5);
 
 /// Standard deviations of the calibrated D-H table: the parameter covariance propagated through poeToDh by
 /// central differences of one standard deviation along the covariance's principal axes (angle differences
