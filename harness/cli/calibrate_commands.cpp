@@ -1,4 +1,5 @@
 // identifiability, calibrate (docs/calibration.md).
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <cmath>
@@ -31,7 +32,35 @@ using nlohmann::json;
 
 namespace {
 
-Measure parseMeasure(const std::string& text) { return text == "position" ? Measure::Position : Measure::Pose; }
+Measure parseMeasure(const std::string& text) {
+  return text == "position" ? Measure::Position : text == "targets" ? Measure::Targets : Measure::Pose;
+}
+
+// The robot file's targets' points, in order; Measure::Targets needs at least one.
+std::vector<Vec3> fileTargets(const RobotFile& file) {
+  if (file.targets.empty()) {
+    throw UsageError(file.path, "--measure targets needs a `targets:` list in the robot file (docs/file_formats.md)");
+  }
+  std::vector<Vec3> points;
+  for (const Target& t : file.targets) points.push_back(*t.point_tool);
+  return points;
+}
+
+// --parameters: a level, or a comma list of parameter names.
+void parseParameters(const std::string& text, CalibrationOptions& options) {
+  if (text == "full" || text == "lines" || text == "offsets") {
+    options.parameters = text == "full" ? ParameterSet::Full : text == "lines" ? ParameterSet::Lines : ParameterSet::Offsets;
+    return;
+  }
+  options.parameters = ParameterSet::Named;
+  std::stringstream in(text);
+  for (std::string name; std::getline(in, name, ',');) {
+    const auto b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
+    if (b == std::string::npos) throw UsageError("--parameters", "an empty name in '" + text + "'");
+    options.parameter_names.push_back(name.substr(b, e - b + 1));
+  }
+  if (options.parameter_names.empty()) throw UsageError("--parameters", "expected full, lines, offsets or names");
+}
 
 }  // namespace
 
@@ -43,14 +72,18 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     long long seed = 1;
     bool as_json = false, free_pitch = false;
     std::optional<double> noise_position, noise_rotation;
+    std::string loss = "squared", parameters, select;
+    double outlier_threshold = 5.0;
+    int folds = 5;
   };
   auto o = std::make_shared<Options>();
 
   auto* ident = app.add_subcommand("identifiability",
                                    "rank of the identification Jacobian vs 5h+4r+2t+n+6, POE and D-H (Wu et al. §V)");
   addRobotArgument(*ident, o->robot);
-  ident->add_option("--measure", o->measure, "pose (default) or position measurements of the tool")
-      ->check(CLI::IsMember({"pose", "position"}));
+  ident->add_option("--measure", o->measure,
+                    "pose (default) or position measurements of the tool, or targets (the robot file's targets: points)")
+      ->check(CLI::IsMember({"pose", "position", "targets"}));
   ident->add_option("--poses", o->poses, "random poses (default 50)")->check(CLI::Range(1, kMaxIdentifiabilityPoses));
   ident->add_option("--seed", o->seed, "seed of the random poses (default 1)")->check(CLI::Range(0LL, kMaxSeed));
   ident->add_flag("--free-pitch", o->free_pitch, "give revolute joints a pitch parameter");
@@ -71,7 +104,8 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     const auto ranges = samplingRanges(model);
     std::vector<VecX> q(static_cast<size_t>(o->poses), VecX(model.dof()));
     for (int i = 0; i < o->poses; ++i) randomSample(static_cast<unsigned long long>(o->seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
-    const Identifiability id = analyzeIdentifiability(model, q, measure, o->free_pitch);
+    const Identifiability id = analyzeIdentifiability(model, q, measure, o->free_pitch,
+                                                      measure == Measure::Targets ? fileTargets(file) : std::vector<Vec3>{});
     if (o->as_json) {
       json j = identifiabilityJson(file, id);
       j["poses"] = o->poses;
@@ -97,7 +131,18 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
   cal->add_option("--noise-position", o->noise_position, "measurement noise, standard deviation per coordinate (length)");
   cal->add_option("--noise-rotation", o->noise_rotation, "measurement noise, standard deviation per axis (rad)");
   cal->add_flag("--free-pitch", o->free_pitch, "identify a pitch on revolute joints too (they may come out helical)");
-  cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml)");
+  cal->add_option("--loss", o->loss, "squared (default), huber or cauchy: robust losses weigh blunders down (IRLS)")
+      ->check(CLI::IsMember({"squared", "huber", "cauchy"}));
+  cal->add_option("--outlier-threshold", o->outlier_threshold,
+                  "flag a measurement whose normalized residual exceeds this (default 5)")
+      ->check(CLI::Range(1e-3, 1e6));
+  cal->add_option("--parameters", o->parameters,
+                  "full (default: every identifiable parameter), lines (no scales), offsets (joint offsets, base, "
+                  "tool), or a comma list of parameter names");
+  cal->add_option("--select", o->select, "cv: choose full, lines or offsets by k-fold cross-validation")
+      ->check(CLI::IsMember({"cv"}));
+  cal->add_option("--folds", o->folds, "folds of --select cv (default 5)")->check(CLI::Range(2, 20));
+  cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml); only when the fit is accepted");
   cal->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(cal, [o] {
     const RobotFile file = loadRobot(o->robot);
@@ -109,10 +154,21 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
         throw RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + file.path + " has " +
                              std::to_string(nominal.dof()) + " joints");
       }
-      if (!m.length_unit.empty() && !file.length_unit.empty() && m.length_unit != file.length_unit) {
+      if (!m.length_unit.empty() && !file.length_unit.empty() && m.length_unit != file.length_unit &&
+          !(metresPerUnit(m.length_unit) && metresPerUnit(file.length_unit))) {
         throw RobotFileError(m.path + ": lengths in " + m.length_unit + " (its length_unit comment) but " + file.path +
-                             " is in " + file.length_unit + ": measure in the nominal's unit");
+                             " is in " + file.length_unit + ", and lowpair converts only m, mm, cm, dm, um, km, in, ft");
       }
+    };
+    // a CSV in another unit lowpair knows: its lengths converted to the nominal's (one note says so)
+    std::vector<std::string> notes;
+    auto convert_units = [&](MeasurementFile& m) {
+      if (m.length_unit.empty() || file.length_unit.empty() || m.length_unit == file.length_unit) return;
+      const double factor = *metresPerUnit(m.length_unit) / *metresPerUnit(file.length_unit);
+      for (Measurement& x : m.measurements) x.T_base_tool.p *= factor;
+      notes.push_back(m.path + ": lengths converted from " + m.length_unit + " (its length_unit comment) to " +
+                      file.length_unit + " (the nominal's), x " + shortest(factor));
+      m.length_unit = file.length_unit;
     };
     // joint values outside the nominal's ranges: a warning each (the first few), an error beyond
     // kFarOutsideRange range widths (a wrong column or unit, never fitted silently)
@@ -142,9 +198,10 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
         std::cerr << "warning: " << m.path << ": " << warnings << " joint values outside the ranges in all\n";
       }
     };
-    const MeasurementFile fit = readMeasurements(o->measurements, check_matches);
+    MeasurementFile fit = readMeasurements(o->measurements, check_matches);
     check_matches(fit);  // a length_unit comment may also follow the header
     check_ranges(fit);
+    convert_units(fit);
     if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
         identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) > kMaxJacobianEntries) {
       throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
@@ -159,6 +216,22 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
       validation = readMeasurements(o->validation, check_matches);
       check_matches(*validation);
       check_ranges(*validation);
+      convert_units(*validation);
+      if (validation->measure != fit.measure) {
+        throw RobotFileError(validation->path + ": " + measureName(validation->measure) + " measurements, but " +
+                             fit.path + " holds " + measureName(fit.measure) + " measurements");
+      }
+      // targets by name: the validation file's indices mapped to the fitting file's
+      for (Measurement& m : validation->measurements) {
+        if (m.target < 0) continue;
+        const std::string& name = validation->target_names[static_cast<size_t>(m.target)];
+        const auto it = std::find(fit.target_names.begin(), fit.target_names.end(), name);
+        if (it == fit.target_names.end()) {
+          throw RobotFileError(validation->path + ": target " + name + " is not measured in " + fit.path);
+        }
+        m.target = static_cast<int>(it - fit.target_names.begin());
+      }
+      validation->target_names = fit.target_names;
     }
     for (const auto& [value, flag, limit] : {std::tuple{o->noise_position, "--noise-position", kMaxMagnitude},
                                              std::tuple{o->noise_rotation, "--noise-rotation", M_PI}}) {
@@ -166,30 +239,54 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
         throw UsageError(flag, "must be a positive number up to " + shortest(limit) + ", got " + shortest(*value));
       }
     }
-    if (o->noise_rotation && fit.measure == Measure::Position) {
-      throw UsageError("--noise-rotation", fit.path + " holds position measurements: there is no rotation to weigh");
+    if (o->noise_rotation && fit.measure != Measure::Pose) {
+      throw UsageError("--noise-rotation", fit.path + " holds " + measureName(fit.measure) +
+                                               " measurements: there is no rotation to weigh");
     }
     CalibrationOptions options;
     options.measure = fit.measure;
     options.free_pitch = o->free_pitch;
     options.sigma_position = o->noise_position;
     options.sigma_rotation = o->noise_rotation;
+    options.loss = o->loss == "huber" ? Loss::Huber : o->loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
+    options.outlier_threshold = o->outlier_threshold;
+    if (!o->parameters.empty()) {
+      if (!o->select.empty()) throw UsageError("--select", "choose the parameters by --parameters or by --select, not both");
+      parseParameters(o->parameters, options);
+    }
+    // targets: the CSV's names; a point from the nominal file's targets: list of the same name, else estimated
+    for (const std::string& name : fit.target_names) {
+      const auto it = std::find_if(file.targets.begin(), file.targets.end(), [&](const Target& t) { return t.name == name; });
+      options.targets.push_back(it != file.targets.end() ? *it : Target{name, std::nullopt});
+    }
     const auto start = std::chrono::steady_clock::now();
+    std::optional<CrossValidation> cv;
+    if (o->select == "cv") {
+      cv = crossValidate(nominal, fit.measurements, options, o->folds);
+      options.parameters = cv->chosen;
+    }
     const CalibrationResult result = calibrate(nominal, fit.measurements, options);
     const DhUncertainty dh = dhUncertainty(result);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const CalibrationReport report = makeCalibrationReport(file, std::move(fit), std::move(validation), result, dh, seconds);
-    if (!o->out.empty()) {
+    CalibrationReport report = makeCalibrationReport(file, std::move(fit), std::move(validation), result, dh, seconds);
+    report.cross_validation = cv;
+    report.notes = notes;
+    if (!o->out.empty() && result.accepted) {
       const std::string name = (file.name.empty() ? std::filesystem::path(file.path).stem().string() : file.name) +
                                "-calibrated";
       writeFileAtomically(o->out, formatPoeRobotFile(result.model, file, name,
                                                      "calibrated by lowpair calibrate from " + report.fit.path,
-                                                     calibrationProvenance(report)));
+                                                     calibrationProvenance(report), calibratedTargets(report)));
     }
     if (o->as_json) {
       std::cout << jsonText(calibrationJson(report)) << "\n";
     } else {
       printCalibration(std::cout, report);
+    }
+    if (!result.accepted) {
+      std::cout.flush();
+      std::cerr << "error: " << rejectionText(report) << "\n";
+      return 1;
     }
     return 0;
   });

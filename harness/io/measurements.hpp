@@ -8,7 +8,7 @@
 /// - Comments: blank lines, and lines whose first character other than spaces and tabs is `#`, anywhere.
 ///   One comment may state the length unit of `x,y,z`: `# length_unit: U` (U one token of 1-16 printable
 ///   ASCII characters, e.g. `mm`; `lowpair simulate` writes it when the unit is known). A second one with
-///   another unit is an error. `calibrate` rejects measurements whose stated unit is not the nominal's.
+///   another unit is an error. `calibrate` converts measurements in another unit it knows (m, mm, ...) to the nominal's.
 /// - Header: the first other line names the columns, exactly in this order (names trimmed of spaces and
 ///   tabs): `q1,...,qn,x,y,z` (position measurements), `q1,...,qn,x,y,z,qw,qx,qy,qz` (pose measurements) or
 ///   `q1,...,qn,target,x,y,z` (target measurements, Measure::Targets), with 1 <= n <= 1000 joints numbered

@@ -17,9 +17,11 @@ using nlohmann::json;
 namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
-// Weighted residuals this many times the stated variance (or less than its inverse) draw a warning: with
-// 100 or more residual degrees of freedom the variance factor of a correct noise model is within 1 +- 0.3.
-constexpr double kVarianceFactorWarning = 4.0;
+// A variance factor below this draws a warning (the noise overstated 2x or more).
+constexpr double kVarianceFactorLow = 0.25;
+// Above the chi-square bound: the 99.9 % quantile of chi^2_f / f for f residual degrees of freedom, by the
+// normal approximation 1 + 3.09 sqrt(2 / f) (a correct noise model exceeds it once in a thousand fits).
+double chiSquareBound(double f) { return 1.0 + 3.09 * std::sqrt(2.0 / std::max(f, 1.0)); }
 
 json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
@@ -70,6 +72,23 @@ std::string countFormula(const ParameterCount& c) {
   s << "5h + 4r + 2t + n + " << c.tool << " = 5x" << c.helical << " + 4x" << c.revolute << " + 2x" << c.prismatic
     << " + " << c.scales << " + " << c.tool << " = " << c.total();
   return s.str();
+}
+
+// The residual degrees of freedom behind a variance factor: rows (of the measurements not flagged, for a
+// robust loss) minus the determined parameters.
+double redundancy(const CalibrationResult& c) {
+  double rows = 0.0;
+  for (const MeasurementResidual& m : c.residuals) {
+    if (c.loss == Loss::Squared || !m.outlier) rows += rowsPerMeasurement(c.measure);
+  }
+  return rows - c.rank.rank;
+}
+
+json matrixJson(const Pose& T) {
+  json rows = json::array();
+  for (int i = 0; i < 3; ++i) rows.push_back({T.R(i, 0), T.R(i, 1), T.R(i, 2), T.p[i]});
+  rows.push_back({0.0, 0.0, 0.0, 1.0});
+  return rows;
 }
 
 // Residual statistics; the rotation ones are null for position measurements (there is no rotation).
@@ -169,10 +188,10 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   std::vector<std::string> w;
   const std::vector<std::string> names = parameterNames(c.error_model.parameters());
-  if (c.rank.rank < c.expected.total()) {
+  if (c.parameter_set == ParameterSet::Full && c.rank.rank < c.expected.total()) {
     std::ostringstream s;
     // the tool rotation is a column of the error model but not of the count for position measurements
-    const int tool_rotation = r.fit.measure == Measure::Position ? 3 : 0;
+    const int tool_rotation = r.fit.measure == Measure::Position && c.parameter_set == ParameterSet::Full ? 3 : 0;
     s << "rank " << c.rank.rank << " < " << c.expected.total() << ": these measurements do not determine "
       << c.rank.undetermined.size() - static_cast<size_t>(tool_rotation) << " parameter direction(s) of the count"
       << (tool_rotation ? " (and the tool rotation, which position measurements never determine)" : "")
@@ -193,8 +212,7 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
                 "or fewer, so the fit passes through the noise" +
                 (c.noise_stated ? std::string("; the standard deviations come from the stated noise alone")
                                 : std::string("; without stated noise there are no standard deviations")));
-  } else if (c.noise_stated &&
-             (c.variance_factor > kVarianceFactorWarning || c.variance_factor < 1.0 / kVarianceFactorWarning)) {
+  } else if (c.noise_stated && (c.variance_factor > chiSquareBound(redundancy(c)) || c.variance_factor < kVarianceFactorLow)) {
     std::ostringstream s;
     s << "the weighted residuals are " << fixed(std::sqrt(c.variance_factor), 2)
       << " times the stated noise (variance factor " << fixed(c.variance_factor, 3) << "): "
@@ -202,6 +220,21 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
                                     "the standard deviations are too small"
                                   : "the noise is overstated; the standard deviations are too large");
     w.push_back(s.str());
+  }
+  if (c.outliers > 0) {
+    w.push_back(std::to_string(c.outliers) + " measurement(s) flagged as outliers (normalized residual above the "
+                "threshold; listed with their lines under \"worst measurements\", JSON \"residuals\"): " +
+                (c.loss == Loss::Squared ? std::string("least squares gave them full weight; try --loss huber")
+                                         : std::string("the robust loss weighed them down; they are not dropped")));
+  }
+  if (c.parameter_set != ParameterSet::Full && !c.rank.undetermined.empty()) {
+    w.push_back(std::to_string(c.rank.undetermined.size()) + " direction(s) of the " + parameterSetName(c.parameter_set) +
+                " parameters are not determined (left where the registration put them): " +
+                [&] {
+                  std::string t;
+                  for (const auto& d : c.rank.undetermined) t += " [" + directionText(d, names) + "]";
+                  return t;
+                }());
   }
   for (const auto& s : conversionWarnings(r.dh.conversion, checkDhConversion(c.model, r.dh.conversion.model))) {
     w.push_back("D-H: " + s);
@@ -214,11 +247,32 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
 CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, std::optional<MeasurementFile> validation,
                                         CalibrationResult result, DhUncertainty dh, double seconds) {
   CalibrationReport r{std::move(nominal), std::move(fit), std::move(validation), std::move(result), std::move(dh),
-                      seconds, std::nullopt, {}};
+                      seconds, std::nullopt, std::nullopt, {}, {}, std::nullopt, {}, {}};
+  const CalibrationResult& c = r.result;
+  r.registered_nominal = movedModel(r.nominal.poeModel(), c.registration.T_meas_base);
+  r.target_names = r.fit.target_names;
+  for (size_t t = 0; t < c.registration.estimated.size(); ++t) r.target_from_file.push_back(!c.registration.estimated[t]);
   if (r.validation) {
+    const std::vector<Measurement>& ms = r.validation->measurements;
+    const Measure measure = r.validation->measure;
     ValidationResiduals v;
-    v.before = residualStatistics(r.nominal.poeModel(), r.validation->measurements, r.validation->measure);
-    v.after = residualStatistics(r.result.model, r.validation->measurements, r.validation->measure);
+    v.before = residualStatistics(*r.registered_nominal, ms, measure, c.registration.targets);
+    v.after = residualStatistics(c.model, ms, measure, c.targets);
+    // extrapolation: a joint value outside what the fitting measurements cover
+    const int n = c.model.dof();
+    VecX lo = VecX::Constant(n, std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Measurement& m : r.fit.measurements) {
+      lo = lo.cwiseMin(m.q);
+      hi = hi.cwiseMax(m.q);
+    }
+    std::vector<Measurement> inside, outside;
+    for (const Measurement& m : ms) {
+      const bool out = (m.q.array() < lo.array()).any() || (m.q.array() > hi.array()).any();
+      (out ? outside : inside).push_back(m);
+    }
+    v.outside_count = static_cast<int>(outside.size());
+    v.inside_after = residualStatistics(c.model, inside, measure, c.targets);
+    v.outside_after = residualStatistics(c.model, outside, measure, c.targets);
     r.validation_residuals = v;
   }
   r.warnings = calibrationWarnings(r);
@@ -236,7 +290,44 @@ std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
                   " iterations" + (c.converged ? "" : " (not converged)"));
   lines.push_back("RMS position error on the measurements: before " + fixed(c.before.rms_position, 6) + " " + u +
                   ", after " + fixed(c.after.rms_position, 6) + " " + u);
+  lines.push_back("in the measurement frame of " + r.fit.path + " (the nominal's base registered at " +
+                  fixed(c.registration.T_meas_base.p.norm(), 3) + " " + u + " from its origin); loss " + lossName(c.loss) +
+                  ", parameters " + parameterSetName(c.parameter_set));
   return lines;
+}
+
+std::vector<Target> calibratedTargets(const CalibrationReport& r) {
+  std::vector<Target> out;
+  for (size_t t = 0; t < r.result.targets.size() && t < r.target_names.size(); ++t) {
+    out.push_back(Target{r.target_names[t], r.result.targets[t]});
+  }
+  return out;
+}
+
+std::vector<size_t> worstMeasurements(const CalibrationResult& c, size_t count) {
+  std::vector<size_t> order(c.residuals.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  count = std::min(count, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count), order.end(), [&](size_t a, size_t b) {
+    return c.residuals[a].normalized > c.residuals[b].normalized;
+  });
+  order.resize(count);
+  return order;
+}
+
+std::string rejectionText(const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  std::ostringstream s;
+  s << r.fit.path << ": calibration rejected, nothing written: " << c.reason << "; worst lines";
+  const std::vector<size_t> worst = worstMeasurements(c, kWorstMeasurementsShown);
+  for (size_t k = 0; k < worst.size(); ++k) {
+    s << (k ? ", " : " ") << r.fit.lines[worst[k]] << " (" << residual(c.residuals[worst[k]].normalized) << ")";
+  }
+  s << " (normalized residual: over the " << (c.noise_stated ? "stated noise" : "median-based noise scale")
+    << "); look at, in order: units (the CSV's length_unit, q in rad), blunders ("
+    << (c.loss == Loss::Squared ? "--loss huber, " : "") << "the worst lines), the measurement frame, a wrong nominal "
+    << "(another robot, joint order or type), the stated noise";
+  return s.str();
 }
 
 json calibrationJson(const CalibrationReport& r) {
@@ -265,6 +356,58 @@ json calibrationJson(const CalibrationReport& r) {
                        {"before", statisticsJson(v.before, r.validation->measure)},
                        {"after", statisticsJson(v.after, r.validation->measure)}};
   }
+  if (r.validation) {
+    const ValidationResiduals& v = *r.validation_residuals;
+    o["validation"]["extrapolation"] = {{"outside", v.outside_count},
+                                        {"inside_after", statisticsJson(v.inside_after, r.validation->measure)},
+                                        {"outside_after", statisticsJson(v.outside_after, r.validation->measure)}};
+  }
+  o["accepted"] = c.accepted;
+  o["verdict"] = c.accepted ? json("accepted") : json(c.reason);
+  o["measurement_frame"] = matrixJson(c.registration.T_meas_base);
+  o["registration"] = {{"iterations", c.registration.iterations}, {"determined", c.registration.determined}};
+  o["loss"] = lossName(c.loss);
+  o["robust_scale"] = {{"value", c.robust_scale}, {"source", c.noise_stated ? "stated noise" : "median residual"}};
+  o["outlier_threshold"] = c.outlier_threshold;
+  o["outliers"] = c.outliers;
+  o["reweightings"] = c.reweightings;
+  o["parameter_set"] = parameterSetName(c.parameter_set);
+  json residuals = json::array();
+  for (size_t k = 0; k < c.residuals.size(); ++k) {
+    const MeasurementResidual& m = c.residuals[k];
+    json e = {{"line", r.fit.lines[k]},
+              {"position", m.position},
+              {"rotation", finiteOrNull(m.rotation)},
+              {"normalized", m.normalized},
+              {"weight", m.weight},
+              {"outlier", m.outlier}};
+    if (r.fit.measure == Measure::Targets) {
+      e["target"] = r.target_names[static_cast<size_t>(r.fit.measurements[k].target)];
+    }
+    residuals.push_back(e);
+  }
+  o["residuals"] = residuals;
+  json targets = json::array();
+  for (size_t t = 0; t < c.targets.size(); ++t) {
+    targets.push_back({{"name", r.target_names[t]},
+                       {"point", {c.targets[t].x(), c.targets[t].y(), c.targets[t].z()}},
+                       {"start", r.target_from_file[t] ? "nominal file" : "estimated"}});
+  }
+  o["targets"] = targets;
+  if (r.cross_validation) {
+    json candidates = json::array();
+    for (const auto& cand : r.cross_validation->candidates) {
+      candidates.push_back({{"parameters", parameterSetName(cand.set)},
+                            {"count", cand.parameters},
+                            {"rms_position", cand.failed ? json(nullptr) : json(cand.rms_position)},
+                            {"rms_rotation", cand.failed || r.fit.measure != Measure::Pose ? json(nullptr) : json(cand.rms_rotation)},
+                            {"failed", cand.failed}});
+    }
+    o["cross_validation"] = {{"folds", r.cross_validation->folds},
+                             {"candidates", candidates},
+                             {"chosen", parameterSetName(r.cross_validation->chosen)}};
+  }
+  o["notes"] = r.notes;
   o["iterations"] = c.iterations;
   o["converged"] = c.converged;
   o["rank"] = c.rank.rank;
@@ -327,7 +470,7 @@ json calibrationJson(const CalibrationReport& r) {
 void printCalibration(std::ostream& out, const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   const std::string u = lengthUnit(r.nominal);
-  const PoeModel nominal = r.nominal.poeModel();
+  const PoeModel& nominal = *r.registered_nominal;  // in the measurement frame, as the calibrated model
   out << "calibration of " << robotLabel(r.nominal) << " (" << r.nominal.path << ") from " << r.fit.measurements.size()
       << " " << measureName(r.fit.measure) << " measurements (" << r.fit.path << ")\n";
   const std::string vf = std::isfinite(c.variance_factor) ? fixed(c.variance_factor, 3) : std::string("none (no redundancy)");
@@ -344,8 +487,47 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
            "variance factor "
         << vf << ")\n";
   }
-  out << "parameters: rank " << c.rank.rank << " of " << c.expected.total() << " (" << countFormula(c.expected)
-      << (c.error_model.freePitch() ? ", free pitch" : "") << ")\n";
+  if (c.parameter_set == ParameterSet::Full) {
+    out << "parameters: rank " << c.rank.rank << " of " << c.expected.total() << " (" << countFormula(c.expected)
+        << (c.error_model.freePitch() ? ", free pitch" : "") << ")\n";
+  } else {
+    out << "parameters: " << parameterSetName(c.parameter_set) << ", rank " << c.rank.rank << " of "
+        << c.error_model.size() << " (the complete set would be " << c.expected.total() << ")\n";
+  }
+  if (r.cross_validation) {
+    out << "parameter choice (" << r.cross_validation->folds << "-fold cross-validation, held-out RMS position):";
+    for (const auto& cand : r.cross_validation->candidates) {
+      out << " " << parameterSetName(cand.set) << " (" << cand.parameters << ") "
+          << (cand.failed ? std::string("failed") : residual(cand.rms_position) + " " + u) << ";";
+    }
+    out << " chosen: " << parameterSetName(r.cross_validation->chosen) << "\n";
+  }
+  {
+    const Pose& F = c.registration.T_meas_base;
+    const double angle = rotationAngle(F.R);
+    const Vec3 axis = angle > 0.0 ? Vec3(logSO3(F.R) / angle) : Vec3::UnitZ();
+    out << "measurement frame: the nominal's base at (" << fixed(F.p.x(), 3) << ", " << fixed(F.p.y(), 3) << ", "
+        << fixed(F.p.z(), 3) << ") " << u << ", turned " << fixed(angle * kDeg, 4) << " deg about (" << fixed(axis.x(), 4)
+        << ", " << fixed(axis.y(), 4) << ", " << fixed(axis.z(), 4) << ") (closed-form registration"
+        << (c.registration.determined ? "" : ": not determined, the predicted points are collinear; identity kept")
+        << ")\n";
+  }
+  if (!c.targets.empty()) {
+    out << "targets:";
+    for (size_t t = 0; t < c.targets.size(); ++t) {
+      out << " " << r.target_names[t] << (r.target_from_file[t] ? " (start: nominal file)" : " (start: estimated)");
+    }
+    out << "\n";
+  }
+  out << "loss: " << lossName(c.loss);
+  if (c.loss != Loss::Squared) {
+    out << " (" << (c.loss == Loss::Huber ? "threshold " + shortest(kHuberThreshold) : "scale " + shortest(kCauchyScale))
+        << " noise units; noise unit: " << (c.noise_stated ? "the stated noise" : "the median residual, " + residual(c.robust_scale) + " weighted units")
+        << "; " << c.reweightings << " reweightings)";
+  }
+  out << "; outliers (normalized residual > " << shortest(c.outlier_threshold) << "): " << c.outliers << " of "
+      << c.residuals.size() << "\n";
+  for (const std::string& note : r.notes) out << "note: " << note << "\n";
   out << (c.converged ? "converged" : "NOT converged") << " after " << c.iterations << " iterations ("
       << fixed(r.seconds, 3) << " s)\n\n";
 
@@ -367,9 +549,30 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
     const bool val_rot = r.validation->measure == Measure::Pose;
     stats("validation, before", v.before, val_rot);
     stats("validation, after", v.after, val_rot);
+    if (v.outside_count > 0) {
+      stats("  within fitted ranges", v.inside_after, val_rot);
+      stats("  outside (" + std::to_string(v.outside_count) + ")", v.outside_after, val_rot);
+    }
+  }
+  out << "(before: the nominal in the measurement frame";
+  if (r.validation && r.validation_residuals->outside_count > 0) {
+    out << "; outside: validation measurements with a joint value beyond the range the fitting ones cover";
+  }
+  out << ")\n";
+
+  out << "\nworst measurements (normalized residual: over the "
+      << (c.noise_stated ? "stated noise" : "median-based noise scale") << "):\n";
+  for (const size_t k : worstMeasurements(c, kWorstMeasurementsShown)) {
+    const MeasurementResidual& m = c.residuals[k];
+    out << "  " << r.fit.path << ":" << r.fit.lines[k];
+    if (r.fit.measure == Measure::Targets) out << " target " << r.target_names[static_cast<size_t>(r.fit.measurements[k].target)];
+    out << ": position " << residual(m.position) << " " << u;
+    if (r.fit.measure == Measure::Pose) out << ", rotation " << residual(m.rotation) << " rad";
+    out << ", normalized " << residual(m.normalized) << ", weight " << residual(m.weight) << (m.outlier ? "  OUTLIER" : "")
+        << "\n";
   }
 
-  out << "\nchange per joint (calibrated vs nominal):\n";
+  out << "\nchange per joint (calibrated vs the nominal in the measurement frame):\n";
   std::snprintf(line, sizeof line, "%-8s %-10s %14s %16s %18s %14s\n", "joint", "type", "tilt (rad)",
                 ("shift (" + u + ")").c_str(), ("pitch (" + pitchUnit(r.nominal) + ")").c_str(), "scale");
   out << line;
@@ -391,10 +594,19 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
                   fixed(b.scale - a.scale, 8).c_str());
     out << line;
   }
-  const Pose& Ta = nominal.toolPose();
-  const Pose& Tb = c.model.toolPose();
-  out << "tool: turned " << fixed(rotationAngle(Ta.R.transpose() * Tb.R), 8) << " rad, moved "
-      << fixed((Tb.p - Ta.p).norm(), 6) << " " << u << "\n";
+  if (c.targets.empty()) {
+    const Pose& Ta = nominal.toolPose();
+    const Pose& Tb = c.model.toolPose();
+    out << "tool: turned " << fixed(rotationAngle(Ta.R.transpose() * Tb.R), 8) << " rad, moved "
+        << fixed((Tb.p - Ta.p).norm(), 6) << " " << u << "\n";
+  } else {
+    out << "targets (tool frame, " << u << "):\n";
+    for (size_t t = 0; t < c.targets.size(); ++t) {
+      const Vec3& p = c.targets[t];
+      out << "  " << r.target_names[t] << ": " << fixed(p.x(), 6) << " " << fixed(p.y(), 6) << " " << fixed(p.z(), 6)
+          << " (moved " << fixed((p - c.registration.targets[t]).norm(), 6) << " from its start)\n";
+    }
+  }
 
   const DhModel& m = r.dh.conversion.model;
   out << "\ncalibrated D-H table (value +- standard deviation; angles in deg):\n";
@@ -428,6 +640,7 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
     out << "\nwarnings:\n";
     for (const auto& w : r.warnings) out << "  - " << w << "\n";
   }
+  out << "\nverdict: " << (c.accepted ? "accepted" : "REJECTED: " + c.reason) << "\n";
 }
 
 }  // namespace lowpair::validation

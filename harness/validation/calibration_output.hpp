@@ -31,9 +31,13 @@ inline double identificationEntries(double poses, double joints, double columns_
   return 6.0 * poses * columns + columns * columns;
 }
 
-/// Residuals of the validation set before (nominal) and after (calibrated), with its own measure.
+/// Residuals of the validation set before (the nominal, registered in the measurement frame) and after
+/// (calibrated), with its own measure; `outside`: the validation measurements with a joint value outside the
+/// range the fitting measurements cover (extrapolation), their residuals after apart (`inside` the others).
 struct ValidationResiduals {
   ResidualStatistics before, after;
+  int outside_count = 0;
+  ResidualStatistics inside_after, outside_after;
 };
 
 /// Everything `calibrate` prints: its inputs, the fit, and the numbers derived from them, computed once by
@@ -46,6 +50,14 @@ struct CalibrationReport {
   DhUncertainty dh;
   double seconds = 0.0;  ///< calibrate + dhUncertainty
   std::optional<ValidationResiduals> validation_residuals;  ///< set when there is a validation file
+  /// The nominal moved into the measurement frame by the registration (what "before" and the change per
+  /// joint compare with).
+  std::optional<PoeModel> registered_nominal;
+  /// Each target's name and whether its starting point was the nominal file's (else estimated).
+  std::vector<std::string> target_names;
+  std::vector<bool> target_from_file;
+  std::optional<CrossValidation> cross_validation;  ///< `--select cv`
+  std::vector<std::string> notes;  ///< e.g. a unit conversion of the measurements
   /// The warnings in sentences: rank below the count (with the undetermined directions), no convergence,
   /// residuals inconsistent with the stated noise, the D-H conversion's conditioning (its FK check, once).
   std::vector<std::string> warnings;
@@ -63,6 +75,16 @@ nlohmann::json calibrationJson(const CalibrationReport& report);
 void printCalibration(std::ostream& out, const CalibrationReport& report);
 /// The `#` lines of a calibrated robot file: where it came from and how well it fits.
 std::vector<std::string> calibrationProvenance(const CalibrationReport& report);
+/// The calibrated targets as a robot file lists them (tool frame of the calibrated model).
+std::vector<Target> calibratedTargets(const CalibrationReport& report);
+
+/// How many of the worst measurements the text lists.
+constexpr int kWorstMeasurementsShown = 5;
+/// The indices of the `count` measurements with the largest normalized residuals, largest first.
+std::vector<size_t> worstMeasurements(const CalibrationResult& result, size_t count);
+/// The verdict's one line for stderr when the fit is rejected: what is wrong (the result's reason), the
+/// worst lines of the measurement file, and the likely causes in order.
+std::string rejectionText(const CalibrationReport& report);
 
 /// "0.71 j6.scale - 0.50 j5.tilt1 + ..." (the largest coefficients first, at most six terms).
 std::string directionText(const std::vector<std::pair<int, double>>& direction, const std::vector<std::string>& names);

@@ -1078,10 +1078,12 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
                         std::move(residuals),
                         outliers,
                         false,
-                        {}};
+                        {},
+                        options.outlier_threshold};
 
   // the verdict
   std::ostringstream why;
+  why.precision(3);
   if (!converged) {
     why << "the fit did not converge in " << iterations << " iterations";
   } else if (options.loss != Loss::Squared && outliers > kMaxOutlierFraction * static_cast<double>(count)) {

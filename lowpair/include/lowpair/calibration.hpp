@@ -331,6 +331,7 @@ struct CalibrationResult {
   /// or without stated noise the RMS below 1 % of L and 0.01 rad. `reason` says why not (empty if accepted).
   bool accepted = false;
   std::string reason;
+  double outlier_threshold = 5.0;  ///< CalibrationOptions::outlier_threshold
 };
 
 /// Levenberg–Marquardt in the error model's coordinates (directions fixed at the nominal, re-centred at
