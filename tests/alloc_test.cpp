@@ -143,3 +143,128 @@ TEST(Alloc, ExpAllocatesNothing) {
             0);
   EXPECT_TRUE(T.R.allFinite());
 }
+
+// ---- inverse kinematics (lowpair/ik.hpp) -------------------------------------------------------------------------
+// Eigen's heap allocations (aligned_malloc) call std::malloc, not operator new, and the library's .cpp files are
+// compiled without EIGEN_RUNTIME_NO_MALLOC: only a malloc counter sees an Eigen temporary inside ik.cpp. glibc's
+// malloc, calloc and realloc are interposed here (the executable's definitions come first in the dynamic
+// lookup; each forwards to glibc's own). Not under the sanitizers, whose runtime interposes them itself.
+#include "lowpair/ik.hpp"
+
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
+#define LP_ALLOC_TEST_SANITIZED 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define LP_ALLOC_TEST_SANITIZED 1
+#endif
+#if defined(__GLIBC__) && !defined(LP_ALLOC_TEST_SANITIZED)
+#define LP_ALLOC_TEST_MALLOC 1
+namespace {
+std::atomic<long> g_mallocs{0};
+}  // namespace
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t count, std::size_t size);
+void* __libc_realloc(void* p, std::size_t size);
+void* malloc(std::size_t size) noexcept {
+  g_mallocs.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(size);
+}
+void* calloc(std::size_t count, std::size_t size) noexcept {
+  g_mallocs.fetch_add(1, std::memory_order_relaxed);
+  return __libc_calloc(count, size);
+}
+void* realloc(void* p, std::size_t size) noexcept {
+  g_mallocs.fetch_add(1, std::memory_order_relaxed);
+  return __libc_realloc(p, size);
+}
+}
+#endif
+
+namespace {
+
+// allocationsOf, plus the malloc calls (where they are counted).
+template <class F>
+long heapCallsOf(F&& f) {
+#if defined(LP_ALLOC_TEST_MALLOC)
+  const long before = g_mallocs.load();
+  const long news = allocationsOf(f);
+  return news + (g_mallocs.load() - before);
+#else
+  return allocationsOf(f);
+#endif
+}
+
+// testDh with ranges [-2, 2] (revolute, helical) and [-0.5, 0.5] (prismatic), as a POE model; `rows` joints.
+PoeModel rangedPoe(int rows) {
+  DhModel dh = testDh();
+  std::vector<DhJoint> joints(dh.joints().begin(), dh.joints().begin() + rows);
+  for (DhJoint& j : joints) j.range = j.type == JointType::Prismatic ? std::array<double, 2>{-0.5, 0.5} : std::array<double, 2>{-2.0, 2.0};
+  return dhToPoe(DhModel(DhParams{}, joints, 0.1, 0.2, "alloc-ranged"));
+}
+
+}  // namespace
+
+#if defined(LP_ALLOC_TEST_MALLOC)
+TEST(Alloc, MallocCounterSeesMalloc) {
+  // the interposed malloc is the one called, from this file and from the library (an Eigen heap matrix)
+  EXPECT_GE(heapCallsOf([] {
+              void* p = std::malloc(64);
+              std::free(p);
+            }),
+            1);
+  const long before = g_mallocs.load();
+  const MatX big = MatX::Zero(40, 40);  // Eigen's aligned_malloc -> malloc (outside the EIGEN_RUNTIME_NO_MALLOC guard)
+  EXPECT_GE(g_mallocs.load() - before, 1);
+  EXPECT_EQ(big.sum(), 0.0);
+}
+#endif
+
+TEST(Alloc, InverseKinematicsAllocatesNothingAfterSetup) {
+  // 8 joints (helical, prismatic: minimum-norm steps), a 5-joint chain (fewer joints than pose rows), ranges
+  // (joints held at limits), pose, position of a tool point, the Report policy, compensation: every solve that
+  // succeeds allocates nothing, with a workspace fresh from its constructor
+  const PoeModel full = testPoe(), ranged = rangedPoe(8), five = rangedPoe(5);
+  const PoeModel calibrated = dhToPoe([] {
+    DhModel dh = testDh();
+    std::vector<DhJoint> joints = dh.joints();
+    joints[1].link.a += 1e-3;
+    joints[3].link.alpha += 1e-3;
+    return DhModel(DhParams{}, joints, 0.1, 0.2, "alloc-calibrated");
+  }());
+  int solved = 0;
+  for (const PoeModel* model : {&full, &ranged, &five}) {
+    const int n = model->dof();
+    Data data(*model);
+    IkWorkspace work(*model);
+    IkOptions pose, position, report;
+    position.measure = Measure::Position;
+    position.point_tool << 0.01, 0.02, 0.03;
+    report.ranges = RangePolicy::Report;
+    for (unsigned k = 0; k < 20; ++k) {
+      const VecX q = 0.6 * randomQ(n, 100 + k) / 3.0;  // within [-0.6, 0.6]: inside every range
+      const VecX seed = q + VecX::Constant(n, 0.3);
+      const Pose target = poeForwardKinematics(*model, q);
+      for (const IkOptions* o : {&pose, &position, &report}) {
+        IkStatus status = IkStatus::NotConverged;
+        const long calls = heapCallsOf([&] { status = inverseKinematics(*model, data, target, seed, *o, work).status; });
+        if (status != IkStatus::Ok) continue;
+        ++solved;
+        EXPECT_EQ(calls, 0) << model->name() << " target " << k;
+      }
+    }
+  }
+  Data data(full);
+  IkWorkspace work(full);
+  for (unsigned k = 0; k < 20; ++k) {
+    const VecX q = 0.6 * randomQ(full.dof(), 200 + k) / 3.0;
+    IkStatus status = IkStatus::NotConverged;
+    const long calls = heapCallsOf([&] { status = compensate(full, calibrated, data, q, IkOptions{}, work).status; });
+    if (status != IkStatus::Ok) continue;
+    ++solved;
+    EXPECT_EQ(calls, 0) << "compensate " << k;
+  }
+  EXPECT_GE(solved, 150);  // the success path was taken: of 3 x 20 x 3 + 20 = 200 solves
+}

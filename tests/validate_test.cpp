@@ -16,6 +16,7 @@
 #include <system_error>
 
 #include "io/measurements.hpp"
+#include "lowpair/se3.hpp"
 #include "validation/calibration_scenario.hpp"
 #include "validation/comparison.hpp"
 #include "validation/validate.hpp"
@@ -285,17 +286,22 @@ TEST(RunWorkers, WorkerExceptionIsRethrownAfterTheJoin) {
 // One sampling unit (sampling.hpp): a scenario's calibration case and `lowpair simulate` with the same
 // model, joint variable, seed and noise draw the same joint vectors and measure the same poses. (Before the
 // unit, simulate sampled a revolute joint within the MJCF limits and a calibration case over a full turn.)
+// The last case of each scenario is a tracker's: targets (sites), a measurement frame and blunders too.
 TEST(Sampling, SimulateAndCalibrationCaseDrawTheSamePoses) {
   for (const char* name : {"puma560_okamura_actual.yaml", "stanford_corke_actual.yaml"}) {
     const Scenario scenario = readScenario(std::string(LOWPAIR_SCENARIOS) + "/" + name);
     ASSERT_FALSE(scenario.calibrations.empty()) << name;
     const CalibrationCase& c = scenario.calibrations.back();
+    EXPECT_TRUE(c.frame) << name << ": the last case is measured in a frame of its own";
     const MujocoRobot robot(scenario.model, scenario.tip, scenario.base);
     const SampledVariable v =
         sampledVariable(robot, scenario.joint_variables, scenario.model, scenario.tip, scenario.ranges, scenario.path);
     MujocoRobot::Evaluator mujoco(robot);
     constexpr int kPoses = 7;
-    const MeasurementFile expected = simulatedMeasurements(c, mujoco, v.motions, v.ranges, 0, kPoses, true, "case");
+    MeasurementFile expected =
+        simulatedMeasurements(c, caseMeasurementSetup(c, robot, true), mujoco, v.motions, v.ranges, 0, kPoses, "case");
+    const std::vector<size_t> blunders = addBlunders(c.seed, c.blunders, c.blunder_size, expected.measurements);
+    EXPECT_EQ(static_cast<long long>(blunders.size()), c.blunders);
 
     const std::string csv = testing::TempDir() + "/sampling_" + name + ".csv";
     std::ostringstream command;
@@ -303,8 +309,14 @@ TEST(Sampling, SimulateAndCalibrationCaseDrawTheSamePoses) {
     command << LOWPAIR_CLI << " simulate " << scenario.model << " --tip " << scenario.tip
             << (scenario.joint_variables.empty() ? "" : " --joint-variables " + scenario.joint_variables)
             << " --poses " << kPoses << " --seed " << c.seed << " --noise-position " << c.noise_position
-            << (c.position_only ? std::string() : " --noise-rotation " + std::to_string(c.noise_rotation))
-            << " --measure " << (c.position_only ? "position" : "pose") << " --out " << csv << " > /dev/null";
+            << " --measure " << measureName(c.measure());
+    if (c.measure() == Measure::Pose) command << " --noise-rotation " << c.noise_rotation;
+    for (size_t t = 0; t < c.targets.size(); ++t) command << (t ? "," : " --targets ") << c.targets[t];
+    if (c.frame) {
+      for (size_t k = 0; k < 6; ++k) command << (k ? "," : " --frame ") << (*c.frame)[k];
+    }
+    if (c.blunders > 0) command << " --blunders " << c.blunders << "," << c.blunder_size;
+    command << " --out " << csv << " > /dev/null";
     ASSERT_EQ(std::system(command.str().c_str()), 0) << command.str();
     const MeasurementFile simulated = readMeasurements(csv);
     ASSERT_EQ(simulated.measurements.size(), expected.measurements.size()) << name;
@@ -314,12 +326,70 @@ TEST(Sampling, SimulateAndCalibrationCaseDrawTheSamePoses) {
       // joint values and positions are written with 17 significant digits: they read back bit for bit
       EXPECT_EQ(a.q, b.q) << name << " pose " << k;
       EXPECT_EQ(a.T_base_tool.p, b.T_base_tool.p) << name << " pose " << k;
+      EXPECT_EQ(a.target, b.target) << name << " pose " << k;
       // the rotation passes through a quaternion printed with 17 digits: equal to rounding (position
       // measurements carry none)
-      if (!c.position_only) {
+      if (c.measure() == Measure::Pose) {
         EXPECT_LT((a.T_base_tool.R - b.T_base_tool.R).norm(), 8 * std::numeric_limits<double>::epsilon())
             << name << " pose " << k;
       }
     }
   }
+}
+
+// Blunders (sampling.hpp addBlunders): `count` distinct rows, each moved by exactly `size` (the position only),
+// the others untouched; the same seed the same rows; rows uniform over the measurements and directions
+// uniform on the sphere (1000 seeds: every row's count within 4 binomial standard deviations, the mean
+// direction within 5 standard deviations of 0).
+TEST(Sampling, BlundersAreDistinctRowsMovedByExactlyTheirSize) {
+  auto measurements = [](int n) {
+    std::vector<Measurement> ms(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k) {
+      ms[static_cast<size_t>(k)].q = VecX::Constant(2, k);
+      ms[static_cast<size_t>(k)].T_base_tool.p = Vec3(1000.0 * k, -3.0, 7.0);
+      ms[static_cast<size_t>(k)].T_base_tool.R = expSO3(Vec3(0.1 * k, 0.2, 0.3));
+    }
+    return ms;
+  };
+  const std::vector<Measurement> clean = measurements(50);
+  std::vector<Measurement> ms = clean;
+  const std::vector<size_t> rows = addBlunders(7, 10, 2.5, ms);
+  ASSERT_EQ(rows.size(), 10u);
+  EXPECT_TRUE(std::is_sorted(rows.begin(), rows.end()));
+  EXPECT_EQ(std::adjacent_find(rows.begin(), rows.end()), rows.end());
+  for (size_t k = 0; k < ms.size(); ++k) {
+    const bool blunder = std::binary_search(rows.begin(), rows.end(), k);
+    const double moved = (ms[k].T_base_tool.p - clean[k].T_base_tool.p).norm();
+    if (blunder) {
+      EXPECT_NEAR(moved, 2.5, 64 * std::numeric_limits<double>::epsilon() * 5e4) << k;
+    } else {
+      EXPECT_EQ(moved, 0.0) << k;
+    }
+    EXPECT_EQ(ms[k].T_base_tool.R, clean[k].T_base_tool.R) << "a blunder keeps the rotation";
+    EXPECT_EQ(ms[k].q, clean[k].q);
+  }
+  std::vector<Measurement> again = clean, other = clean;
+  EXPECT_EQ(addBlunders(7, 10, 2.5, again), rows);
+  EXPECT_NE(addBlunders(8, 10, 2.5, other), rows);
+  std::vector<Measurement> all = clean, none = clean;
+  EXPECT_EQ(addBlunders(7, 50, 1.0, all).size(), 50u);
+  EXPECT_TRUE(addBlunders(7, 0, 1.0, none).empty());
+  EXPECT_THROW(addBlunders(7, 51, 1.0, none), std::invalid_argument);
+  EXPECT_THROW(addBlunders(7, -1, 1.0, none), std::invalid_argument);
+  EXPECT_THROW(addBlunders(7, 1, std::nan(""), none), std::invalid_argument);
+  // uniform rows and directions
+  constexpr int kSeeds = 1000, kRows = 10, kCount = 3;
+  std::vector<int> chosen(kRows, 0);
+  Vec3 mean = Vec3::Zero();
+  for (int seed = 0; seed < kSeeds; ++seed) {
+    std::vector<Measurement> m = measurements(kRows);
+    for (const size_t r : addBlunders(static_cast<unsigned long long>(seed), kCount, 1.0, m)) {
+      ++chosen[r];
+      mean += m[r].T_base_tool.p - Vec3(1000.0 * static_cast<double>(r), -3.0, 7.0);
+    }
+  }
+  const double p = static_cast<double>(kCount) / kRows, expected = kSeeds * p;
+  for (int r = 0; r < kRows; ++r) EXPECT_NEAR(chosen[static_cast<size_t>(r)], expected, 4 * std::sqrt(expected * (1 - p))) << r;
+  mean /= kSeeds * kCount;
+  EXPECT_LT(mean.cwiseAbs().maxCoeff(), 5 * std::sqrt(1.0 / 3.0 / (kSeeds * kCount)));
 }

@@ -54,5 +54,7 @@ void addValidateCommand(CLI::App& app, Commands& out);   // validate (validate_c
 void addSimulateCommand(CLI::App& app, Commands& out);   // simulate (simulate_command.cpp)
 void addCalibrateCommands(CLI::App& app, Commands& out);  // identifiability, calibrate (calibrate_commands.cpp)
 void addExportCommand(CLI::App& app, Commands& out);      // export (export_command.cpp)
+void addIkCommands(CLI::App& app, Commands& out);         // ik, compensate (ik_commands.cpp)
+void addPlanCommand(CLI::App& app, Commands& out);        // plan (plan_command.cpp)
 
 }  // namespace lowpair::cli

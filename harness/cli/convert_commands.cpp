@@ -1,17 +1,115 @@
-// poe2dh, dh2poe, fk.
+// poe2dh, dh2poe, fk (--q, or --q-file: a measurement CSV of the tool at every row's joint values).
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
+#include "io/atomic_file.hpp"
+#include "io/measurements.hpp"
+#include "io/output.hpp"
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
-#include "io/output.hpp"
+#include "lowpair/tolerances.hpp"
 
 namespace lowpair::cli {
 
 using namespace lowpair::io;  // the rooms below
 
 using nlohmann::json;
+
+/// The joint values of a CSV with q1..qn columns (defined in ik_commands.cpp; the declaration belongs in
+/// commands.hpp). @throws RobotFileError
+MatX readJointValues(const std::string& path, int robot_dof, const std::string& robot_path, std::vector<long long>& lines);
+
+namespace {
+
+struct FkFileOptions {
+  std::string q_file, out, measure = "pose";
+};
+
+// fk --q-file: the tool frame (Pose), its origin (Position) or each target's point (Targets) at every row's q,
+// as a measurement CSV (io/measurements.hpp). Each row is evaluated by the same call as fk --q
+// (poeForwardKinematics / dhForwardKinematics): the rows equal fk --q bit for bit. (forwardKinematicsBatch
+// agrees with it only to rounding: 2 eps in R, 9 eps L in p measured, docs/ik.md.)
+int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::string& kind, const FkFileOptions& o,
+               bool as_json) {
+  std::vector<long long> lines;
+  const MatX Q = readJointValues(o.q_file, file.dof(), robot_path, lines);
+  const Measure measure = o.measure == "pose" ? Measure::Pose : o.measure == "position" ? Measure::Position : Measure::Targets;
+  std::vector<std::string> target_names;
+  if (measure == Measure::Targets) {
+    if (file.targets.empty()) {
+      throw UsageError(robot_path, "--measure targets: the robot file lists no targets (a 'targets:' list of {name, point})");
+    }
+    for (const Target& t : file.targets) target_names.push_back(t.name);
+  }
+  const long long per_row = measure == Measure::Targets ? static_cast<long long>(file.targets.size()) : 1;
+  if (static_cast<long long>(Q.rows()) * per_row > kMaxMeasurements) {
+    throw UsageError(o.q_file, std::to_string(Q.rows()) + " rows x " + std::to_string(per_row) + " targets = " +
+                                   std::to_string(Q.rows() * per_row) + " measurements, more than the " +
+                                   std::to_string(kMaxMeasurements) + " a measurement file holds");
+  }
+  const std::optional<PoeModel> poe = kind == "poe" ? std::optional<PoeModel>(file.poeModel()) : std::nullopt;
+  const std::optional<DhModel> dh =
+      kind == "dh" ? std::optional<DhModel>(file.dh ? *file.dh : poeToDh(*file.poe).model) : std::nullopt;
+  std::vector<Measurement> measurements;
+  measurements.reserve(static_cast<size_t>(Q.rows() * per_row));
+  json rows = json::array();
+  for (Eigen::Index k = 0; k < Q.rows(); ++k) {
+    const VecX q = Q.row(k).transpose();
+    const Pose T = poe ? poeForwardKinematics(*poe, q) : dhForwardKinematics(*dh, q);
+    const auto beyond = [](const Vec3& p) { return !(p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
+    const std::string where = o.q_file + ":" + std::to_string(lines[static_cast<size_t>(k)]);
+    if (measure == Measure::Targets) {
+      for (size_t t = 0; t < file.targets.size(); ++t) {
+        Measurement m{q, Pose{}, static_cast<int>(t)};
+        m.T_base_tool.p = T * *file.targets[t].point_tool;
+        if (beyond(m.T_base_tool.p)) throw RobotFileError(where + ": target " + file.targets[t].name + " lies beyond 1e100, which no reader takes");
+        if (as_json) rows.push_back({{"line", lines[static_cast<size_t>(k)]}, {"q", toVector(q)}, {"target", file.targets[t].name}, {"p", toVector(m.T_base_tool.p)}});
+        measurements.push_back(std::move(m));
+      }
+      continue;
+    }
+    if (beyond(T.p)) throw RobotFileError(where + ": the tool lies beyond 1e100, which no reader takes");
+    Measurement m{q, T, -1};
+    if (measure == Measure::Position) m.T_base_tool.R.setIdentity();
+    if (as_json) {
+      json row = {{"line", lines[static_cast<size_t>(k)]}, {"q", toVector(q)}};
+      if (measure == Measure::Pose) {
+        row["T_base_tool"] = poseJson(T);
+      } else {
+        row["p"] = toVector(T.p);
+      }
+      rows.push_back(std::move(row));
+    }
+    measurements.push_back(std::move(m));
+  }
+  const std::string unit = file.length_unit.empty() ? "length" : file.length_unit;
+  const std::string what = measure == Measure::Pose   ? "x,y,z: tool position in the base frame (" + unit + "); qw,qx,qy,qz: its rotation, unit quaternion"
+                           : measure == Measure::Position ? "x,y,z: tool position in the base frame (" + unit + ")"
+                                                          : "x,y,z: the target's point in the base frame (" + unit + "), one row per target of " + robot_path;
+  std::vector<std::string> comments{"lowpair fk " + robot_path + " --q-file " + o.q_file + " --measure " + o.measure + " --model " + kind,
+                                    "forward kinematics of the " + kind + " model at the q1..qn of every row of " + o.q_file +
+                                        " (the same evaluation as fk --q, bit for bit)",
+                                    what};
+  if (isUnitLabel(file.length_unit)) comments.push_back("length_unit: " + file.length_unit);
+  const std::string text = formatMeasurements(measure, measurements, comments, target_names);
+  if (!o.out.empty()) writeFileAtomically(o.out, text);
+  if (as_json) {
+    std::cout << jsonText({{"name", file.name}, {"source", file.path}, {"model", kind}, {"length_unit", file.length_unit},
+                           {"q_file", o.q_file}, {"measure", o.measure}, {"rows", rows}})
+              << "\n";
+  } else if (!o.out.empty()) {
+    std::cout << measurements.size() << " " << o.measure << " measurements written to " << o.out << "\n";
+  } else {
+    std::cout << text;
+  }
+  return 0;
+}
+
+}  // namespace
 
 void addConvertCommands(CLI::App& app, Commands& commands) {
   struct Options {
@@ -21,6 +119,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     double parallel_threshold = 0.0;
   };
   auto o = std::make_shared<Options>();
+  auto fk_file = std::make_shared<FkFileOptions>();
 
   auto* poe2dh = app.add_subcommand("poe2dh", "POE -> standard D-H table (base, joints, tool, pitch, scale)");
   addRobotArgument(*poe2dh, o->robot);
@@ -62,14 +161,28 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
 
   auto* fk = app.add_subcommand("fk", "forward kinematics T_base_tool(q)");
   addRobotArgument(*fk, o->robot);
-  fk->add_option("--q", o->q_text, "joint values Q1,Q2,... (rad for revolute/helical, length for prismatic)")->required();
+  auto* q_option = fk->add_option("--q", o->q_text, "joint values Q1,Q2,... (rad for revolute/helical, length for prismatic)");
+  auto* q_file_option = fk->add_option("--q-file", fk_file->q_file,
+                                       "CSV of joint values q1..qn, a row each (other columns ignored: a measurement CSV "
+                                       "is one); prints a measurement CSV");
+  q_option->excludes(q_file_option);
+  q_file_option->excludes(q_option);
+  auto* out_option = fk->add_option("--out", fk_file->out, "--q-file: write the CSV here (all or nothing)");
+  auto* measure_option = fk->add_option("--measure", fk_file->measure,
+                                        "--q-file: pose (default), position, or targets (the robot file's targets: list)")
+                             ->check(CLI::IsMember({"pose", "position", "targets"}));
   fk->add_option("--model", o->model_kind, "poe or dh (default: the file's own description)")
       ->check(CLI::IsMember({"poe", "dh", "file"}));
   fk->add_flag("--json", o->as_json, "print JSON");
-  commands.emplace_back(fk, [o] {
+  commands.emplace_back(fk, [o, fk_file, q_option, q_file_option, out_option, measure_option] {
+    if (q_option->count() == 0 && q_file_option->count() == 0) throw UsageError("fk", "give --q Q1,Q2,... or --q-file FILE.csv");
+    if (q_file_option->count() == 0 && (out_option->count() > 0 || measure_option->count() > 0)) {
+      throw UsageError("fk", "--out and --measure go with --q-file");
+    }
     const RobotFile file = loadRobot(o->robot);
-    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     const std::string kind = o->model_kind == "file" ? (file.poe ? "poe" : "dh") : o->model_kind;
+    if (q_file_option->count() > 0) return fkFromFile(file, o->robot.path, kind, *fk_file, o->as_json);
+    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     const Pose T = kind == "poe" ? poeForwardKinematics(file.poeModel(), q)
                                  : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q);
     if (o->as_json) {

@@ -120,6 +120,8 @@ int main(int argc, char** argv) {
   addSimulateCommand(app, commands);
   addCalibrateCommands(app, commands);
   addExportCommand(app, commands);
+  addIkCommands(app, commands);
+  addPlanCommand(app, commands);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

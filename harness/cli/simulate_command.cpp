@@ -1,7 +1,10 @@
-// lowpair simulate ROBOT --poses N [--seed S] [--measure pose|position] [--noise-position S] [--noise-rotation S]
+// lowpair simulate ROBOT --poses N [--seed S] [--measure pose|position|targets] [--targets NAME,...]
+//                  [--frame RX,RY,RZ,X,Y,Z] [--noise-position S] [--noise-rotation S] [--blunders COUNT,SIZE]
 //                  [--joint-variables FILE.yaml] [--out FILE.csv]
-// Measurements of the tool frame (measurements.hpp) at N random joint vectors: from the library's FK of a
-// robot file, or from MuJoCo (the ground truth) for a model file's chain; with optional Gaussian noise.
+// Measurements of the tool frame, its origin or points fixed on it (measurements.hpp) at N random joint
+// vectors: from the library's FK of a robot file, or from MuJoCo (the ground truth) for a model file's chain;
+// in a measurement frame (a tracker's), with optional Gaussian noise and blunders (validation/sampling.hpp).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -9,6 +12,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "io/atomic_file.hpp"
@@ -32,6 +36,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kMaxPoses = 1000000;
+constexpr int kBlundersPerCommentLine = 20;
 
 struct SimulateOptions {
   RobotSource robot;
@@ -40,16 +45,20 @@ struct SimulateOptions {
   std::string measure = "pose";
   double noise_position = 0.0, noise_rotation = 0.0;
   std::string joint_variables, out;
+  std::optional<std::string> targets, frame, blunders;  // as given
 };
 
-// What is measured: the tool pose at the sampled joint variable q, the ranges q is drawn from, and the
-// comment lines that say so.
+// What is measured: the tool pose at the sampled joint variable q, the ranges q is drawn from, the points
+// targets may name, and the comment lines that say so.
 struct Truth {
   std::function<Pose(const VecX& q)> tipPose;
   std::vector<std::array<double, 2>> ranges;  // per joint, in q
   std::string source;       // where the tool frame comes from
   std::string variable;     // whose joint variable q is
   std::string length_unit;  // "" when unknown
+  bool model_file = false;
+  std::vector<Target> file_targets;                    // a robot file's `targets:` (the default of --targets)
+  std::function<Vec3(const std::string&)> sitePoint;  // a model file: a site's point in the tip frame
 };
 
 Truth robotFileTruth(const SimulateOptions& o) {
@@ -66,6 +75,7 @@ Truth robotFileTruth(const SimulateOptions& o) {
                  (file.dh ? ", converted from its D-H table)" : ")");
   truth.variable = file.path;
   truth.length_unit = file.length_unit;
+  truth.file_targets = file.targets;
   return truth;
 }
 
@@ -77,6 +87,7 @@ Truth modelTruth(const SimulateOptions& o) {
   const int n = robot->dof();
   SampledVariable sampled = sampledVariable(*robot, o.joint_variables, o.robot.path, o.robot.tip);
   Truth truth;
+  truth.model_file = true;
   truth.variable = sampled.file_model ? o.joint_variables + " (motion x = scale (q + offset))"
                                       : "MuJoCo's qpos - qpos0 of " + o.robot.path;
   truth.length_unit = sampled.length_unit;
@@ -87,6 +98,7 @@ Truth modelTruth(const SimulateOptions& o) {
     for (Eigen::Index i = 0; i < q.size(); ++i) x[i] = variables[static_cast<size_t>(i)].motion(q[i]);
     return evaluator->tipPose(x);
   };
+  truth.sitePoint = [robot](const std::string& site) { return robot->siteInTip(site); };
   truth.source = "MuJoCo's pose of '" + o.robot.tip + "'" +
                  (o.robot.base.empty() ? "" : " relative to '" + o.robot.base + "'") + " in " + o.robot.path;
   return truth;
@@ -97,30 +109,193 @@ void checkNoise(const char* option, double sd, double limit) {
   if (sd > limit) throw UsageError(option, shortest(sd) + " is above " + shortest(limit));
 }
 
-std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth) {
+// "A,B,C" split at commas, each item trimmed of spaces and tabs.
+std::vector<std::string> items(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    const auto begin = item.find_first_not_of(" \t");
+    const auto end = item.find_last_not_of(" \t");
+    out.push_back(begin == std::string::npos ? "" : item.substr(begin, end - begin + 1));
+  }
+  if (!text.empty() && text.back() == ',') out.push_back("");
+  return out;
+}
+
+// `count` finite numbers of magnitude at most 1e100 ("what" names them in the message).
+std::vector<double> numbers(const std::string& option, const std::string& text, size_t count, const std::string& what) {
+  const std::vector<std::string> tokens = items(text);
+  if (tokens.size() != count) {
+    throw UsageError(option, "expected " + what + ", got " + std::to_string(tokens.size()) + " value(s)");
+  }
+  std::vector<double> values;
+  for (const std::string& token : tokens) {
+    char* stop = nullptr;
+    const double x = std::strtod(token.c_str(), &stop);
+    if (token.empty() || *stop != '\0') throw UsageError(option, "'" + token + "' is not a number");
+    if (!(std::abs(x) <= kMaxMagnitude)) throw UsageError(option, "'" + token + "' is not finite or above 1e100");
+    values.push_back(x);
+  }
+  return values;
+}
+
+// --frame RX,RY,RZ,X,Y,Z: T_frame_base (the inverse of the frame's pose in the base)
+Pose frameOption(const std::string& text) {
+  const std::vector<double> v = numbers("--frame", text, 6, "RX,RY,RZ,X,Y,Z (rotation vector in rad, translation)");
+  return measurementFrame(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5])).inverse();
+}
+
+struct Blunders {
+  long long count = 0;
+  double size = 0.0;
+};
+
+Blunders blundersOption(const std::string& text) {
+  const std::vector<double> v = numbers("--blunders", text, 2, "COUNT,SIZE (how many, and their size in the length unit)");
+  if (v[0] < 0 || v[0] != std::floor(v[0]) || v[0] > kMaxMeasurements) {
+    throw UsageError("--blunders", "COUNT must be a whole number in [0, " + std::to_string(kMaxMeasurements) +
+                                       "], got " + shortest(v[0]));
+  }
+  if (!(v[1] > 0)) throw UsageError("--blunders", "SIZE must be positive, got " + shortest(v[1]));
+  return {static_cast<long long>(v[0]), v[1]};
+}
+
+// --targets NAME,...: distinct target names
+std::vector<std::string> targetNames(const std::string& text) {
+  std::vector<std::string> names;
+  std::set<std::string> seen;
+  for (const std::string& name : items(text)) {
+    const std::string problem = targetNameProblem(name);
+    if (!problem.empty()) throw UsageError("--targets", quotedFileText(name) + " " + problem + " (" + kTargetNameRule + ")");
+    if (!seen.insert(name).second) throw UsageError("--targets", quotedFileText(name) + " is given twice");
+    names.push_back(name);
+  }
+  if (names.size() > static_cast<size_t>(kMaxTargets)) {
+    throw UsageError("--targets", std::to_string(names.size()) + " targets, more than " + std::to_string(kMaxTargets));
+  }
+  return names;
+}
+
+// The targets measured: their names and points in the tool frame (a robot file's list, or MuJoCo sites).
+struct MeasuredTargets {
+  std::vector<std::string> names;
+  std::vector<Vec3> points;
+  std::string source;
+};
+
+MeasuredTargets measuredTargets(const SimulateOptions& o, const Truth& truth) {
+  MeasuredTargets t;
+  if (truth.model_file) {
+    if (!o.targets) {
+      throw UsageError("--targets", "--measure targets with a model file needs --targets SITE,... (sites fixed to the tip)");
+    }
+    t.names = targetNames(*o.targets);
+    for (const std::string& name : t.names) t.points.push_back(truth.sitePoint(name));
+    t.source = "MuJoCo sites fixed to '" + o.robot.tip + "', their points in its frame at qpos0";
+    return t;
+  }
+  if (truth.file_targets.empty()) {
+    throw UsageError(o.robot.path, "--measure targets: the robot file lists no targets (a 'targets:' list of {name, point})");
+  }
+  if (!o.targets) {
+    for (const Target& target : truth.file_targets) t.names.push_back(target.name);
+  } else {
+    t.names = targetNames(*o.targets);
+  }
+  for (const std::string& name : t.names) {
+    const Target* found = nullptr;
+    for (const Target& target : truth.file_targets) found = target.name == name ? &target : found;
+    if (!found) {
+      std::string known;
+      for (const Target& target : truth.file_targets) known += (known.empty() ? "" : ", ") + target.name;
+      throw UsageError("--targets", quotedFileText(name) + " is not a target of " + o.robot.path + " (its targets: " +
+                                        known + ")");
+    }
+    t.points.push_back(*found->point_tool);
+  }
+  t.source = "the targets: of " + o.robot.path + " (tool frame)";
+  return t;
+}
+
+std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth, const MeasuredTargets& targets,
+                                  int rows) {
   std::ostringstream command, noise, ranges;
   command << "lowpair simulate " << o.robot.path;
   if (!o.robot.tip.empty()) command << " --tip " << o.robot.tip;
   if (!o.robot.base.empty()) command << " --base " << o.robot.base;
   if (!o.joint_variables.empty()) command << " --joint-variables " << o.joint_variables;
-  command << " --poses " << o.poses << " --seed " << o.seed << " --measure " << o.measure << " --noise-position "
-          << shortest(o.noise_position) << " --noise-rotation " << shortest(o.noise_rotation);
+  command << " --poses " << o.poses << " --seed " << o.seed << " --measure " << o.measure;
+  if (o.measure == "targets") {
+    std::string names;
+    for (const std::string& name : targets.names) names += (names.empty() ? "" : ",") + name;
+    command << " --targets " << names;
+  }
+  if (o.frame) command << " --frame " << *o.frame;
+  command << " --noise-position " << shortest(o.noise_position) << " --noise-rotation " << shortest(o.noise_rotation);
+  if (o.blunders) command << " --blunders " << *o.blunders;
   const std::string unit = truth.length_unit.empty() ? "length" : truth.length_unit;
+  const std::string frame = o.frame ? "the measurement frame F" : "the base frame";
   noise << "noise: position sd " << shortest(o.noise_position) << " " << unit << " per coordinate";
+  if (o.frame) noise << " of F";
   if (o.measure == "pose") {
-    noise << ", rotation R <- exp(n) R with n ~ N(0, s^2 I3), s = " << shortest(o.noise_rotation) << " rad";
+    noise << ", rotation R <- exp(n) R with n ~ N(0, s^2 I3)" << (o.frame ? " about F's axes" : "")
+          << ", s = " << shortest(o.noise_rotation) << " rad";
   }
   ranges << "q: the joint variable of " << truth.variable << ", uniform in";
   for (const auto& r : truth.ranges) ranges << " [" << shortest(r[0]) << ", " << shortest(r[1]) << "]";
   std::vector<std::string> comments{command.str(), "tool frame: " + truth.source,
-          std::to_string(o.poses) + " " + o.measure + " measurements, seed " + std::to_string(o.seed),
-          noise.str(),
-          ranges.str(),
-          "x,y,z: tool position in the base frame (" + unit + ")" +
-              (o.measure == "pose" ? "; qw,qx,qy,qz: its rotation, unit quaternion" : "")};
+          o.measure == "targets" ? std::to_string(rows) + " target measurements (" + std::to_string(o.poses) +
+                                       " poses x " + std::to_string(targets.names.size()) + " targets), seed " +
+                                       std::to_string(o.seed)
+                                 : std::to_string(o.poses) + " " + o.measure + " measurements, seed " +
+                                       std::to_string(o.seed)};
+  if (o.measure == "targets") {
+    std::ostringstream points;
+    points << "targets: " << targets.source << ":";
+    for (size_t t = 0; t < targets.names.size(); ++t) {
+      const Vec3& p = targets.points[t];
+      points << " " << targets.names[t] << " [" << shortest(p.x()) << ", " << shortest(p.y()) << ", " << shortest(p.z())
+             << "]";
+    }
+    comments.push_back(points.str());
+  }
+  if (o.frame) {
+    comments.push_back("frame: measurements in the measurement frame F (a tracker's), T_base_F = (exp([RX, RY, RZ]), "
+                       "[X, Y, Z]) with --frame RX,RY,RZ,X,Y,Z = " + *o.frame + " (rad, " + unit +
+                       "); a measurement is T_F_base times the tool frame, origin or target point in the base frame");
+  }
+  comments.push_back(noise.str());
+  comments.push_back(ranges.str());
+  const std::string what = o.measure == "targets" ? "x,y,z: the target's point in " + frame + " (" + unit + ")"
+                                                  : "x,y,z: tool position in " + frame + " (" + unit + ")";
+  comments.push_back(what + (o.measure == "pose" ? "; qw,qx,qy,qz: its rotation, unit quaternion" : ""));
   // read back by readMeasurements, checked by calibrate against the nominal's unit
   if (isUnitLabel(truth.length_unit)) comments.push_back("length_unit: " + truth.length_unit);
   return comments;
+}
+
+// The comment lines listing the blunders: "measurement (line)" pairs, 1-based, a few per line.
+std::vector<std::string> blunderComments(const Blunders& b, const std::vector<size_t>& rows, long long first_data_line,
+                                         const std::string& unit) {
+  std::vector<std::string> lines{"blunders: " + std::to_string(rows.size()) + " measurements moved by " +
+                                 shortest(b.size) + " " + unit + " in random directions (after the noise), listed " +
+                                 "as measurement:line (1-based data row : file line)"};
+  for (size_t i = 0; i < rows.size(); i += kBlundersPerCommentLine) {
+    std::string line = "blunders:";
+    for (size_t k = i; k < rows.size() && k < i + kBlundersPerCommentLine; ++k) {
+      line += " " + std::to_string(rows[k] + 1) + ":" + std::to_string(first_data_line + static_cast<long long>(rows[k]));
+    }
+    lines.push_back(line);
+  }
+  return lines;
+}
+
+// Lines a comment takes in the file (formatMeasurements writes one "# " line per line of it).
+long long commentLines(const std::vector<std::string>& comments) {
+  long long lines = 0;
+  for (const std::string& c : comments) lines += 1 + static_cast<long long>(std::count(c.begin(), c.end(), '\n'));
+  return lines;
 }
 
 int simulate(const SimulateOptions& o) {
@@ -128,18 +303,40 @@ int simulate(const SimulateOptions& o) {
   // coordinate within what the measurement reader takes (checked per measurement below)
   checkNoise("--noise-position", o.noise_position, kMaxMagnitude);
   checkNoise("--noise-rotation", o.noise_rotation, M_PI);
-  if (o.measure == "position" && o.noise_rotation > 0) {  // as calibrate rejects it
-    throw UsageError("--noise-rotation", "position measurements have no rotation to perturb");
+  if (o.measure != "pose" && o.noise_rotation > 0) {  // as calibrate rejects it
+    throw UsageError("--noise-rotation", o.measure + " measurements have no rotation to perturb");
   }
+  if (o.targets && o.measure != "targets") throw UsageError("--targets", "goes with --measure targets");
+  const Pose T_frame_base = o.frame ? frameOption(*o.frame) : Pose();
+  const Blunders blunders = o.blunders ? blundersOption(*o.blunders) : Blunders{};
   const std::string ext = fs::path(o.robot.path).extension().string();
   const bool model_file = ext == ".xml" || ext == ".urdf";
   if (!model_file && !o.joint_variables.empty()) {
     throw UsageError(o.robot.path, "--joint-variables goes with a model file (.xml or .urdf), not a robot file");
   }
   const Truth truth = model_file ? modelTruth(o) : robotFileTruth(o);
-  const Measure measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
+  MeasurementSetup setup;
+  setup.measure = o.measure == "pose" ? Measure::Pose : o.measure == "position" ? Measure::Position : Measure::Targets;
+  MeasuredTargets targets;
+  if (setup.measure == Measure::Targets) {
+    targets = measuredTargets(o, truth);
+    setup.targets = targets.points;
+  }
+  setup.T_frame_base = T_frame_base;
+  setup.sd_position = o.noise_position;
+  setup.sd_rotation = o.noise_rotation;
+  const long long rows = static_cast<long long>(o.poses) * rowsPerPose(setup);
+  if (rows > kMaxMeasurements) {
+    throw UsageError("--poses", std::to_string(o.poses) + " poses x " + std::to_string(rowsPerPose(setup)) +
+                                    " targets = " + std::to_string(rows) + " measurements, more than the " +
+                                    std::to_string(kMaxMeasurements) + " a measurement file holds");
+  }
+  if (blunders.count > rows) {
+    throw UsageError("--blunders", "COUNT " + std::to_string(blunders.count) + " is more than the " +
+                                       std::to_string(rows) + " measurements");
+  }
   // every number written must be one the measurement reader takes (|x| <= 1e100): the joint values (within
-  // the ranges), the robot's reach, then what the noise adds
+  // the ranges), the robot's reach, then what the frame, the noise and the blunders add
   for (const auto& r : truth.ranges) {
     if (!(std::max(std::abs(r[0]), std::abs(r[1])) <= kMaxMagnitude)) {
       throw UsageError(o.robot.path, "a joint range reaches " + shortest(std::max(std::abs(r[0]), std::abs(r[1]))) +
@@ -147,25 +344,42 @@ int simulate(const SimulateOptions& o) {
     }
   }
   const auto seed = static_cast<unsigned long long>(o.seed);
+  const auto beyond = [](const Measurement& m) { return !(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
+  const auto tooLarge = [](const std::string& subject, size_t k) {
+    return UsageError(subject, "measurement " + std::to_string(k + 1) +
+                                   " has a coordinate above 1e100 in magnitude, which no reader takes");
+  };
 
-  std::vector<Measurement> measurements(static_cast<size_t>(o.poses));
-  for (size_t k = 0; k < measurements.size(); ++k) {
-    Measurement& m = measurements[k];
-    m.q.resize(static_cast<Eigen::Index>(truth.ranges.size()));
-    randomSample(seed, k, truth.ranges, m.q);
-    m.T_base_tool = truth.tipPose(m.q);
-    const auto beyond = [&m] { return !(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
-    if (beyond()) {
-      throw UsageError(o.robot.path, "measurement " + std::to_string(k + 1) +
-                                         " has a coordinate above 1e100 in magnitude, which no reader takes");
-    }
-    addMeasurementNoise(seed, k, o.noise_position, o.noise_rotation, m.T_base_tool);
-    if (beyond()) {
-      throw UsageError("--noise-position", "measurement " + std::to_string(k + 1) +
-                                               " has a coordinate above 1e100 in magnitude, which no reader takes");
+  std::vector<Measurement> measurements;
+  measurements.reserve(static_cast<size_t>(rows));
+  VecX q(static_cast<Eigen::Index>(truth.ranges.size()));
+  for (size_t k = 0; k < static_cast<size_t>(o.poses); ++k) {
+    randomSample(seed, k, truth.ranges, q);
+    const Pose T_base_tool = truth.tipPose(q);
+    if (!(T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) throw tooLarge(o.robot.path, k * static_cast<size_t>(rowsPerPose(setup)));
+    const size_t first = measurements.size();
+    appendMeasurements(setup, seed, k, q, T_base_tool, measurements);
+    for (size_t r = first; r < measurements.size(); ++r) {
+      if (beyond(measurements[r])) throw tooLarge(o.frame ? "--frame" : "--noise-position", r);
     }
   }
-  const std::string text = formatMeasurements(measure, measurements, describe(o, truth));
+  std::vector<size_t> blundered;
+  if (o.blunders) {
+    blundered = addBlunders(seed, blunders.count, blunders.size, measurements);
+    for (const size_t r : blundered) {
+      if (beyond(measurements[r])) throw tooLarge("--blunders", r);
+    }
+  }
+  std::vector<std::string> comments = describe(o, truth, targets, static_cast<int>(rows));
+  if (o.blunders) {
+    // the file line of data row r: the comments (these included), the header, then the rows
+    const std::string unit = truth.length_unit.empty() ? "length" : truth.length_unit;
+    const long long before = commentLines(comments) + commentLines(blunderComments(blunders, blundered, 0, unit));
+    for (const std::string& line : blunderComments(blunders, blundered, before + 2, unit)) comments.push_back(line);
+  }
+  const std::string text =
+      formatMeasurements(setup.measure, measurements, comments, setup.measure == Measure::Targets ? targets.names
+                                                                                                  : std::vector<std::string>{});
   if (o.out.empty()) {
     std::cout << text;
   } else {
@@ -181,16 +395,27 @@ void addSimulateCommand(CLI::App& app, Commands& commands) {
   auto o = std::make_shared<SimulateOptions>();
   auto* sub = app.add_subcommand("simulate", "measurements of the tool frame at random joint vectors (CSV)");
   addRobotArgument(*sub, o->robot);
-  sub->add_option("--poses", o->poses, "number of measurements, 1 to 1000000")
+  sub->add_option("--poses", o->poses, "number of poses (joint vectors), 1 to 1000000")
       ->required()
       ->check(CLI::Range(1, kMaxPoses));
   // seeds are whole numbers in [0, 2^53], as for validate
   sub->add_option("--seed", o->seed, "seed in [0, 2^53] (default 1); the same seed gives the same file")
       ->check(CLI::Range(0LL, kMaxSeed));
-  sub->add_option("--measure", o->measure, "pose (position and rotation, default) or position")
-      ->check(CLI::IsMember({"pose", "position"}));
-  sub->add_option("--noise-position", o->noise_position, "standard deviation per coordinate (length unit, default 0)");
+  sub->add_option("--measure", o->measure,
+                  "pose (position and rotation, default), position, or targets (points fixed on the tool, --targets)")
+      ->check(CLI::IsMember({"pose", "position", "targets"}));
+  sub->add_option("--targets", o->targets,
+                  "--measure targets: NAME,... of a robot file's targets (default: all), or sites fixed to the "
+                  "tip of a model file; one measurement per target per pose, in this order");
+  sub->add_option("--frame", o->frame,
+                  "RX,RY,RZ,X,Y,Z: measurements in a frame F (a tracker's) whose pose in the base is "
+                  "(exp([RX,RY,RZ]) rad, [X,Y,Z] length); default: the base frame");
+  sub->add_option("--noise-position", o->noise_position,
+                  "standard deviation per coordinate (length unit, default 0), in the measurement frame");
   sub->add_option("--noise-rotation", o->noise_rotation, "standard deviation per axis of exp(n) (rad, default 0)");
+  sub->add_option("--blunders", o->blunders,
+                  "COUNT,SIZE: COUNT measurements (seeded) moved by SIZE (length) in random directions; listed "
+                  "in the file's comments");
   sub->add_option("--joint-variables", o->joint_variables,
                   "model file: a robot file of the same chain whose joint variable (scale, offset, ranges) is sampled");
   sub->add_option("--out", o->out, "write the CSV here (all or nothing) instead of standard output");

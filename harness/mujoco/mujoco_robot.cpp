@@ -390,7 +390,8 @@ std::vector<JointSpec> extractJoints(const Chain& chain, const mjData* d,
 
 }  // namespace
 
-MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base) {
+MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base)
+    : path_(path), tip_(tip) {
   installMujocoHandlers();
   g_loading = path;
   std::vector<std::string> notes;
@@ -462,6 +463,47 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
 }
 
 MujocoRobot::~MujocoRobot() = default;
+
+Vec3 MujocoRobot::siteInTip(const std::string& site) const {
+  const mjModel* m = model_.get();
+  const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;
+  // fixed to the tip: the tip's body or one below it reached through bodies without joints
+  auto fixedBelowTip = [&](int body) {
+    for (int b = body; b != tip_owner; b = m->body_parentid[b]) {
+      if (b == 0 || m->body_jntnum[b] > 0 || m->body_mocapid[b] >= 0) return false;
+    }
+    return true;
+  };
+  std::string usable;  // the sites a target may name, for the message
+  int listed = 0;
+  for (int s = 0; s < m->nsite; ++s) {
+    const char* name = mj_id2name(m, mjOBJ_SITE, s);
+    if (s == tip_site_ || !name || !*name || !fixedBelowTip(m->site_bodyid[s])) continue;
+    if (listed++ < 20) usable += (usable.empty() ? "'" : ", '") + oneLine(name) + "'";
+  }
+  if (listed > 20) usable += ", ... (" + std::to_string(listed) + ")";
+  if (usable.empty()) usable = "none";
+  const int id = mj_name2id(m, mjOBJ_SITE, site.c_str());
+  if (id < 0) {
+    fail(path_, "target '" + oneLine(site.c_str()) + "' is not a site; sites fixed to the tip '" + tip_ + "': " + usable);
+  }
+  const int body = m->site_bodyid[id];
+  if (!fixedBelowTip(body)) {
+    fail(path_, "site '" + oneLine(site.c_str()) + "' is on body '" + nameOf(m, mjOBJ_BODY, body, "body") +
+                    "', which is not fixed to the tip '" + tip_ + "' (body '" + nameOf(m, mjOBJ_BODY, tip_owner, "body") +
+                    "'): a target must move with the tool; sites fixed to the tip: " + usable);
+  }
+  std::unique_ptr<mjData, void (*)(mjData*)> d(mj_makeData(m), mj_deleteData);
+  mj_kinematics(m, d.get());
+  const Pose T_world_tip = tip_site_ >= 0 ? poseFrom(d->site_xpos + 3 * tip_site_, d->site_xmat + 9 * tip_site_)
+                                          : poseFrom(d->xpos + 3 * tip_body_, d->xmat + 9 * tip_body_);
+  const Vec3 p_world_site = Eigen::Map<const Vec3>(d->site_xpos + 3 * id);
+  const Vec3 p_tip_site = T_world_tip.R.transpose() * (p_world_site - T_world_tip.p);
+  if (!(p_tip_site.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
+    fail(path_, "site '" + oneLine(site.c_str()) + "' is not at a finite point of magnitude at most 1e100 from the tip");
+  }
+  return p_tip_site;
+}
 
 MujocoRobot::Evaluator::Evaluator(const MujocoRobot& robot)
     : robot_(&robot), data_(mj_makeData(robot.model_.get()), mj_deleteData) {

@@ -59,6 +59,11 @@ class MujocoRobot {
   const std::vector<MujocoJoint>& joints() const { return joints_; }
   /// The POE model extracted at qpos0 (scale 1), in the base frame.
   const PoeModel& poeModel() const { return *poe_; }
+  /// The point of site `site` in the tip frame (a laser tracker's target on the tool): the site must be
+  /// rigidly attached to the tip, on the tip's body or on a body below it with no joint on the way (the
+  /// point is then constant; computed at qpos0). The tip pose times it is the site's position.
+  /// @throws io::RobotFileError ("FILE: what") for a name that is no site, or a site not fixed to the tip
+  Vec3 siteInTip(const std::string& site) const;
 
   /// A per-thread evaluator (owns its mjData).
   class Evaluator {
@@ -86,6 +91,7 @@ class MujocoRobot {
     void operator()(mjModel_* m) const;
   };
   std::unique_ptr<mjModel_, ModelDeleter> model_;
+  std::string path_, tip_;
   int tip_site_ = -1, tip_body_ = -1, base_body_ = 0;
   Pose T_base_world_;
   std::vector<MujocoJoint> joints_;

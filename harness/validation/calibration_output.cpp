@@ -84,6 +84,11 @@ double redundancy(const CalibrationResult& c) {
   return rows - c.rank.rank;
 }
 
+// A measurement's file line; "measurement K" (1-based) for measurements that came from no file (a scenario's).
+std::string measurementLabel(const CalibrationReport& r, size_t k) {
+  return k < r.fit.lines.size() ? std::to_string(r.fit.lines[k]) : "measurement " + std::to_string(k + 1);
+}
+
 json matrixJson(const Pose& T) {
   json rows = json::array();
   for (int i = 0; i < 3; ++i) rows.push_back({T.R(i, 0), T.R(i, 1), T.R(i, 2), T.p[i]});
@@ -321,7 +326,7 @@ std::string rejectionText(const CalibrationReport& r) {
   s << r.fit.path << ": calibration rejected, nothing written: " << c.reason << "; worst lines";
   const std::vector<size_t> worst = worstMeasurements(c, kWorstMeasurementsShown);
   for (size_t k = 0; k < worst.size(); ++k) {
-    s << (k ? ", " : " ") << r.fit.lines[worst[k]] << " (" << residual(c.residuals[worst[k]].normalized) << ")";
+    s << (k ? ", " : " ") << measurementLabel(r, worst[k]) << " (" << residual(c.residuals[worst[k]].normalized) << ")";
   }
   s << " (normalized residual: over the " << (c.noise_stated ? "stated noise" : "median-based noise scale")
     << "); look at, in order: units (the CSV's length_unit, q in rad), blunders ("
@@ -375,7 +380,7 @@ json calibrationJson(const CalibrationReport& r) {
   json residuals = json::array();
   for (size_t k = 0; k < c.residuals.size(); ++k) {
     const MeasurementResidual& m = c.residuals[k];
-    json e = {{"line", r.fit.lines[k]},
+    json e = {{"line", k < r.fit.lines.size() ? json(r.fit.lines[k]) : json(nullptr)},
               {"position", m.position},
               {"rotation", finiteOrNull(m.rotation)},
               {"normalized", m.normalized},
@@ -472,7 +477,8 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   const std::string u = lengthUnit(r.nominal);
   const PoeModel& nominal = *r.registered_nominal;  // in the measurement frame, as the calibrated model
   out << "calibration of " << robotLabel(r.nominal) << " (" << r.nominal.path << ") from " << r.fit.measurements.size()
-      << " " << measureName(r.fit.measure) << " measurements (" << r.fit.path << ")\n";
+      << " " << (r.fit.measure == Measure::Targets ? "target" : measureName(r.fit.measure)) << " measurements ("
+      << r.fit.path << ")\n";
   const std::string vf = std::isfinite(c.variance_factor) ? fixed(c.variance_factor, 3) : std::string("none (no redundancy)");
   if (c.noise_stated) {
     out << "noise (stated): position " << deviation(c.sigma_position) << " " << u;
@@ -564,7 +570,7 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
       << (c.noise_stated ? "stated noise" : "median-based noise scale") << "):\n";
   for (const size_t k : worstMeasurements(c, kWorstMeasurementsShown)) {
     const MeasurementResidual& m = c.residuals[k];
-    out << "  " << r.fit.path << ":" << r.fit.lines[k];
+    out << "  " << r.fit.path << ":" << measurementLabel(r, k);
     if (r.fit.measure == Measure::Targets) out << " target " << r.target_names[static_cast<size_t>(r.fit.measurements[k].target)];
     out << ": position " << residual(m.position) << " " << u;
     if (r.fit.measure == Measure::Pose) out << ", rotation " << residual(m.rotation) << " rad";
@@ -583,9 +589,11 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
     const Vec3 da = prismatic ? a.moment() : a.axis(), db = prismatic ? b.moment() : b.axis();
     const double tilt = std::atan2(da.cross(db).norm(), da.dot(db));
     std::string shift = "-";
-    if (!prismatic) {  // distance from the nominal line's point nearest the origin to the calibrated line
-      const Vec3 ca = a.axis().cross(a.moment()), cb = b.axis().cross(b.moment());
-      shift = fixed((ca - cb).cross(b.axis()).norm(), 6);
+    if (!prismatic) {  // distance from the nominal line's point nearest the robot's base origin to the calibrated line
+      const Vec3 o = c.registration.T_meas_base.p;
+      const Vec3 pa = a.axis().cross(a.moment()), pb = b.axis().cross(b.moment());
+      const Vec3 ca = pa + a.axis() * a.axis().dot(o - pa);
+      shift = fixed((ca - pb).cross(b.axis()).norm(), 6);
     }
     const double k = r.nominal.angleFactor();
     const std::string pitch = prismatic ? "-" : fixed((b.pitch - a.pitch) * k, 8);

@@ -1,5 +1,6 @@
 #include "validation/calibration_scenario.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -18,32 +19,79 @@ using namespace lowpair::mujoco;
 
 namespace {
 
-std::vector<double> positionErrors(const PoeModel& model, const std::vector<Measurement>& measurements) {
+// The position error of every measurement against a model's prediction (targets: their points).
+std::vector<double> positionErrors(const PoeModel& model, const std::vector<Measurement>& measurements, Measure measure,
+                                   const std::vector<Vec3>& targets) {
   std::vector<double> errors;
-  Data data(model);
   for (const Measurement& m : measurements) {
-    forwardKinematics(model, data, m.q);
-    errors.push_back((m.T_base_tool.p - data.T_base_tool.p).norm());
+    errors.push_back((m.T_base_tool.p - predictedMeasurement(model, m, measure, targets).p).norm());
   }
   return errors;
 }
 
+// `file`'s measurements with their target indices mapped by name onto `names` (the fit's targets).
+std::vector<Measurement> targetsByName(const MeasurementFile& file, const std::vector<std::string>& names) {
+  std::vector<Measurement> out = file.measurements;
+  if (file.measure != Measure::Targets) return out;
+  for (Measurement& m : out) {
+    const std::string& name = file.target_names[static_cast<size_t>(m.target)];
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) throw RobotFileError(file.path + ": target '" + name + "' is not one of the fit's");
+    m.target = static_cast<int>(it - names.begin());
+  }
+  return out;
+}
+
+// "17 (pose 6, smr_b)" (1-based) for a fitting measurement, "17" without targets
+std::string measurementLabel(const MeasurementFile& fit, size_t k) {
+  std::string label = std::to_string(k + 1);
+  const Measurement& m = fit.measurements[k];
+  if (fit.measure == Measure::Targets && m.target >= 0) {
+    label += " (pose " + std::to_string(k / fit.target_names.size() + 1) + ", " +
+             fit.target_names[static_cast<size_t>(m.target)] + ")";
+  }
+  return label;
+}
+
+std::string listed(const MeasurementFile& fit, const std::vector<size_t>& rows) {
+  constexpr size_t kMaxListed = 10;
+  std::string text;
+  for (size_t i = 0; i < rows.size() && i < kMaxListed; ++i) text += (i ? ", " : "") + measurementLabel(fit, rows[i]);
+  if (rows.size() > kMaxListed) text += ", ... (" + std::to_string(rows.size()) + " in all)";
+  return text;
+}
+
 }  // namespace
 
-MeasurementFile simulatedMeasurements(const CalibrationCase& c, MujocoRobot::Evaluator& mujoco,
+MeasurementSetup caseMeasurementSetup(const CalibrationCase& c, const MujocoRobot& robot, bool noisy) {
+  MeasurementSetup setup;
+  setup.measure = c.measure();
+  for (const std::string& site : c.targets) setup.targets.push_back(robot.siteInTip(site));
+  if (c.frame) {
+    const auto& f = *c.frame;
+    setup.T_frame_base = measurementFrame(Vec3(f[0], f[1], f[2]), Vec3(f[3], f[4], f[5])).inverse();
+  }
+  if (noisy) {
+    setup.sd_position = c.noise_position;
+    setup.sd_rotation = c.noise_rotation;
+  }
+  return setup;
+}
+
+MeasurementFile simulatedMeasurements(const CalibrationCase& c, const MeasurementSetup& setup, MujocoRobot::Evaluator& mujoco,
                                       const std::vector<JointMotion>& variables, const std::vector<Range>& ranges,
-                                      int first, int count, bool noisy, std::string label) {
+                                      int first, int count, std::string label) {
   MeasurementFile file;
   file.path = std::move(label);
-  file.measure = c.position_only ? Measure::Position : Measure::Pose;
+  file.measure = setup.measure;
   file.dof = static_cast<int>(variables.size());
+  if (setup.measure == Measure::Targets) file.target_names = c.targets;
+  file.measurements.reserve(static_cast<size_t>(count) * static_cast<size_t>(rowsPerPose(setup)));
   VecX q(file.dof), x(file.dof);
   for (int s = first; s < first + count; ++s) {
     randomSample(c.seed, static_cast<unsigned long long>(s), ranges, q);
     for (int i = 0; i < file.dof; ++i) x[i] = variables[static_cast<size_t>(i)].motion(q[i]);
-    Pose T = mujoco.tipPose(x);
-    if (noisy) addMeasurementNoise(c.seed, static_cast<unsigned long long>(s), c.noise_position, c.noise_rotation, T);
-    file.measurements.push_back(Measurement{q, T});
+    appendMeasurements(setup, c.seed, static_cast<unsigned long long>(s), q, mujoco.tipPose(x), file.measurements);
   }
   return file;
 }
@@ -70,29 +118,50 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
                          shortest(config.noise_position) + " exceeds the robot size L = " +
                          shortest(nominal.lengthScale()));
   }
-  if (identificationEntries(config.poses, nominal.dof(), 7.0) > kMaxJacobianEntries) {
+  const Measure measure = config.measure();
+  // the identification Jacobian: 6 rows per pose, or 3 per target and pose; 7 columns per joint at most
+  // (5 line parameters, scale, offset) and the tool's 6 or the targets' 3 each
+  const double targets = static_cast<double>(config.targets.size());
+  const double rows = measure == Measure::Targets ? 3.0 * targets * config.poses : 6.0 * config.poses;
+  const double columns = 7.0 * nominal.dof() + (measure == Measure::Targets ? 3.0 * targets : 6.0);
+  if (rows * columns + columns * columns > kMaxJacobianEntries) {
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': " + std::to_string(config.poses) +
                          " poses of a " + std::to_string(nominal.dof()) + "-joint robot exceed the Jacobian size limit");
   }
-  MujocoRobot::Evaluator mujoco(robot);
   const std::string where = scenario.name + ", calibration '" + config.name + "'";
-  const MeasurementFile fit =
-      simulatedMeasurements(config, mujoco, sampled.motions, sampled.ranges, 0, config.poses, true, where + ": simulated measurements");
+  MeasurementSetup setup;
+  try {
+    setup = caseMeasurementSetup(config, robot, true);
+  } catch (const RobotFileError& e) {  // a target that is no site fixed to the tip: name the case
+    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': targets: " + e.what());
+  }
+  MeasurementSetup noise_free = setup;
+  noise_free.sd_position = noise_free.sd_rotation = 0.0;
+  MujocoRobot::Evaluator mujoco(robot);
+  MeasurementFile fit = simulatedMeasurements(config, setup, mujoco, sampled.motions, sampled.ranges, 0, config.poses,
+                                              where + ": simulated measurements");
+  const std::vector<size_t> blunders = addBlunders(config.seed, config.blunders, config.blunder_size, fit.measurements);
   const std::optional<MeasurementFile> validation =
-      simulatedMeasurements(config, mujoco, sampled.motions, sampled.ranges, config.poses, config.validation_poses, false,
-              where + ": noise-free validation measurements");
+      simulatedMeasurements(config, noise_free, mujoco, sampled.motions, sampled.ranges, config.poses,
+                            config.validation_poses, where + ": noise-free validation measurements");
 
   CalibrationOptions options;
-  options.measure = fit.measure;
+  options.measure = measure;
   options.free_pitch = config.free_pitch;
+  options.loss = config.loss;
   if (config.noise_position > 0) options.sigma_position = config.noise_position;
   if (config.noise_rotation > 0) options.sigma_rotation = config.noise_rotation;
+  for (const std::string& name : config.targets) {  // a nominal's point of the same name starts the estimate
+    Target t{name, std::nullopt};
+    for (const Target& known : nominal_file.targets) {
+      if (known.name == name) t.point_tool = known.point_tool;
+    }
+    options.targets.push_back(t);
+  }
   const auto start = std::chrono::steady_clock::now();
   const CalibrationResult result = calibrate(nominal, fit.measurements, options);
   const DhUncertainty dh = dhUncertainty(result);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const auto report = std::make_shared<const CalibrationReport>(
-      makeCalibrationReport(nominal_file, fit, validation, result, dh, seconds));
 
   CalibrationCaseResult out;
   out.config = config;
@@ -103,12 +172,22 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
   out.seconds = seconds;
   out.fit_before = result.before;
   out.fit_after = result.after;
-  const ValidationResiduals& v = *report->validation_residuals;
-  out.validation_before = v.before;
-  out.validation_after = v.after;
-  out.validation_position_before = positionErrors(nominal, validation->measurements);
-  out.validation_position_after = positionErrors(result.model, validation->measurements);
-  out.report = report;
+  // validation in the measurement frame: the nominal where the registration put it (before), the calibrated
+  // model (after), each with its targets' points
+  std::vector<std::string> fit_targets;
+  for (const Target& t : options.targets) fit_targets.push_back(t.name);
+  const std::vector<Measurement> held_out = targetsByName(*validation, fit_targets);
+  const PoeModel registered = movedModel(nominal, result.registration.T_meas_base);
+  out.validation_before = residualStatistics(registered, held_out, measure, result.registration.targets);
+  out.validation_after = residualStatistics(result.model, held_out, measure, result.targets);
+  out.validation_position_before = positionErrors(registered, held_out, measure, result.registration.targets);
+  out.validation_position_after = positionErrors(result.model, held_out, measure, result.targets);
+  out.blunders = blunders;
+  for (size_t k = 0; k < result.residuals.size(); ++k) {
+    const bool blunder = std::binary_search(blunders.begin(), blunders.end(), k);
+    if (blunder && !result.residuals[k].outlier) out.missed_blunders.push_back(k);
+    if (!blunder && result.residuals[k].outlier) out.false_outliers.push_back(k);
+  }
 
   // acceptance: never pass on a number that was not measured (NaN fails every comparison below)
   auto require = [&](bool ok, const std::string& what) {
@@ -117,23 +196,35 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
       out.failures.push_back(what);
     }
   };
+  const ResidualStatistics& v = out.validation_after;
   const std::string u = nominal_file.length_unit.empty() ? "" : " " + nominal_file.length_unit;
-  require(v.after.rms_position <= config.tolerance_position,
-          "validation RMS position " + fixed(v.after.rms_position, 6) + u + " > tolerance " +
+  require(v.rms_position <= config.tolerance_position,
+          "validation RMS position " + fixed(v.rms_position, 6) + u + " > tolerance " +
               fixed(config.tolerance_position, 6) + u);
-  if (config.tolerance_rotation && !config.position_only) {
-    require(v.after.rms_rotation <= *config.tolerance_rotation,
-            "validation RMS rotation " + fixed(v.after.rms_rotation, 9) + " rad > tolerance " +
+  if (config.tolerance_rotation && measure == Measure::Pose) {
+    require(v.rms_rotation <= *config.tolerance_rotation,
+            "validation RMS rotation " + fixed(v.rms_rotation, 9) + " rad > tolerance " +
                 fixed(*config.tolerance_rotation, 9) + " rad");
   }
   if (config.min_improvement) {
-    const double ratio = v.before.rms_position / v.after.rms_position;
+    const double ratio = out.validation_before.rms_position / v.rms_position;
     require(ratio >= *config.min_improvement, "improvement " + fixed(ratio, 1) + "x < required " +
                                                   fixed(*config.min_improvement, 1) + "x");
   }
   require(result.converged, "did not converge");
+  require(result.accepted, "the fit was rejected: " + result.reason);
+  // blunders: the case says the robust fit finds exactly them
+  if (config.blunders > 0) {
+    require(out.missed_blunders.empty(), std::to_string(out.missed_blunders.size()) + " of " +
+                                             std::to_string(blunders.size()) + " blunders not flagged: measurement " +
+                                             listed(fit, out.missed_blunders));
+    require(out.false_outliers.empty(), std::to_string(out.false_outliers.size()) +
+                                            " measurements flagged without a blunder: " + listed(fit, out.false_outliers));
+  }
   // (a rank below the count is not a failure: position measurements of a tool point on the last axis, for
   // one, cannot see that axis; calibrate's text and JSON name the undetermined directions)
+  out.report = std::make_shared<const CalibrationReport>(
+      makeCalibrationReport(nominal_file, std::move(fit), validation, result, dh, seconds));
   return out;
 }
 

@@ -24,6 +24,16 @@ using namespace lowpair::io;  // the rooms below
 using nlohmann::json;
 namespace fs = std::filesystem;
 
+namespace {
+
+std::vector<size_t> oneBased(const std::vector<size_t>& rows) {
+  std::vector<size_t> out;
+  for (const size_t r : rows) out.push_back(r + 1);
+  return out;
+}
+
+}  // namespace
+
 json validationJson(const std::vector<ScenarioResult>& results, const RunOptions& options) {
   json doc;
   bool pass = true;
@@ -66,6 +76,13 @@ json validationJson(const std::vector<ScenarioResult>& results, const RunOptions
         j["name"] = c.config.name;
         j["pass"] = c.pass;
         j["failures"] = c.failures;
+        // the scenario's own checks: validation in the measurement frame, blunders (1-based measurements)
+        j["acceptance"] = {{"validation_rms_position_before", c.validation_before.rms_position},
+                           {"validation_rms_position_after", c.validation_after.rms_position},
+                           {"validation_rms_rotation_after", c.validation_after.rms_rotation},
+                           {"blunders", oneBased(c.blunders)},
+                           {"missed_blunders", oneBased(c.missed_blunders)},
+                           {"false_outliers", oneBased(c.false_outliers)}};
         s["calibrations"].push_back(j);
       }
     }
@@ -267,6 +284,106 @@ std::string plotted(const ScenarioResult& r) {
          std::to_string(r.samples) + ")";
 }
 
+bool hasResiduals(const CalibrationCaseResult& c) { return c.report && !c.report->result.residuals.empty(); }
+
+// "17 (pose 6, smr_b)": a fitting measurement, 1-based, with its pose and target when there are targets
+std::string measurementLabel(const CalibrationCaseResult& c, size_t k) {
+  const io::MeasurementFile& fit = c.report->fit;
+  std::string label = std::to_string(k + 1);
+  if (fit.measure == Measure::Targets && !fit.target_names.empty() && k < fit.measurements.size()) {
+    const int t = fit.measurements[k].target;
+    label += " (pose " + std::to_string(k / fit.target_names.size() + 1) + ", " +
+             (t >= 0 ? fit.target_names[static_cast<size_t>(t)] : std::string("?")) + ")";
+  }
+  if (k < fit.lines.size()) label += " line " + std::to_string(fit.lines[k]);
+  return label;
+}
+
+// The normalized residual of every fitting measurement (calibrate's, in noise units), flagged outliers and
+// blunders marked, the outlier threshold drawn.
+void residualPicture(const fs::path& dir, const ScenarioResult& r, const CalibrationCaseResult& c,
+                     const std::string& name, std::ostringstream& gp) {
+  if (!hasResiduals(c)) return;
+  const CalibrationResult& result = c.report->result;
+  int zeros = 0;
+  {
+    std::ostringstream out;
+    out << "# measurement, normalized residual: accepted, flagged (outlier), blunder; position error (length)\n";
+    for (size_t k = 0; k < result.residuals.size(); ++k) {
+      const MeasurementResidual& x = result.residuals[k];
+      const bool blunder = std::binary_search(c.blunders.begin(), c.blunders.end(), k);
+      auto value = [&](bool shown) {
+        return shown && x.normalized > 0 ? shortest(x.normalized) : std::string("NaN");  // no 0 on a log axis
+      };
+      if (!(x.normalized > 0)) ++zeros;
+      out << k + 1 << " " << value(!x.outlier) << " " << value(x.outlier) << " " << value(blunder) << " "
+          << shortest(x.position) << "\n";
+    }
+    writeChecked(dir / (name + ".dat"), out.str());
+  }
+  const std::string data = gpString(name + ".dat");
+  const double threshold = CalibrationOptions{}.outlier_threshold;  // the cases keep calibrate's default
+  gp << "reset\nset terminal pngcairo noenhanced size 1000,500 font ',10'\n"
+     << "set output " << gpString(name + ".png") << "\n"
+     << "set title " << gpString(r.scenario.name + ", calibration '" + c.config.name + "': normalized residual of " +
+                                 std::to_string(result.residuals.size()) + " fitting measurements (" +
+                                 lossName(result.loss) + " loss), " + std::to_string(result.outliers) + " flagged" +
+                                 (zeros > 0 ? "; " + std::to_string(zeros) + " exactly 0, not drawn" : std::string()))
+     << "\n"
+     << "set logscale y\nset format y '1e%L'\nset grid\nset key outside right top\n"
+     << "set xlabel 'fitting measurement'\nset ylabel "
+     << gpString(result.noise_stated ? "normalized residual (units of the stated noise)"
+                                     : "normalized residual (no noise stated: units of the median residual's scale)")
+     << "\n"
+     << "plot " << data << " using 1:2 with points pt 7 ps 0.4 lc 'dark-blue' title 'accepted', " << data
+     << " using 1:3 with points pt 2 ps 1.2 lw 2 lc 'red' title 'flagged (outlier)', " << data
+     << " using 1:4 with points pt 6 ps 2 lc 'black' title 'blunder (simulated)', " << shortest(threshold)
+     << " with lines dt 2 lc 'black' title 'outlier threshold'\n";
+}
+
+// The case's residuals in words: which measurements were flagged, the blunders found and missed, and a
+// table of the worst five.
+std::string residualSummary(const CalibrationCaseResult& c) {
+  if (!hasResiduals(c)) return "";
+  const CalibrationResult& result = c.report->result;
+  std::ostringstream md;
+  std::vector<size_t> flagged;
+  for (size_t k = 0; k < result.residuals.size(); ++k) {
+    if (result.residuals[k].outlier) flagged.push_back(k);
+  }
+  auto list = [&](const std::vector<size_t>& rows) {
+    constexpr size_t kMaxListed = 20;
+    std::string text;
+    for (size_t i = 0; i < rows.size() && i < kMaxListed; ++i) text += (i ? ", " : "") + measurementLabel(c, rows[i]);
+    if (rows.size() > kMaxListed) text += ", ... (" + std::to_string(rows.size()) + " in all)";
+    return markdownText(text);
+  };
+  md << "Fit: " << lossName(result.loss) << " loss, " << flagged.size() << " of " << result.residuals.size()
+     << " measurements flagged as outliers (normalized residual above " << CalibrationOptions{}.outlier_threshold
+     << ")" << (flagged.empty() ? "" : ": " + list(flagged)) << ". Verdict: "
+     << (result.accepted ? std::string("accepted") : "rejected (" + markdownText(result.reason) + ")") << ".\n\n";
+  if (!c.blunders.empty()) {
+    const std::string unit = c.report->nominal.length_unit.empty() ? "length units" : c.report->nominal.length_unit;
+    md << "Blunders (" << c.config.blunder_size << " " << unit << "): " << c.blunders.size() - c.missed_blunders.size()
+       << " of " << c.blunders.size() << " flagged";
+    if (!c.missed_blunders.empty()) md << "; **missed**: " << list(c.missed_blunders);
+    if (!c.false_outliers.empty()) md << "; **flagged without a blunder**: " << list(c.false_outliers);
+    md << ".\n\n";
+  }
+  const std::vector<size_t> order = worstMeasurements(result, kWorstMeasurementsShown);
+  md << "| worst | measurement | position error | normalized | weight | flagged | blunder |\n|---|---|---|---|---|---|---|\n";
+  for (size_t i = 0; i < order.size(); ++i) {
+    const size_t k = order[i];
+    const MeasurementResidual& x = result.residuals[k];
+    char numbers[120];
+    std::snprintf(numbers, sizeof numbers, "%.3g | %.3g | %.3g", x.position, x.normalized, x.weight);
+    md << "| " << i + 1 << " | " << markdownText(measurementLabel(c, k)) << " | " << numbers << " | "
+       << (x.outlier ? "yes" : "no") << " | "
+       << (std::binary_search(c.blunders.begin(), c.blunders.end(), k) ? "yes" : "no") << " |\n";
+  }
+  return md.str() + "\n";
+}
+
 void plots(const fs::path& dir, const ScenarioResult& r) {
   const std::string base = safe(r.scenario.name);
   const fs::path data = dir / (base + "_errors.dat");
@@ -420,7 +537,7 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
     const std::string name = base + "_calibration_" + std::to_string(k + 1);
     {
       std::ostringstream out;
-      out << "# validation pose, position error before, after (length unit of the nominal)\n";
+      out << "# validation measurement, position error before (the registered nominal), after (length unit of the nominal)\n";
       for (size_t i = 0; i < c.validation_position_before.size(); ++i) {
         out << i + 1;
         for (const double e : {c.validation_position_before[i], c.validation_position_after[i]}) {
@@ -437,20 +554,21 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
     gp << "reset\nset terminal pngcairo noenhanced size 1000,500 font ',10'\n"
        << "set output " << gpString(name + ".png") << "\n"
        << "set title " << gpString(r.scenario.name + ", calibration '" + c.config.name +
-                                   "': position error on the noise-free validation poses") << "\n"
+                                   "': position error on the noise-free validation measurements") << "\n"
        << "set logscale y\nset format y '1e%L'\nset grid\nset key outside right top\n"
-       << "set xlabel 'validation pose'\nset ylabel "
+       << "set xlabel 'validation measurement'\nset ylabel "
        << gpString("position error (" +
                    (c.report && !c.report->nominal.length_unit.empty() ? c.report->nominal.length_unit
                                                                        : std::string("length unit of the nominal")) +
                    ")")
        << "\n"
-       << "plot " << gpString(name + ".dat") << " using 1:2 with linespoints pt 7 ps 0.4 title 'nominal (before)', "
+       << "plot " << gpString(name + ".dat") << " using 1:2 with linespoints pt 7 ps 0.4 title 'nominal, registered (before)', "
        << gpString(name + ".dat") << " using 1:3 with linespoints pt 7 ps 0.4 title 'calibrated (after)'";
     if (c.config.tolerance_position > 0) {
       gp << ", " << c.config.tolerance_position << " with lines dt 2 lc 'black' title 'tolerance (RMS)'";
     }
     gp << "\n";
+    residualPicture(dir, r, c, name + "_residuals", gp);
   }
   const std::string script = base + ".gnuplot";
   writeChecked(dir / script, gp.str());
@@ -467,7 +585,10 @@ void plots(const fs::path& dir, const ScenarioResult& r) {
   // gnuplot exits 0 on some write failures (a full disk): every picture must be a complete PNG
   std::vector<std::string> pictures = {base + "_errors.png", base + "_histogram.png"};
   if (r.map_size > 0) pictures.push_back(base + "_singularity_map.png");
-  for (size_t k = 0; k < r.calibrations.size(); ++k) pictures.push_back(base + "_calibration_" + std::to_string(k + 1) + ".png");
+  for (size_t k = 0; k < r.calibrations.size(); ++k) {
+    pictures.push_back(base + "_calibration_" + std::to_string(k + 1) + ".png");
+    if (hasResiduals(r.calibrations[k])) pictures.push_back(base + "_calibration_" + std::to_string(k + 1) + "_residuals.png");
+  }
   for (const auto& picture : pictures) requireCompletePng(dir / picture);
 }
 
@@ -519,15 +640,31 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
       for (size_t k = 0; k < r.calibrations.size(); ++k) {
         const CalibrationCaseResult& c = r.calibrations[k];
         md << "### Calibration '" << markdownText(c.config.name) << "': " << (c.pass ? "pass" : "**FAIL**") << "\n\n"
-           << c.config.poses << " measurements of the MuJoCo model (noise: position " << c.config.noise_position
-           << ", rotation " << c.config.noise_rotation << " rad), " << c.config.validation_poses
+           << c.config.poses << " poses measured on the MuJoCo model (" << measureName(c.config.measure());
+        if (!c.config.targets.empty()) {
+          std::string names;
+          for (const std::string& t : c.config.targets) names += (names.empty() ? "" : ", ") + t;
+          md << ": " << markdownText(names) << ", " << c.config.poses * c.config.targets.size() << " measurements";
+        }
+        const std::string unit = c.report && !c.report->nominal.length_unit.empty() ? " " + c.report->nominal.length_unit : "";
+        md << "; noise: position " << c.config.noise_position << unit << ", rotation " << c.config.noise_rotation << " rad";
+        if (c.config.frame) {
+          const auto& f = *c.config.frame;
+          md << "; in a measurement frame at rotation vector [" << f[0] << ", " << f[1] << ", " << f[2]
+             << "] rad, translation [" << f[3] << ", " << f[4] << ", " << f[5] << "]" << unit;
+        }
+        if (c.config.blunders > 0) md << "; " << c.config.blunders << " blunders of " << c.config.blunder_size << unit;
+        md << "; " << lossName(c.config.loss) << " loss), " << c.config.validation_poses
            << " noise-free validation poses; acceptance: validation RMS position <= " << c.config.tolerance_position;
-        if (c.config.min_improvement) md << ", at least " << *c.config.min_improvement << "x below the nominal's";
-        md << ".\n\n";
+        if (c.config.min_improvement) md << ", at least " << *c.config.min_improvement << "x below the registered nominal's";
+        md << ", converged, the verdict accepted" << (c.config.blunders > 0 ? ", exactly the blunders flagged" : "") << ".\n\n";
         for (const auto& f : c.failures) md << "- failed: " << markdownText(f) << "\n";
+        if (!c.failures.empty()) md << "\n";
         std::ostringstream text;
         printCalibration(text, *c.report);
-        md << "![calibration](" << base << "_calibration_" << k + 1 << ".png)\n\n" << markdownCode(text.str()) << "\n";
+        md << "![calibration](" << base << "_calibration_" << k + 1 << ".png)\n\n";
+        if (hasResiduals(c)) md << "![residuals](" << base << "_calibration_" << k + 1 << "_residuals.png)\n\n";
+        md << residualSummary(c) << markdownCode(text.str()) << "\n";
       }
     }
     writeChecked(tmp / "summary.md", md.str());

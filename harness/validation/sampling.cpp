@@ -6,6 +6,7 @@
 #include <exception>
 #include <filesystem>
 #include <random>
+#include <set>
 #include <stdexcept>
 
 #include "io/robot_file.hpp"
@@ -143,6 +144,73 @@ void addMeasurementNoise(unsigned long long seed, unsigned long long index, doub
   for (int k = 0; k < 3; ++k) n[k] = sd_rotation * normal(rng);
   T.p += dp;
   T.R = expSO3(n) * T.R;
+}
+
+Pose measurementFrame(const Vec3& rotation, const Vec3& translation) { return Pose{expSO3(rotation), translation}; }
+
+int rowsPerPose(const MeasurementSetup& setup) {
+  return setup.measure == Measure::Targets ? static_cast<int>(setup.targets.size()) : 1;
+}
+
+void appendMeasurements(const MeasurementSetup& setup, unsigned long long seed, unsigned long long pose,
+                        const Eigen::Ref<const VecX>& q, const Pose& T_base_tool, std::vector<Measurement>& out) {
+  const Pose T_frame_tool = setup.T_frame_base * T_base_tool;
+  const int rows = rowsPerPose(setup);
+  for (int t = 0; t < rows; ++t) {
+    Measurement m;
+    m.q = q;
+    if (setup.measure == Measure::Targets) {
+      m.target = t;
+      m.T_base_tool.p = T_frame_tool.R * setup.targets[static_cast<size_t>(t)] + T_frame_tool.p;
+    } else {
+      m.T_base_tool = T_frame_tool;
+    }
+    const unsigned long long row = pose * static_cast<unsigned long long>(rows) + static_cast<unsigned long long>(t);
+    addMeasurementNoise(seed, row, setup.sd_position, setup.sd_rotation, m.T_base_tool);
+    out.push_back(std::move(m));
+  }
+}
+
+namespace {
+
+constexpr unsigned long long kBlunderStream = 0x626C756E64657273ULL;  // "blunders"
+
+// uniform in [0, n) from raw engine outputs (rejection of the incomplete last block: exact, portable)
+unsigned long long below(std::mt19937_64& rng, unsigned long long n) {
+  const unsigned long long threshold = (0 - n) % n;  // 2^64 mod n
+  while (true) {
+    const unsigned long long x = rng();
+    if (x >= threshold) return x % n;
+  }
+}
+
+// uniform in [0, 1) with 53 random bits
+double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1p-53; }
+
+}  // namespace
+
+std::vector<size_t> addBlunders(unsigned long long seed, long long count, double size,
+                                std::vector<Measurement>& measurements) {
+  const auto n = static_cast<long long>(measurements.size());
+  if (count < 0 || count > n) {
+    throw std::invalid_argument("addBlunders: " + std::to_string(count) + " blunders among " + std::to_string(n) +
+                                " measurements");
+  }
+  if (!(size >= 0.0) || !std::isfinite(size)) throw std::invalid_argument("addBlunders: size not finite and >= 0");
+  // Floyd: for j = n - count .. n - 1, draw t in [0, j]; take t, or j when t is taken
+  std::mt19937_64 pick(mix(seed ^ kBlunderStream));
+  std::set<size_t> rows;
+  for (long long j = n - count; j < n; ++j) {
+    const auto t = static_cast<size_t>(below(pick, static_cast<unsigned long long>(j) + 1));
+    if (!rows.insert(t).second) rows.insert(static_cast<size_t>(j));
+  }
+  for (const size_t row : rows) {
+    std::mt19937_64 rng(mix(mix(seed ^ kBlunderStream) + 1 + row));
+    const double z = 2.0 * unit(rng) - 1.0, phi = 2.0 * M_PI * unit(rng);
+    const double rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+    measurements[row].T_base_tool.p += size * Vec3(rho * std::cos(phi), rho * std::sin(phi), z);
+  }
+  return {rows.begin(), rows.end()};
 }
 
 int runWorkers(int threads, const std::function<void(int)>& work, const ThreadStarter& start) {

@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "lowpair/calibration.hpp"
 #include "lowpair/model.hpp"
 #include "lowpair/types.hpp"
 #include "mujoco/mujoco_robot.hpp"
@@ -63,6 +64,45 @@ void randomSample(unsigned long long seed, unsigned long long index, const std::
 /// randomSample's q stream, and a measurement's noise depends only on (seed, index).
 void addMeasurementNoise(unsigned long long seed, unsigned long long index, double sd_position, double sd_rotation,
                          Pose& T);
+
+/// The pose `T_base_frame` of a measurement frame (a laser tracker's) relative to the robot base: rotation
+/// `expSO3(rotation)` (a rotation vector, rad) and `translation` (the robot's length unit). A simulated
+/// measurement is expressed in it: `T_frame_base * (the tool frame, origin or target point in the base frame)`.
+Pose measurementFrame(const Vec3& rotation, const Vec3& translation);
+
+/// How a simulated measurement is taken (`lowpair simulate`, a scenario's calibration cases; the two share it,
+/// docs/calibration.md "Measurement files"): what is measured, in which frame, with which noise.
+struct MeasurementSetup {
+  Measure measure = Measure::Pose;
+  /// Measure::Targets: the targets' points in the tool frame; every pose measures each, in this order.
+  std::vector<Vec3> targets;
+  Pose T_frame_base;  ///< the measurement frame (identity: the base frame); measurementFrame(...).inverse()
+  double sd_position = 0.0;  ///< noise per coordinate, length, in the measurement frame
+  double sd_rotation = 0.0;  ///< noise per axis of `exp(n)`, rad, about the measurement frame's axes (Pose)
+};
+
+/// Rows (measurements) per pose: the number of targets for Measure::Targets, else 1.
+int rowsPerPose(const MeasurementSetup& setup);
+
+/// Appends the measurements of pose `pose` (joint values `q`, tool frame `T_base_tool`): rows
+/// `pose * R .. pose * R + R - 1` (R = rowsPerPose) of the stream. Row r holds `T_frame_base * T_base_tool`
+/// (Pose, Position) or the point `T_frame_base * T_base_tool * targets[t]` (Targets, one row per target,
+/// `target = t`, rotation identity), then its noise addMeasurementNoise(seed, r, sd_position, sd_rotation)
+/// in the measurement frame: a row's noise depends only on (seed, r), and with one row per pose r is the
+/// pose's index (what simulate and the calibration cases always did).
+void appendMeasurements(const MeasurementSetup& setup, unsigned long long seed, unsigned long long pose,
+                        const Eigen::Ref<const VecX>& q, const Pose& T_base_tool, std::vector<Measurement>& out);
+
+/// Blunders (gross errors, docs/calibration.md "Blunders"): `count` distinct rows of `measurements`, drawn
+/// from the stream (seed, "blunders") by Floyd's algorithm (uniform over the subsets, independent of the q
+/// and noise streams), each moved by exactly `size` (length) along a direction uniform on the unit sphere
+/// drawn from the stream (seed, "blunders", row): `p += size u` in the measurement frame (a pose's rotation is
+/// kept). Uses only the engine's raw 64-bit outputs (no distribution object): the same rows and directions
+/// with every standard library.
+/// @return the rows moved (0-based), increasing
+/// @throws std::invalid_argument for count < 0 or above the number of measurements, or size not finite or < 0
+std::vector<size_t> addBlunders(unsigned long long seed, long long count, double size,
+                                std::vector<Measurement>& measurements);
 
 /// Starts one worker thread (replaceable in tests to inject a failure).
 using ThreadStarter = std::function<std::thread(std::function<void()>)>;

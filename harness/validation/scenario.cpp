@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -9,6 +10,7 @@
 #include "validation/calibration_output.hpp"
 #include "io/robot_file.hpp"
 #include "io/yaml_reader.hpp"
+#include "lowpair/tolerances.hpp"
 
 namespace lowpair::validation {
 
@@ -29,11 +31,32 @@ std::vector<double> numbers(const YamlReader& in, const YAML::Node& node, const 
   for (size_t i = 0; i < node.size(); ++i) out.push_back(in.number(node[i], what + "[" + std::to_string(i) + "]"));
   return out;
 }
+
+// `targets:` a non-empty list of distinct target names (the model's sites; runCalibrationCase checks them there)
+std::vector<std::string> readTargetNames(const YamlReader& in, const YAML::Node& node, const std::string& where) {
+  if (!node.IsSequence() || node.size() == 0) yamlError(in.path(), node, where + " must be a non-empty list of site names");
+  if (node.size() > static_cast<size_t>(kMaxTargets)) {
+    yamlError(in.path(), node, where + " lists " + std::to_string(node.size()) + " targets, more than " +
+                                   std::to_string(kMaxTargets));
+  }
+  std::vector<std::string> names;
+  std::set<std::string> seen;
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string what = where + "[" + std::to_string(i) + "]";
+    const std::string name = in.string(node[i], what);
+    const std::string problem = targetNameProblem(name);
+    if (!problem.empty()) yamlError(in.path(), node[i], what + " " + problem + " (" + kTargetNameRule + ")");
+    if (!seen.insert(name).second) yamlError(in.path(), node[i], what + " '" + name + "' is listed twice");
+    names.push_back(name);
+  }
+  return names;
+}
+
 CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node, size_t index) {
   const std::string& path = in.path();
   in.allowOnly(node, "a calibration case",
                {"name", "nominal", "poses", "validation_poses", "seed", "measure", "free_pitch", "noise",
-                "tolerance"});
+                "tolerance", "targets", "frame", "blunders", "loss"});
   CalibrationCase c;
   c.name = node["name"] ? in.string(node["name"], "calibration name") : "calibration" + std::to_string(index + 1);
   const std::string where = "calibration '" + c.name + "'";
@@ -45,11 +68,26 @@ CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node
         static_cast<int>(in.integer(node["validation_poses"], where + ".validation_poses", 1, kMaxCalibrationPoses));
   }
   if (node["seed"]) c.seed = static_cast<unsigned long long>(in.integer(node["seed"], where + ".seed", 0, kMaxSeed));
+  if (node["targets"]) c.targets = readTargetNames(in, node["targets"], where + ".targets");
   if (node["measure"]) {
     const std::string m = in.string(node["measure"], where + ".measure");
-    if (m != "pose" && m != "position") yamlError(path, node["measure"], where + ".measure must be pose or position");
+    if (m != "pose" && m != "position" && m != "targets") {
+      yamlError(path, node["measure"], where + ".measure must be pose, position or targets");
+    }
+    if ((m == "targets") != !c.targets.empty()) {
+      yamlError(path, node["measure"], where + ": measure " + m +
+                                           (c.targets.empty() ? " needs targets: [SITE, ...]" : " with targets (their measure is targets)"));
+    }
     c.position_only = m == "position";
   }
+  // every fitting measurement is a row of the identification Jacobian: poses x targets of them
+  const long long rows = static_cast<long long>(c.poses) * std::max<long long>(1, static_cast<long long>(c.targets.size()));
+  if (rows > kMaxCalibrationMeasurements) {
+    yamlError(path, node["targets"], where + ": " + std::to_string(c.poses) + " poses x " + std::to_string(c.targets.size()) +
+                                         " targets = " + std::to_string(rows) + " measurements, more than " +
+                                         std::to_string(kMaxCalibrationMeasurements));
+  }
+  const bool points = c.measure() != Measure::Pose;  // position or targets: no rotation measured
   if (node["free_pitch"]) {
     const std::string b = in.string(node["free_pitch"], where + ".free_pitch");
     if (b != "true" && b != "false") yamlError(path, node["free_pitch"], where + ".free_pitch must be true or false");
@@ -61,9 +99,48 @@ CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node
     c.noise_rotation = in.numberOr(noise, "rotation", 0.0, where + ".noise");
     if (c.noise_position < 0 || c.noise_rotation < 0) yamlError(path, noise, where + ".noise must be >= 0");
     if (c.noise_rotation > M_PI) yamlError(path, noise, where + ".noise.rotation must be at most pi (rad)");
-    if (c.position_only && noise["rotation"]) {
-      yamlError(path, noise, where + ": noise.rotation given for position measurements (measure: position)");
+    if (points && noise["rotation"]) {
+      yamlError(path, noise, where + ": noise.rotation given for " + measureName(c.measure()) +
+                                 " measurements (points: no rotation is measured)");
     }
+  }
+  if (const YAML::Node f = node["frame"]) {
+    in.allowOnly(f, where + ".frame", {"rotation", "translation"});
+    std::array<double, 6> frame{};
+    for (const auto& [key, first] : {std::pair<const char*, size_t>{"rotation", 0}, {"translation", 3}}) {
+      if (!f[key]) continue;
+      const std::string what = where + ".frame." + key;
+      const std::vector<double> v = in.vector(f[key], 3, what);
+      for (size_t k = 0; k < 3; ++k) {
+        if (!(std::abs(v[k]) <= kMaxMagnitude)) yamlError(path, f[key], what + " has a value above 1e100 in magnitude");
+        frame[first + k] = v[k];
+      }
+    }
+    c.frame = frame;
+  }
+  if (const YAML::Node b = node["blunders"]) {
+    in.allowOnly(b, where + ".blunders", {"count", "size"});
+    if (!b["count"] || !b["size"]) yamlError(path, b, where + ".blunders needs count and size");
+    c.blunders = in.integer(b["count"], where + ".blunders.count", 0, kMaxCalibrationMeasurements);
+    if (c.blunders > rows) {
+      yamlError(path, b["count"], where + ".blunders.count " + std::to_string(c.blunders) + " is more than the case's " +
+                                      std::to_string(rows) + " fitting measurements");
+    }
+    c.blunder_size = in.number(b["size"], where + ".blunders.size");
+    if (!(c.blunder_size > 0) || c.blunder_size > kMaxMagnitude) {
+      yamlError(path, b["size"], where + ".blunders.size must be positive and at most 1e100 (length)");
+    }
+  }
+  if (node["loss"]) {
+    const std::string loss = in.string(node["loss"], where + ".loss");
+    bool known = false;
+    for (const Loss l : {Loss::Squared, Loss::Huber, Loss::Cauchy}) {
+      if (loss == lossName(l)) {
+        c.loss = l;
+        known = true;
+      }
+    }
+    if (!known) yamlError(path, node["loss"], where + ".loss must be squared, huber or cauchy, got '" + loss + "'");
   }
   const YAML::Node t = node["tolerance"];
   if (!t) yamlError(path, node, where + ": missing 'tolerance' (at least position: validation RMS after, length)");
@@ -71,7 +148,7 @@ CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node
   if (!t["position"]) yamlError(path, t, where + ".tolerance: missing 'position'");
   c.tolerance_position = in.number(t["position"], where + ".tolerance.position");
   if (t["rotation"]) {
-    if (c.position_only) yamlError(path, t, where + ": tolerance.rotation given for position measurements");
+    if (points) yamlError(path, t, where + ": tolerance.rotation given for " + std::string(measureName(c.measure())) + " measurements");
     c.tolerance_rotation = in.number(t["rotation"], where + ".tolerance.rotation");
   }
   if (t["improvement"]) c.min_improvement = in.number(t["improvement"], where + ".tolerance.improvement");

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "lowpair/calibration.hpp"
 #include "validation/sampling.hpp"
 
 namespace lowpair::validation {
@@ -43,6 +44,19 @@ struct CalibrationCase {
   double tolerance_position = 0.0;  ///< acceptance: validation RMS position after calibration (length)
   std::optional<double> tolerance_rotation;  ///< acceptance: validation RMS rotation after (rad), pose only
   std::optional<double> min_improvement;     ///< acceptance: validation RMS position before / after
+  /// `targets:` sites of the model, fixed to the tip, measured as points (Measure::Targets, one measurement per
+  /// site per pose, in this order); their points are estimated unless the nominal lists targets of the same names.
+  std::vector<std::string> targets;
+  /// `frame: {rotation: [rx, ry, rz], translation: [x, y, z]}`: the measurement frame's pose relative to the
+  /// model's base (rotation vector, rad; translation, length): every measurement is expressed in it
+  /// (sampling.hpp measurementFrame). Unset: the base frame.
+  std::optional<std::array<double, 6>> frame;
+  long long blunders = 0;     ///< `blunders: {count, size}`: fitting measurements moved by `blunder_size` (addBlunders)
+  double blunder_size = 0.0;  ///< length
+  Loss loss = Loss::Squared;  ///< `loss:`
+  Measure measure() const {
+    return !targets.empty() ? Measure::Targets : position_only ? Measure::Position : Measure::Pose;
+  }
 };
 
 /// Upper bound on a calibration case's validation poses (its fitting `poses`: kMaxCalibrationMeasurements).

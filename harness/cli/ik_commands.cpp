@@ -1,0 +1,627 @@
+// lowpair ik ROBOT --poses POSES.csv [--out Q.csv] [--json] [--seeds K] [--seed S]
+// lowpair compensate CALIBRATED --nominal NOMINAL --q-file Q.csv [--out Q2.csv] [--json] [--measure pose|position]
+// Inverse kinematics of target poses (or positions) and compensation of a calibrated robot (lowpair/ik.hpp,
+// docs/ik.md), and the reader of their CSV inputs (also `fk --q-file`'s, convert_commands.cpp).
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "io/atomic_file.hpp"
+#include "io/measurements.hpp"
+#include "io/output.hpp"
+#include "lowpair/ik.hpp"
+#include "lowpair/kinematics.hpp"
+#include "lowpair/tolerances.hpp"
+#include "validation/sampling.hpp"
+
+namespace lowpair::cli {
+
+using namespace lowpair::io;  // the rooms below
+using namespace lowpair::validation;
+
+using nlohmann::json;
+
+/// fk --q-file's input (declared in convert_commands.cpp; its declaration belongs in commands.hpp): the joint
+/// values of a CSV whose header starts with q1..qn (robot_dof of them), other columns ignored (a measurement
+/// CSV is one), as a rows x n matrix, and the file line of each row. The reader is readJointTable below.
+/// @throws RobotFileError `FILE:LINE: what` or `FILE: what`
+MatX readJointValues(const std::string& path, int robot_dof, const std::string& robot_path, std::vector<long long>& lines);
+
+namespace {
+
+// ---- the input CSV: joint vectors, target poses ----------------------------------------------------------------------
+
+/// A CSV of joint vectors and/or target poses (docs/ik.md "Input files"): the measurement CSV's rules
+/// (io/measurements.hpp: comments, `# length_unit: U`, a header, one row per line, its limits and number
+/// rules), with a header of `q1..qn` (n >= 0) and then
+/// - TableKind::Joints (fk --q-file, compensate): anything (a measurement CSV's x, y, z, quaternion or target
+///   columns), not read; n >= 1;
+/// - TableKind::Targets (ik): exactly `x,y,z` (positions) or `x,y,z,qw,qx,qy,qz` (poses, unit quaternion
+///   scalar first, normalized when within 1e-6 of unit norm).
+enum class TableKind { Joints, Targets };
+
+struct JointTable {
+  std::string path;
+  int dof = 0;                     ///< the q columns (0: none, Targets only)
+  bool pose = false;               ///< Targets: quaternion columns present
+  std::vector<double> q;           ///< rows x dof, row-major
+  std::vector<Pose> targets;       ///< Targets: one per row (rotation identity for positions)
+  std::vector<long long> lines;    ///< the file line of each row
+  std::string length_unit;         ///< from `# length_unit: U`; "" when none
+  size_t rows() const { return lines.size(); }
+  Eigen::Map<const VecX> row(size_t k) const { return {q.data() + k * static_cast<size_t>(dof), dof}; }
+};
+
+constexpr double kUnitQuaternionTolerance = 1e-6;  // as the measurement reader
+
+bool isBlank(char c) { return c == ' ' || c == '\t'; }
+
+bool isComment(const std::string& line) {
+  for (char c : line) {
+    if (!isBlank(c)) return c == '#';
+  }
+  return true;  // blank
+}
+
+void splitFields(const std::string& line, std::vector<std::string>& fields) {
+  fields.clear();
+  size_t begin = 0;
+  while (true) {
+    const size_t comma = std::min(line.find(',', begin), line.size());
+    size_t a = begin, b = comma;
+    while (a < b && isBlank(line[a])) ++a;
+    while (b > a && isBlank(line[b - 1])) --b;
+    fields.emplace_back(line, a, b - a);
+    if (comma == line.size()) return;
+    begin = comma + 1;
+  }
+}
+
+// Lines without their LF or CRLF through a fixed buffer of kMaxMeasurementLineBytes (a file without line ends
+// never grows memory); a UTF-8 byte order mark at the start is skipped.
+class LineReader {
+ public:
+  LineReader(std::istream& in, std::string path) : in_(in), path_(std::move(path)), buffer_(kMaxMeasurementLineBytes + 2) {}
+
+  bool next(std::string& line) {
+    in_.getline(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
+    const auto got = static_cast<size_t>(in_.gcount());
+    if (in_.bad()) throw RobotFileError(path_ + ": cannot read file");
+    if (in_.eof()) {
+      if (got == 0) return false;
+      line.assign(buffer_.data(), got);
+    } else if (in_.fail()) {
+      throw tooLong(number_ + 1);
+    } else {
+      line.assign(buffer_.data(), got - 1);
+    }
+    ++number_;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.size() > kMaxMeasurementLineBytes) throw tooLong(number_);
+    if (number_ == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    return true;
+  }
+  long long number() const { return number_; }
+
+ private:
+  RobotFileError tooLong(long long number) const {
+    return RobotFileError(path_ + ":" + std::to_string(number) + ": line longer than " +
+                          std::to_string(kMaxMeasurementLineBytes) + " bytes");
+  }
+  std::istream& in_;
+  std::string path_;
+  std::vector<char> buffer_;
+  long long number_ = 0;
+};
+
+// A whole token as a decimal finite number of magnitude <= 1e100. @param fail throws "FILE:LINE: what"
+template <class Fail>
+double parseNumber(const std::string& token, const Fail& fail) {
+  char* end = nullptr;
+  const double x = token.empty() ? 0.0 : std::strtod(token.c_str(), &end);
+  if (token.empty() || end != token.c_str() + token.size()) fail(quotedFileText(token) + " is not a number");
+  if (token.find_first_of("xX") != std::string::npos) fail(quotedFileText(token) + " is not a decimal number");
+  if (!std::isfinite(x)) fail(quotedFileText(token) + " is not a finite number");
+  if (std::abs(x) > kMaxMagnitude) fail(quotedFileText(token) + " is above 1e100 in magnitude (kMaxMagnitude)");
+  return x;
+}
+
+// `# length_unit: U` (the first; a second must agree). @param fail throws "FILE:LINE: what"
+template <class Fail>
+void readUnitComment(const std::string& line, std::string& unit, const Fail& fail) {
+  const size_t hash = line.find('#');
+  if (hash == std::string::npos) return;
+  const size_t k = line.find_first_not_of(" \t", hash + 1);
+  static const std::string key = "length_unit:";
+  if (k == std::string::npos || line.compare(k, key.size(), key) != 0) return;
+  const size_t begin = line.find_first_not_of(" \t", k + key.size());
+  const std::string value = begin == std::string::npos ? "" : line.substr(begin, line.find_last_not_of(" \t") + 1 - begin);
+  if (!isUnitLabel(value)) {
+    fail("length_unit " + quotedFileText(value) + " is not a unit label (one token of 1-16 printable ASCII characters)");
+  }
+  if (!unit.empty() && unit != value) fail("length_unit " + quotedFileText(value) + " after length_unit " + quotedFileText(unit));
+  unit = value;
+}
+
+const char* expectedColumns(TableKind kind) {
+  return kind == TableKind::Joints ? "(expected q1..qn, then any columns)"
+                                   : "(expected [q1..qn,]x,y,z or [q1..qn,]x,y,z,qw,qx,qy,qz)";
+}
+
+/// @param robot_dof the robot's joint count: the q columns must be as many (or none, Targets)
+/// @param robot_path for the message of a wrong joint count
+/// @throws RobotFileError `FILE:LINE: what` or `FILE: what`
+JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof, const std::string& robot_path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw RobotFileError(path + ": cannot open file");
+  JointTable table;
+  table.path = path;
+  LineReader lines(in, path);
+  auto fail = [&](const std::string& what) { throw RobotFileError(path + ":" + std::to_string(lines.number()) + ": " + what); };
+  std::string line;
+  std::vector<std::string> fields;
+  size_t columns = 0;
+  bool have_header = false;
+  while (lines.next(line)) {
+    if (lines.number() > kMaxMeasurementLines) {
+      fail("more than " + std::to_string(kMaxMeasurementLines) + " lines (comments and blank lines count)");
+    }
+    if (isComment(line)) {
+      readUnitComment(line, table.length_unit, fail);
+      continue;
+    }
+    splitFields(line, fields);
+    if (!have_header) {
+      size_t k = 0;
+      while (k < fields.size() && fields[k] == "q" + std::to_string(table.dof + 1)) {
+        if (++table.dof > kMaxMeasurementJoints) fail("more than " + std::to_string(kMaxMeasurementJoints) + " joint columns");
+        ++k;
+      }
+      if (kind == TableKind::Joints) {
+        if (table.dof == 0) fail("no joint columns: the first column is " + quotedFileText(fields[0]) + " " + expectedColumns(kind));
+      } else {
+        static const std::array<const char*, 7> names{"x", "y", "z", "qw", "qx", "qy", "qz"};
+        const size_t rest = fields.size() - k;
+        if (rest != 3 && rest != 7) {
+          fail(std::to_string(rest) + " columns after the joint columns " + expectedColumns(kind));
+        }
+        for (size_t c = 0; c < rest; ++c) {
+          if (fields[k + c] != names[c]) fail("unexpected column " + quotedFileText(fields[k + c]) + " " + expectedColumns(kind));
+        }
+        table.pose = rest == 7;
+      }
+      if (table.dof != 0 || kind == TableKind::Joints) {
+        if (table.dof != robot_dof) {
+          fail("has " + std::to_string(table.dof) + " joint columns but " + robot_path + " has " + std::to_string(robot_dof) +
+               " joints");
+        }
+      }
+      columns = fields.size();
+      have_header = true;
+      continue;
+    }
+    if (fields.size() != columns) {
+      fail("expected " + std::to_string(columns) + " fields, got " + std::to_string(fields.size()));
+    }
+    if (table.rows() >= static_cast<size_t>(kMaxMeasurements)) fail("more than " + std::to_string(kMaxMeasurements) + " rows");
+    if (static_cast<long long>(table.rows() + 1) * table.dof > kMaxMeasurementJointValues) {
+      fail("more than " + std::to_string(kMaxMeasurementJointValues) + " joint values in all (rows x joints)");
+    }
+    for (int i = 0; i < table.dof; ++i) table.q.push_back(parseNumber(fields[static_cast<size_t>(i)], fail));
+    if (kind == TableKind::Targets) {
+      const size_t x = static_cast<size_t>(table.dof);
+      Pose T;
+      for (int i = 0; i < 3; ++i) T.p[i] = parseNumber(fields[x + static_cast<size_t>(i)], fail);
+      if (table.pose) {
+        double w[4];
+        for (int i = 0; i < 4; ++i) w[i] = parseNumber(fields[x + 3 + static_cast<size_t>(i)], fail);
+        const Eigen::Quaterniond quaternion(w[0], w[1], w[2], w[3]);
+        const double norm = quaternion.norm();
+        if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) {
+          fail("qw..qz is not a unit quaternion (norm " + shortest(norm) + ")");
+        }
+        T.R = quaternion.normalized().toRotationMatrix();
+      }
+      table.targets.push_back(T);
+    }
+    table.lines.push_back(lines.number());
+  }
+  if (!have_header) throw RobotFileError(path + ": no header line " + expectedColumns(kind));
+  if (table.rows() == 0) throw RobotFileError(path + ": no rows");
+  return table;
+}
+
+// ---- solutions: the output CSV, the text summary, JSON ---------------------------------------------------------------
+
+struct Solution {
+  VecX q;
+  IkStatus status = IkStatus::NotConverged;
+  int iterations = 0;
+  double position_error = 0.0, rotation_error = 0.0;
+  int rank = -1;
+  double sigma_min = std::numeric_limits<double>::quiet_NaN();
+  int seed = -1;  ///< ik: the random seed's index k (0..K-1); -1: the row's own seed (or compensate's q)
+  std::string reason;
+  long long line = 0;
+};
+
+Solution solutionOf(const IkResult& r, int seed, long long line) {
+  return {r.q, r.status, r.iterations, r.position_error, r.rotation_error, r.rank, r.sigma_min, seed, r.reason, line};
+}
+
+// The shortest text that reads back bit for bit.
+void appendNumber(std::string& out, double x) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
+  out.append(buffer, result.ptr);
+}
+
+std::string unitName(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
+
+// The CSV: comments, `q1..qn,residual,status`, one row per solution in input order.
+std::string solutionsCsv(const std::vector<std::string>& comments, int dof, const std::vector<Solution>& rows) {
+  std::string out;
+  for (const std::string& c : comments) out += "# " + c + "\n";
+  for (int i = 0; i < dof; ++i) out += "q" + std::to_string(i + 1) + ",";
+  out += "residual,status\n";
+  for (const Solution& s : rows) {
+    for (int i = 0; i < dof; ++i) {
+      appendNumber(out, s.q[i]);
+      out += ',';
+    }
+    appendNumber(out, s.position_error);
+    out += ',';
+    out += ikStatusName(s.status);
+    out += '\n';
+  }
+  return out;
+}
+
+struct Summary {
+  std::array<long long, 5> count{};
+  double worst_position = 0.0, worst_rotation = 0.0;  ///< over the ok rows
+  long long worst_line = 0;
+  bool all_ok() const { return count[1] + count[2] + count[3] + count[4] == 0; }
+};
+
+Summary summarize(const std::vector<Solution>& rows) {
+  Summary s;
+  for (const Solution& r : rows) {
+    ++s.count[static_cast<size_t>(r.status)];
+    if (r.status != IkStatus::Ok) continue;
+    if (r.position_error >= s.worst_position) {
+      s.worst_position = r.position_error;
+      s.worst_line = r.line;
+    }
+    s.worst_rotation = std::max(s.worst_rotation, r.rotation_error);
+  }
+  return s;
+}
+
+std::string countsText(const Summary& s) {
+  std::string text;
+  for (size_t k = 0; k < s.count.size(); ++k) {
+    if (s.count[k] == 0) continue;
+    text += (text.empty() ? "" : ", ") + std::to_string(s.count[k]) + " " + ikStatusName(static_cast<IkStatus>(k));
+  }
+  return text;
+}
+
+std::string sci(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g", x);
+  return buffer;
+}
+
+// Comment lines every output states: what the rows are and how they came out.
+std::vector<std::string> summaryComments(const Summary& s, const std::vector<Solution>& rows, const RobotFile& file,
+                                         bool pose) {
+  std::vector<std::string> c{std::to_string(rows.size()) + " rows: " + countsText(s)};
+  if (s.count[0] > 0) {
+    c.push_back("worst residual of the ok rows: " + sci(s.worst_position) + " " + unitName(file) +
+                (pose ? ", rotation " + sci(s.worst_rotation) + " rad" : std::string()));
+  }
+  return c;
+}
+
+// The text output: counts, worst residual, the failed rows with their reasons (the first kListedFailures).
+void printSummary(std::ostream& out, const std::string& what, const Summary& s, const std::vector<Solution>& rows,
+                  const std::string& input, const RobotFile& file, bool pose) {
+  constexpr size_t kListedFailures = 20;
+  out << what << "\n";
+  out << "  " << countsText(s) << "\n";
+  if (s.count[0] > 0) {
+    out << "  worst residual of the ok rows: " << sci(s.worst_position) << " " << unitName(file);
+    if (pose) out << ", rotation " << sci(s.worst_rotation) << " rad";
+    out << " (" << input << ":" << s.worst_line << ")\n";
+  }
+  size_t listed = 0, failed = 0;
+  for (const Solution& r : rows) {
+    if (r.status == IkStatus::Ok) continue;
+    if (listed++ < kListedFailures) {
+      out << "  " << input << ":" << r.line << ": " << ikStatusName(r.status) << ": " << r.reason << " (lengths in "
+          << unitName(file) << ")\n";
+    }
+    ++failed;
+  }
+  if (failed > kListedFailures) out << "  ... " << failed - kListedFailures << " more rows not ok (the status column lists every one)\n";
+}
+
+json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+json rowsJson(const std::vector<Solution>& rows, bool with_seed) {
+  json out = json::array();
+  for (const Solution& r : rows) {
+    json j = {{"line", r.line},
+              {"q", toVector(r.q)},
+              {"status", ikStatusName(r.status)},
+              {"iterations", r.iterations},
+              {"position_error", r.position_error},
+              {"rotation_error", r.rotation_error},
+              {"rank", r.rank},
+              {"sigma_min", number(r.sigma_min)},
+              {"reason", r.reason}};
+    if (with_seed) j["seed"] = r.seed < 0 ? json("file") : json(r.seed);
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
+json countsJson(const Summary& s) {
+  json j = json::object();
+  for (size_t k = 0; k < s.count.size(); ++k) j[ikStatusName(static_cast<IkStatus>(k))] = s.count[k];
+  return j;
+}
+
+// Writes the CSV to --out (all or nothing) and the text or JSON to stdout, or the CSV to stdout.
+int emit(const std::string& out_path, bool as_json, const std::string& csv, const json& j,
+         const std::function<void(std::ostream&)>& text, const Summary& s) {
+  if (!out_path.empty()) writeFileAtomically(out_path, csv);
+  if (as_json) {
+    std::cout << jsonText(j) << "\n";
+  } else if (!out_path.empty()) {
+    text(std::cout);
+    std::cout << "  written to " << out_path << "\n";
+  } else {
+    std::cout << csv;
+  }
+  return s.all_ok() ? 0 : 1;
+}
+
+// The better of two attempts at one row: ok first, then converged (singular, or out of range in Report), then
+// the smaller error (position in L plus rotation).
+bool better(const IkResult& a, const Solution& b, double L) {
+  auto rank = [](IkStatus s, bool converged) { return s == IkStatus::Ok ? 0 : converged ? 1 : 2; };
+  const int ra = rank(a.status, a.converged);
+  const int rb = rank(b.status, b.status == IkStatus::Singular);
+  if (ra != rb) return ra < rb;
+  return a.position_error / L + a.rotation_error < b.position_error / L + b.rotation_error;
+}
+
+// A known unit other than the robot's: the factor to the robot's; throws for units lowpair does not convert.
+double unitFactor(const JointTable& table, const RobotFile& file, std::vector<std::string>& notes) {
+  if (table.length_unit.empty() || file.length_unit.empty() || table.length_unit == file.length_unit) return 1.0;
+  const auto from = metresPerUnit(table.length_unit), to = metresPerUnit(file.length_unit);
+  if (!from || !to) {
+    throw RobotFileError(table.path + ": lengths in " + table.length_unit + " (its length_unit comment) but " + file.path +
+                         " is in " + file.length_unit + ", and lowpair converts only m, mm, cm, dm, um, km, in, ft");
+  }
+  const double factor = *from / *to;
+  notes.push_back(table.path + ": lengths converted from " + table.length_unit + " (its length_unit comment) to " +
+                  file.length_unit + " (the robot's), x " + shortest(factor));
+  return factor;
+}
+
+// ---- ik ----------------------------------------------------------------------------------------------------------------
+
+struct IkCommandOptions {
+  RobotSource robot;
+  std::string poses, out;
+  bool as_json = false;
+  int seeds = 8;
+  long long seed = 1;
+};
+
+int runIk(const IkCommandOptions& o) {
+  const RobotFile file = loadRobot(o.robot);
+  const PoeModel model = file.poeModel();
+  const int n = model.dof();
+  JointTable table = readJointTable(o.poses, TableKind::Targets, n, o.robot.path);
+  std::vector<std::string> notes;
+  const double factor = unitFactor(table, file, notes);
+  for (Pose& T : table.targets) {
+    T.p *= factor;
+    if (!(T.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
+      throw RobotFileError(table.path + ": a position is above 1e100 in " + file.length_unit + " after the unit conversion");
+    }
+  }
+  IkOptions options;
+  options.measure = table.pose ? Measure::Pose : Measure::Position;
+  const std::vector<Range> ranges = samplingRanges(model);
+  Data data(model);
+  IkWorkspace work(model);
+  VecX seed(n);
+  const double L = model.lengthScale();
+  std::vector<Solution> rows;
+  rows.reserve(table.rows());
+  for (size_t k = 0; k < table.rows(); ++k) {
+    const Pose& target = table.targets[k];
+    if (table.dof > 0) {
+      rows.push_back(solutionOf(inverseKinematics(model, data, target, table.row(k), options, work), -1, table.lines[k]));
+      continue;
+    }
+    Solution best;
+    bool have = false;
+    for (int s = 0; s < o.seeds; ++s) {
+      // the sampling convention: sample k * K + s of the stream --seed (sampling.hpp)
+      randomSample(static_cast<unsigned long long>(o.seed), k * static_cast<unsigned long long>(o.seeds) + static_cast<unsigned long long>(s),
+                   ranges, seed);
+      const IkResult& r = inverseKinematics(model, data, target, seed, options, work);
+      if (!have || better(r, best, L)) {
+        best = solutionOf(r, s, table.lines[k]);
+        have = true;
+      }
+      if (r.status == IkStatus::Ok) break;
+    }
+    rows.push_back(std::move(best));
+  }
+
+  const Summary s = summarize(rows);
+  const char* task = table.pose ? "pose" : "position";
+  const std::string seeding = table.dof > 0 ? "each row's q1..qn as its seed"
+                                            : std::to_string(o.seeds) + " random seeds per row (sample k*" +
+                                                  std::to_string(o.seeds) + "+s of --seed " + std::to_string(o.seed) +
+                                                  ", uniform in the joint ranges), the first ok kept";
+  std::ostringstream command;
+  command << "lowpair ik " << o.robot.path << " --poses " << o.poses;
+  if (table.dof == 0) command << " --seeds " << o.seeds << " --seed " << o.seed;
+  std::vector<std::string> comments{command.str(),
+                                    "q1..qn: joint values solving the " + std::string(task) + " targets of " + o.poses +
+                                        " (row by row), from " + seeding,
+                                    "residual: the position error (" + unitName(file) +
+                                        "); status: ok, out_of_range, singular, unreachable or not_converged (docs/ik.md)"};
+  for (const std::string& note : notes) comments.push_back(note);
+  for (const std::string& line : summaryComments(s, rows, file, table.pose)) comments.push_back(line);
+  if (isUnitLabel(file.length_unit)) comments.push_back("length_unit: " + file.length_unit);
+  const std::string csv = solutionsCsv(comments, n, rows);
+  json j = {{"name", file.name},
+            {"source", file.path},
+            {"poses", o.poses},
+            {"length_unit", file.length_unit},
+            {"task", task},
+            {"seeds", table.dof > 0 ? json("file") : json(o.seeds)},
+            {"seed", o.seed},
+            {"notes", notes},
+            {"counts", countsJson(s)},
+            {"rows", rowsJson(rows, true)}};
+  auto text = [&](std::ostream& out) {
+    for (const std::string& note : notes) out << "note: " << note << "\n";
+    printSummary(out, "ik: " + std::to_string(rows.size()) + " " + task + " targets of " + robotLabel(file) + ", " + seeding,
+                 s, rows, o.poses, file, table.pose);
+  };
+  return emit(o.out, o.as_json, csv, j, text, s);
+}
+
+// ---- compensate ----------------------------------------------------------------------------------------------------
+
+struct CompensateOptions {
+  RobotSource calibrated;
+  std::string nominal, q_file, out, measure = "pose";
+  bool as_json = false;
+};
+
+// A robot file, or a model file with the command's --tip/--base.
+RobotFile loadEither(const std::string& path, const RobotSource& like) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  const bool model_file = ext == ".xml" || ext == ".urdf";
+  return loadRobot(RobotSource{path, model_file ? like.tip : "", model_file ? like.base : ""});
+}
+
+int runCompensate(const CompensateOptions& o) {
+  const RobotFile calibrated_file = loadRobot(o.calibrated);
+  const RobotFile nominal_file = loadEither(o.nominal, o.calibrated);
+  const PoeModel calibrated = calibrated_file.poeModel(), nominal = nominal_file.poeModel();
+  if (nominal.dof() != calibrated.dof()) {
+    throw UsageError(o.calibrated.path, "has " + std::to_string(calibrated.dof()) + " joints but --nominal " + o.nominal +
+                                            " has " + std::to_string(nominal.dof()));
+  }
+  if (nominal_file.length_unit != calibrated_file.length_unit) {
+    throw UsageError(o.calibrated.path, "lengths in " + (calibrated_file.length_unit.empty() ? std::string("no stated unit") : calibrated_file.length_unit) +
+                                            " but --nominal " + o.nominal + " in " +
+                                            (nominal_file.length_unit.empty() ? std::string("no stated unit") : nominal_file.length_unit) +
+                                            ": compensation needs one unit");
+  }
+  const int n = calibrated.dof();
+  const JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path);
+  IkOptions options;
+  options.measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
+  Data data(calibrated);
+  IkWorkspace work(calibrated);
+  std::vector<Solution> rows;
+  rows.reserve(table.rows());
+  for (size_t k = 0; k < table.rows(); ++k) {
+    rows.push_back(solutionOf(compensate(nominal, calibrated, data, table.row(k), options, work), -1, table.lines[k]));
+  }
+  const Summary s = summarize(rows);
+  const bool pose = options.measure == Measure::Pose;
+  const std::string command = "lowpair compensate " + o.calibrated.path + " --nominal " + o.nominal + " --q-file " +
+                              o.q_file + " --measure " + o.measure;
+  std::vector<std::string> comments{
+      command,
+      "q1..qn: joint values of " + o.calibrated.path + " that put the tool " + (pose ? "frame" : "origin") + " where " +
+          o.nominal + " puts it at the q of the same row of " + o.q_file + " (seeded there)",
+      "residual: the position error (" + unitName(calibrated_file) +
+          "); status: ok, out_of_range, singular, unreachable or not_converged (docs/ik.md)"};
+  for (const std::string& line : summaryComments(s, rows, calibrated_file, pose)) comments.push_back(line);
+  if (isUnitLabel(calibrated_file.length_unit)) comments.push_back("length_unit: " + calibrated_file.length_unit);
+  const std::string csv = solutionsCsv(comments, n, rows);
+  json j = {{"name", calibrated_file.name},
+            {"source", calibrated_file.path},
+            {"nominal", nominal_file.path},
+            {"q_file", o.q_file},
+            {"length_unit", calibrated_file.length_unit},
+            {"measure", o.measure},
+            {"counts", countsJson(s)},
+            {"rows", rowsJson(rows, false)}};
+  auto text = [&](std::ostream& out) {
+    printSummary(out, "compensate: " + std::to_string(rows.size()) + " joint vectors of " + o.q_file + " (" + o.measure +
+                          "), " + robotLabel(nominal_file) + " -> " + robotLabel(calibrated_file),
+                 s, rows, o.q_file, calibrated_file, pose);
+  };
+  return emit(o.out, o.as_json, csv, j, text, s);
+}
+
+}  // namespace
+
+MatX readJointValues(const std::string& path, int robot_dof, const std::string& robot_path, std::vector<long long>& lines) {
+  JointTable table = readJointTable(path, TableKind::Joints, robot_dof, robot_path);
+  lines = std::move(table.lines);
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      table.q.data(), static_cast<Eigen::Index>(lines.size()), table.dof);
+}
+
+void addIkCommands(CLI::App& app, Commands& commands) {
+  auto ik_options = std::make_shared<IkCommandOptions>();
+  auto* ik = app.add_subcommand("ik", "inverse kinematics of target poses or positions (CSV), row by row");
+  addRobotArgument(*ik, ik_options->robot);
+  ik->add_option("--poses", ik_options->poses,
+                 "CSV of targets: [q1..qn,]x,y,z[,qw,qx,qy,qz] (a row's q1..qn: its seed; without them --seeds random seeds)")
+      ->required();
+  ik->add_option("--out", ik_options->out, "write the solutions (q1..qn,residual,status) here, all or nothing");
+  ik->add_flag("--json", ik_options->as_json, "print JSON (every row: q, iterations, errors, status, reason)");
+  ik->add_option("--seeds", ik_options->seeds, "random seeds per row without q columns, 1 to 1000 (default 8)")
+      ->check(CLI::Range(1, 1000));
+  ik->add_option("--seed", ik_options->seed, "seed of the random seeds, in [0, 2^53] (default 1)")->check(CLI::Range(0LL, kMaxSeed));
+  commands.emplace_back(ik, [ik_options] { return runIk(*ik_options); });
+
+  auto comp_options = std::make_shared<CompensateOptions>();
+  auto* comp = app.add_subcommand("compensate", "joint values of a calibrated robot that reproduce the nominal's poses");
+  addRobotArgument(*comp, comp_options->calibrated);
+  comp->add_option("--nominal", comp_options->nominal, "the nominal robot (file or model) the joint values are for")
+      ->required();
+  comp->add_option("--q-file", comp_options->q_file, "CSV of nominal joint values q1..qn (other columns ignored)")
+      ->required();
+  comp->add_option("--out", comp_options->out, "write the compensated joint values (q1..qn,residual,status) here");
+  comp->add_flag("--json", comp_options->as_json, "print JSON");
+  comp->add_option("--measure", comp_options->measure, "pose (default: the tool frame) or position (the tool origin)")
+      ->check(CLI::IsMember({"pose", "position"}));
+  commands.emplace_back(comp, [comp_options] { return runCompensate(*comp_options); });
+}
+
+}  // namespace lowpair::cli
