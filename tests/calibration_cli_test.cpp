@@ -16,61 +16,19 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "csv_text.hpp"
 
 namespace {
 
 using namespace lowpair_test;
 namespace fs = std::filesystem;
 
-using Quaternion = std::array<double, 4>;  // w, x, y, z
+using csv_test::Csv;
+using csv_test::parseCsv;
+using csv_test::Quaternion;
+using csv_test::Row;
+using csv_test::split;
 using Mat3 = std::array<std::array<double, 3>, 3>;
-
-// One row of a simulated CSV.
-struct Row {
-  std::vector<double> q;
-  std::array<double, 3> p{};
-  Quaternion quaternion{1, 0, 0, 0};
-};
-
-struct Csv {
-  std::vector<std::string> comments, header;
-  std::vector<Row> rows;
-};
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  std::string item;
-  while (std::getline(in, item, ',')) out.push_back(item);
-  return out;
-}
-
-// The CSV as simulate writes it: comments, header, rows of numbers.
-Csv parseCsv(const std::string& text) {
-  Csv csv;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("#", 0) == 0) {
-      csv.comments.push_back(line);
-    } else if (csv.header.empty()) {
-      csv.header = split(line);
-    } else {
-      const auto fields = split(line);
-      EXPECT_EQ(fields.size(), csv.header.size()) << line;
-      const bool pose = csv.header.back() == "qz";
-      const size_t n = csv.header.size() - (pose ? 7 : 3);
-      Row row;
-      for (size_t i = 0; i < n; ++i) row.q.push_back(std::stod(fields[i]));
-      for (size_t i = 0; i < 3; ++i) row.p[i] = std::stod(fields[n + i]);
-      if (pose) {
-        for (size_t i = 0; i < 4; ++i) row.quaternion[i] = std::stod(fields[n + 3 + i]);
-      }
-      csv.rows.push_back(row);
-    }
-  }
-  return csv;
-}
 
 Csv simulate(const std::string& args) {
   const CliRun r = runCli("simulate " + args);
@@ -734,7 +692,7 @@ TEST(CalibrateTracker, AnotherRobotOrShuffledRowsAreRefused) {
       simulateTo("stanford.csv", shellQuote(modelPath("stanford_corke.yaml")) + " --poses 40 --seed 8");
   const std::string written = scratch() + "/verdict_cal.yaml";
   for (const std::string& data_file : {shuffled, stanford}) {
-    for (const std::string noise : {std::string(" --noise-position 0.01 --noise-rotation 1e-5"), std::string()}) {
+    for (const std::string& noise : {std::string(" --noise-position 0.01 --noise-rotation 1e-5"), std::string()}) {
       const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(data_file) +
                               " --free-pitch --out " + shellQuote(written) + noise);
       EXPECT_EQ(r.status, 1) << data_file << noise << "\n" << r.err;

@@ -14,47 +14,16 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "csv_text.hpp"
 
 namespace {
 
 using namespace lowpair_test;
 using nlohmann::json;
+using Csv = csv_test::Table;
+using csv_test::split;
 
-struct Csv {
-  std::vector<std::string> comments, header;
-  std::vector<std::vector<std::string>> rows;
-  size_t column(const std::string& name) const {
-    const auto it = std::find(header.begin(), header.end(), name);
-    EXPECT_NE(it, header.end()) << name;
-    return static_cast<size_t>(it - header.begin());
-  }
-  double number(size_t row, const std::string& name) const { return std::stod(rows[row][column(name)]); }
-};
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  std::string item;
-  while (std::getline(in, item, ',')) out.push_back(item);
-  return out;
-}
-
-Csv parseCsv(const std::string& text) {
-  Csv csv;
-  std::istringstream in(text);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("#", 0) == 0) {
-      csv.comments.push_back(line);
-    } else if (csv.header.empty()) {
-      csv.header = split(line);
-    } else {
-      csv.rows.push_back(split(line));
-      EXPECT_EQ(csv.rows.back().size(), csv.header.size()) << line;
-    }
-  }
-  return csv;
-}
+Csv parseCsv(const std::string& text) { return csv_test::parseTable(text); }
 
 // The CSV lines of a data row: its fields joined again.
 std::string joined(const std::vector<std::string>& fields, size_t first, size_t count) {

@@ -17,77 +17,22 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "csv_text.hpp"
 
 namespace {
 
 using namespace lowpair_test;
 namespace fs = std::filesystem;
 
-using Vec = std::array<double, 3>;
+using csv_test::Vec;
+using csv_test::Csv;
+using csv_test::parseCsv;
+using csv_test::Row;
+using csv_test::split;
 using Mat = std::array<Vec, 3>;
-using Quaternion = std::array<double, 4>;  // w, x, y, z
+using csv_test::Quaternion;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-// One data row of a simulated CSV (pose, position or target measurements), with its file line.
-struct Row {
-  std::vector<double> q;
-  std::string target;
-  Vec p{};
-  Quaternion quaternion{1, 0, 0, 0};
-  std::string text;
-  int line = 0;
-};
-
-struct Csv {
-  std::vector<std::string> comments, header;
-  std::vector<Row> rows;
-};
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  std::string item;
-  while (std::getline(in, item, ',')) out.push_back(item);
-  return out;
-}
-
-Csv parseCsv(const std::string& text) {
-  Csv csv;
-  std::istringstream in(text);
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.rfind("#", 0) == 0) {
-      csv.comments.push_back(line);
-      continue;
-    }
-    if (csv.header.empty()) {
-      csv.header = split(line);
-      continue;
-    }
-    const auto fields = split(line);
-    EXPECT_EQ(fields.size(), csv.header.size()) << line;
-    if (fields.size() != csv.header.size()) continue;
-    const bool pose = csv.header.back() == "qz";
-    const auto target = std::find(csv.header.begin(), csv.header.end(), "target");
-    const size_t n = target != csv.header.end() ? static_cast<size_t>(target - csv.header.begin())
-                                                : csv.header.size() - (pose ? 7 : 3);
-    Row row;
-    row.text = line;
-    row.line = number;
-    for (size_t i = 0; i < n; ++i) row.q.push_back(std::stod(fields[i]));
-    const size_t p = target != csv.header.end() ? n + 1 : n;
-    if (target != csv.header.end()) row.target = fields[n];
-    for (size_t i = 0; i < 3; ++i) row.p[i] = std::stod(fields[p + i]);
-    if (pose) {
-      for (size_t i = 0; i < 4; ++i) row.quaternion[i] = std::stod(fields[p + 3 + i]);
-    }
-    csv.rows.push_back(row);
-  }
-  return csv;
-}
 
 Csv simulate(const std::string& args) {
   const CliRun r = runCli("simulate " + args);

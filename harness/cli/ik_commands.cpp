@@ -332,7 +332,7 @@ std::string sci(double x) {
 // Comment lines every output states: what the rows are and how they came out.
 std::vector<std::string> summaryComments(const Summary& s, const std::vector<Solution>& rows, const RobotFile& file,
                                          bool pose) {
-  std::vector<std::string> c{std::to_string(rows.size()) + " rows: " + countsText(s)};
+  std::vector<std::string> c{std::to_string(rows.size()) + (rows.size() == 1 ? " row: " : " rows: ") + countsText(s)};
   if (s.count[0] > 0) {
     c.push_back("worst residual of the ok rows: " + sci(s.worst_position) + " " + unitName(file) +
                 (pose ? ", rotation " + sci(s.worst_rotation) + " rad" : std::string()));
@@ -489,7 +489,10 @@ int runIk(const IkCommandOptions& o) {
                                                   std::to_string(o.seeds) + "+s of --seed " + std::to_string(o.seed) +
                                                   ", uniform in the joint ranges), the first ok kept";
   std::ostringstream command;
-  command << "lowpair ik " << o.robot.path << " --poses " << o.poses;
+  command << "lowpair ik " << o.robot.path;
+  if (!o.robot.tip.empty()) command << " --tip " << o.robot.tip;
+  if (!o.robot.base.empty()) command << " --base " << o.robot.base;
+  command << " --poses " << o.poses;
   if (table.dof == 0) command << " --seeds " << o.seeds << " --seed " << o.seed;
   std::vector<std::string> comments{command.str(),
                                     "q1..qn: joint values solving the " + std::string(task) + " targets of " + o.poses +
@@ -560,8 +563,10 @@ int runCompensate(const CompensateOptions& o) {
   }
   const Summary s = summarize(rows);
   const bool pose = options.measure == Measure::Pose;
-  const std::string command = "lowpair compensate " + o.calibrated.path + " --nominal " + o.nominal + " --q-file " +
-                              o.q_file + " --measure " + o.measure;
+  const std::string command = "lowpair compensate " + o.calibrated.path +
+                              (o.calibrated.tip.empty() ? "" : " --tip " + o.calibrated.tip) +
+                              (o.calibrated.base.empty() ? "" : " --base " + o.calibrated.base) + " --nominal " + o.nominal +
+                              " --q-file " + o.q_file + " --measure " + o.measure;
   std::vector<std::string> comments{
       command,
       "q1..qn: joint values of " + o.calibrated.path + " that put the tool " + (pose ? "frame" : "origin") + " where " +

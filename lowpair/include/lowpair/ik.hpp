@@ -36,8 +36,10 @@
 ///
 /// **Cost and allocation.** Each iteration is one computeJacobians, a `6 x n` scaling and an `m x m`
 /// Cholesky factorization (`m` = 6 or 3 task rows); a converged solution then gets its singular values
-/// (Householder QR of the `m x n` Jacobian, Jacobi SVD of the `m x m` factor). Nothing allocates after the
-/// IkWorkspace is built, the reason string excepted, which is written only on failure (tests/alloc_test.cpp).
+/// (Householder QR of the `m x n` Jacobian, Jacobi SVD of the `m x m` factor). Measured on the PUMA 560
+/// (bench/bench_ik.cpp, docs/ik.md): ~0.6 us per iteration, 6 iterations from 0.3 rad per joint, and ~4.5 us
+/// for the singular values (IkOptions::check_singularity). Nothing allocates after the IkWorkspace is built,
+/// the reason string excepted, which is written only on failure (tests/alloc_test.cpp).
 
 #include <cmath>
 #include <limits>
@@ -171,7 +173,7 @@ struct IkWorkspace {
 
 /// Solves `F(q) = T_target` from `q_seed` (file comment). In Position mode only `T_target.p` is used.
 /// Allocates nothing but `result.reason`, on failure.
-/// @param data made for a model with model.dof() joints (holds the FK and Jacobian of the last trial)
+/// @param data made for a model with model.dof() joints; on return it holds the FK and Jacobian at result.q
 /// @param work made for model.dof() joints; the result is `work.result`, valid until its next use
 /// @throws std::invalid_argument, in every build type, for sizes that do not match, a q_seed or target that is
 /// not finite, a target rotation that is not orthonormal to kRotationOrthonormal, Measure::Targets, or options
