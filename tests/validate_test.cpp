@@ -286,13 +286,16 @@ TEST(RunWorkers, WorkerExceptionIsRethrownAfterTheJoin) {
 // One sampling unit (sampling.hpp): a scenario's calibration case and `lowpair simulate` with the same
 // model, joint variable, seed and noise draw the same joint vectors and measure the same poses. (Before the
 // unit, simulate sampled a revolute joint within the MJCF limits and a calibration case over a full turn.)
-// The last case of each scenario is a tracker's: targets (sites), a measurement frame and blunders too.
+// The case taken is a tracker's: targets (sites), a measurement frame and blunders too.
 TEST(Sampling, SimulateAndCalibrationCaseDrawTheSamePoses) {
-  for (const char* name : {"puma560_okamura_actual.yaml", "stanford_corke_actual.yaml"}) {
+  for (const auto& [name, case_name] : {std::pair{"puma560_okamura_actual.yaml", "tracker"},
+                                        std::pair{"stanford_corke_actual.yaml", "tracker-frame"}}) {
     const Scenario scenario = readScenario(std::string(LOWPAIR_SCENARIOS) + "/" + name);
-    ASSERT_FALSE(scenario.calibrations.empty()) << name;
-    const CalibrationCase& c = scenario.calibrations.back();
-    EXPECT_TRUE(c.frame) << name << ": the last case is measured in a frame of its own";
+    const auto found = std::find_if(scenario.calibrations.begin(), scenario.calibrations.end(),
+                                    [&](const CalibrationCase& k) { return k.name == case_name; });
+    ASSERT_NE(found, scenario.calibrations.end()) << name << ": no case " << case_name;
+    const CalibrationCase& c = *found;
+    EXPECT_TRUE(c.frame) << name << ": the " << case_name << " case is measured in a frame of its own";
     const MujocoRobot robot(scenario.model, scenario.tip, scenario.base);
     const SampledVariable v =
         sampledVariable(robot, scenario.joint_variables, scenario.model, scenario.tip, scenario.ranges, scenario.path);
@@ -392,4 +395,152 @@ TEST(Sampling, BlundersAreDistinctRowsMovedByExactlyTheirSize) {
   for (int r = 0; r < kRows; ++r) EXPECT_NEAR(chosen[static_cast<size_t>(r)], expected, 4 * std::sqrt(expected * (1 - p))) << r;
   mean /= kSeeds * kCount;
   EXPECT_LT(mean.cwiseAbs().maxCoeff(), 5 * std::sqrt(1.0 / 3.0 / (kSeeds * kCount)));
+}
+
+// ---- calibration cases: plan: and compensate: (scenario.hpp CasePlan, CaseCompensation) -----------------------
+
+namespace {
+
+struct LoopFixture {
+  lowpair::validation::Scenario scenario;
+  std::unique_ptr<MujocoRobot> robot;
+  SampledVariable sampled;
+};
+
+LoopFixture pumaLoop() {
+  LoopFixture f;
+  f.scenario = readScenario(std::string(LOWPAIR_SCENARIOS) + "/puma560_okamura_actual.yaml");
+  f.robot = std::make_unique<MujocoRobot>(f.scenario.model, f.scenario.tip, f.scenario.base);
+  f.sampled = sampledVariable(*f.robot, f.scenario.joint_variables, f.scenario.model, f.scenario.tip, f.scenario.ranges,
+                              f.scenario.path);
+  return f;
+}
+
+const CalibrationCase& caseNamed(const lowpair::validation::Scenario& s, const std::string& name) {
+  for (const CalibrationCase& c : s.calibrations) {
+    if (c.name == name) return c;
+  }
+  throw std::runtime_error("no case " + name);
+}
+
+}  // namespace
+
+// The planned case fits the candidates planPoses chose (samples of the case's stream, not the first N), whose
+// information is larger than the first N samples'; its validation poses are samples M.., after every candidate.
+// And it is `lowpair plan` then `lowpair simulate --q-file`: the same measurements to the last bit.
+TEST(CalibrationLoop, PlannedCaseIsPlanThenSimulateQFile) {
+  using namespace lowpair;
+  const LoopFixture f = pumaLoop();
+  const CalibrationCase& c = caseNamed(f.scenario, "planned-15");
+  ASSERT_TRUE(c.plan);
+  ASSERT_TRUE(c.frame);
+  const CalibrationCaseResult r = runCalibrationCase(f.scenario, c, *f.robot, f.sampled);
+  EXPECT_TRUE(r.pass) << (r.failures.empty() ? "" : r.failures.front());
+  ASSERT_TRUE(r.plan);
+  const std::vector<int>& chosen = r.plan->plan.indices;
+  ASSERT_EQ(static_cast<int>(chosen.size()), c.poses);
+  std::vector<int> first(chosen.size());
+  for (size_t k = 0; k < first.size(); ++k) first[k] = static_cast<int>(k);
+  EXPECT_NE(chosen, first);
+  EXPECT_GT(r.plan->plan.value.log_det, r.plan->first.log_det);
+  EXPECT_GE(r.plan->plan.value.log_det, r.plan->plan.start.log_det) << "the exchange never lowers the criterion";
+  // fitting pose k: candidate chosen[k], i.e. sample chosen[k] of the stream; validation pose k: sample M + k
+  const io::MeasurementFile& fit = r.report->fit;
+  ASSERT_EQ(fit.measurements.size(), chosen.size());
+  VecX q(6);
+  for (size_t k = 0; k < chosen.size(); ++k) {
+    randomSample(c.seed, static_cast<unsigned long long>(chosen[k]), f.sampled.ranges, q);
+    EXPECT_EQ(fit.measurements[k].q, q) << k;
+  }
+  ASSERT_TRUE(r.report->validation);
+  for (size_t k = 0; k < 3; ++k) {
+    randomSample(c.seed, static_cast<unsigned long long>(c.plan->candidates) + k, f.sampled.ranges, q);
+    EXPECT_EQ(r.report->validation->measurements[k].q, q) << k;
+  }
+  // the command line: plan on the nominal, then simulate the actual robot at its q-file
+  const std::string q_file = testing::TempDir() + "/planned_case_q.csv", csv = testing::TempDir() + "/planned_case.csv";
+  std::ostringstream plan, simulate;
+  plan.precision(17);
+  simulate.precision(17);
+  plan << LOWPAIR_CLI << " plan " << c.nominal << " --poses " << c.poses << " --candidates " << c.plan->candidates
+       << " --seed " << c.seed << (c.free_pitch ? " --free-pitch" : "") << " --out " << q_file << " > /dev/null";
+  ASSERT_EQ(std::system(plan.str().c_str()), 0) << plan.str();
+  simulate << LOWPAIR_CLI << " simulate " << f.scenario.model << " --tip " << f.scenario.tip << " --joint-variables "
+           << f.scenario.joint_variables << " --q-file " << q_file << " --seed " << c.seed << " --noise-position "
+           << c.noise_position << " --noise-rotation " << c.noise_rotation;
+  for (size_t k = 0; k < 6; ++k) simulate << (k ? "," : " --frame ") << (*c.frame)[k];
+  simulate << " --out " << csv << " > /dev/null";
+  ASSERT_EQ(std::system(simulate.str().c_str()), 0) << simulate.str();
+  const MeasurementFile simulated = readMeasurements(csv);
+  ASSERT_EQ(simulated.measurements.size(), fit.measurements.size());
+  for (size_t k = 0; k < fit.measurements.size(); ++k) {
+    EXPECT_EQ(simulated.measurements[k].q, fit.measurements[k].q) << k;
+    EXPECT_EQ(simulated.measurements[k].T_base_tool.p, fit.measurements[k].T_base_tool.p) << k;
+    EXPECT_LT((simulated.measurements[k].T_base_tool.R - fit.measurements[k].T_base_tool.R).norm(),
+              8 * std::numeric_limits<double>::epsilon())
+        << k;
+  }
+}
+
+// Compensation when the nominal is already right (the actual robot's own file, noise-free, measured by a tracker
+// in a far frame): the calibrated model moved back from the tracker's frame is the actual robot, every row is ok
+// and the compensated tool is where the nominal puts it to 1e-9 L, for the tool frame and for a target's point.
+// (Without the frame undone, the error after would be the frame's 3 m.)
+TEST(CalibrationLoop, CompensatingARightNominalInAFarFrameChangesNothing) {
+  using namespace lowpair;
+  const LoopFixture f = pumaLoop();
+  const double L = readRobotFile(f.scenario.joint_variables).poeModel().lengthScale();
+  for (const bool targets : {false, true}) {
+    CalibrationCase c;
+    c.name = targets ? "right-nominal-target" : "right-nominal-pose";
+    c.nominal = f.scenario.joint_variables;  // the actual robot's file
+    c.poses = 30;
+    c.validation_poses = 40;
+    c.seed = 5;
+    c.free_pitch = true;
+    if (targets) c.targets = {"smr_b", "smr_a"};
+    c.frame = std::array<double, 6>{0.3, -1.2, 2.0, 3000, -800, 400};
+    c.tolerance_position = 1e-9 * L;
+    c.compensation = CaseCompensation{1e-9 * L, 0};
+    const CalibrationCaseResult r = runCalibrationCase(f.scenario, c, *f.robot, f.sampled);
+    ASSERT_TRUE(r.compensation) << c.name;
+    const CompensationResult& k = *r.compensation;
+    EXPECT_TRUE(r.pass) << c.name << ": " << (r.failures.empty() ? "" : r.failures.front());
+    EXPECT_EQ(k.statuses[static_cast<size_t>(IkStatus::Ok)], c.validation_poses) << c.name;
+    EXPECT_TRUE(k.not_ok.empty()) << c.name;
+    EXPECT_EQ(k.measure, targets ? Measure::Position : Measure::Pose) << c.name;
+    EXPECT_EQ(k.point_name, targets ? "smr_b" : "") << c.name;
+    EXPECT_LE(k.before.max_position, 1e-9 * L) << c.name << ": the nominal is the actual robot";
+    EXPECT_LE(k.after.max_position, 1e-9 * L) << c.name;
+    if (!targets) {
+      EXPECT_LE(k.after.max_rotation, 1e-9) << c.name;
+    }
+    EXPECT_EQ(k.after.count, c.validation_poses) << c.name;
+  }
+}
+
+// A compensation that cannot be commanded is counted and named, never used: with allowed_not_ok 0 the PUMA's
+// noise-free case fails naming its rows, and its numbers after come from the ok rows only.
+TEST(CalibrationLoop, RowsNotOkAreCountedAndFailTheCase) {
+  using namespace lowpair;
+  const LoopFixture f = pumaLoop();
+  CalibrationCase c = caseNamed(f.scenario, "noise-free");
+  ASSERT_TRUE(c.compensation);
+  c.compensation->allowed_not_ok = 0;
+  const CalibrationCaseResult r = runCalibrationCase(f.scenario, c, *f.robot, f.sampled);
+  ASSERT_TRUE(r.compensation);
+  const CompensationResult& k = *r.compensation;
+  int counted = 0;
+  for (const int n : k.statuses) counted += n;
+  EXPECT_EQ(counted, c.validation_poses);
+  ASSERT_FALSE(k.not_ok.empty()) << "the PUMA's stretched-elbow targets have no solution near q";
+  EXPECT_EQ(k.after.count + static_cast<int>(k.not_ok.size()), c.validation_poses);
+  for (const auto& row : k.not_ok) {
+    EXPECT_NE(row.status, IkStatus::Ok);
+    EXPECT_FALSE(row.reason.empty());
+  }
+  EXPECT_FALSE(r.pass);
+  ASSERT_FALSE(r.failures.empty());
+  EXPECT_NE(r.failures.back().find("rows not ok"), std::string::npos) << r.failures.back();
+  EXPECT_NE(r.failures.back().find("validation pose " + std::to_string(k.not_ok.front().row + 1)), std::string::npos);
 }

@@ -7,6 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "io/atomic_file.hpp"
+#include "io/joint_table.hpp"
 #include "io/measurements.hpp"
 #include "io/output.hpp"
 #include "lowpair/convert.hpp"
@@ -18,10 +19,6 @@ namespace lowpair::cli {
 using namespace lowpair::io;  // the rooms below
 
 using nlohmann::json;
-
-/// The joint values of a CSV with q1..qn columns (defined in ik_commands.cpp; the declaration belongs in
-/// commands.hpp). @throws RobotFileError
-MatX readJointValues(const std::string& path, int robot_dof, const std::string& robot_path, std::vector<long long>& lines);
 
 namespace {
 

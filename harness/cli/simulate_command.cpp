@@ -1,9 +1,11 @@
-// lowpair simulate ROBOT --poses N [--seed S] [--measure pose|position|targets] [--targets NAME,...]
-//                  [--frame RX,RY,RZ,X,Y,Z] [--noise-position S] [--noise-rotation S] [--blunders COUNT,SIZE]
-//                  [--joint-variables FILE.yaml] [--out FILE.csv]
+// lowpair simulate ROBOT (--poses N | --q-file Q.csv) [--seed S] [--measure pose|position|targets]
+//                  [--targets NAME,...] [--frame RX,RY,RZ,X,Y,Z] [--noise-position S] [--noise-rotation S]
+//                  [--blunders COUNT,SIZE] [--joint-variables FILE.yaml] [--out FILE.csv]
 // Measurements of the tool frame, its origin or points fixed on it (measurements.hpp) at N random joint
-// vectors: from the library's FK of a robot file, or from MuJoCo (the ground truth) for a model file's chain;
-// in a measurement frame (a tracker's), with optional Gaussian noise and blunders (validation/sampling.hpp).
+// vectors, or at the joint vectors of a CSV (`lowpair plan --out`, a measurement file: its q1..qn columns):
+// from the library's FK of a robot file, or from MuJoCo (the ground truth) for a model file's chain; in a
+// measurement frame (a tracker's), with optional Gaussian noise and blunders (validation/sampling.hpp). The
+// noise of row k depends only on (seed, k), whichever way the joint vectors came.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -16,6 +18,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/joint_table.hpp"
 #include "cli/commands.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
@@ -40,7 +43,8 @@ constexpr int kBlundersPerCommentLine = 20;
 
 struct SimulateOptions {
   RobotSource robot;
-  int poses = 0;
+  int poses = 0;       // --poses, or the rows of --q-file
+  std::string q_file;  // --q-file ("" for random joint vectors)
   long long seed = 1;
   std::string measure = "pose";
   double noise_position = 0.0, noise_rotation = 0.0;
@@ -225,7 +229,8 @@ std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth, 
   if (!o.robot.tip.empty()) command << " --tip " << o.robot.tip;
   if (!o.robot.base.empty()) command << " --base " << o.robot.base;
   if (!o.joint_variables.empty()) command << " --joint-variables " << o.joint_variables;
-  command << " --poses " << o.poses << " --seed " << o.seed << " --measure " << o.measure;
+  command << (o.q_file.empty() ? " --poses " + std::to_string(o.poses) : " --q-file " + o.q_file) << " --seed " << o.seed
+          << " --measure " << o.measure;
   if (o.measure == "targets") {
     std::string names;
     for (const std::string& name : targets.names) names += (names.empty() ? "" : ",") + name;
@@ -242,8 +247,13 @@ std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth, 
     noise << ", rotation R <- exp(n) R with n ~ N(0, s^2 I3)" << (o.frame ? " about F's axes" : "")
           << ", s = " << shortest(o.noise_rotation) << " rad";
   }
-  ranges << "q: the joint variable of " << truth.variable << ", uniform in";
-  for (const auto& r : truth.ranges) ranges << " [" << shortest(r[0]) << ", " << shortest(r[1]) << "]";
+  if (o.q_file.empty()) {
+    ranges << "q: the joint variable of " << truth.variable << ", uniform in";
+    for (const auto& r : truth.ranges) ranges << " [" << shortest(r[0]) << ", " << shortest(r[1]) << "]";
+  } else {
+    ranges << "q: the joint variable of " << truth.variable << ", the q1..q" << truth.ranges.size() << " of the "
+           << o.poses << " rows of " << o.q_file << ", in order (not drawn)";
+  }
   std::vector<std::string> comments{command.str(), "tool frame: " + truth.source,
           o.measure == "targets" ? std::to_string(rows) + " target measurements (" + std::to_string(o.poses) +
                                        " poses x " + std::to_string(targets.names.size()) + " targets), seed " +
@@ -298,7 +308,8 @@ long long commentLines(const std::vector<std::string>& comments) {
   return lines;
 }
 
-int simulate(const SimulateOptions& o) {
+int simulate(const SimulateOptions& given) {
+  SimulateOptions o = given;  // with --q-file, poses becomes its row count
   // a rotation noise above pi rad is a uniformly random rotation; a position noise up to 1e100 keeps every
   // coordinate within what the measurement reader takes (checked per measurement below)
   checkNoise("--noise-position", o.noise_position, kMaxMagnitude);
@@ -325,20 +336,27 @@ int simulate(const SimulateOptions& o) {
   setup.T_frame_base = T_frame_base;
   setup.sd_position = o.noise_position;
   setup.sd_rotation = o.noise_rotation;
+  // --q-file: the joint vectors given, rows of the q1..qn columns (the reader's rules: io/measurements.hpp)
+  const auto joints = static_cast<Eigen::Index>(truth.ranges.size());
+  std::vector<long long> q_lines;
+  const MatX Q = o.q_file.empty() ? MatX() : readJointValues(o.q_file, static_cast<int>(joints), o.robot.path, q_lines);
+  if (!o.q_file.empty()) o.poses = static_cast<int>(Q.rows());
   const long long rows = static_cast<long long>(o.poses) * rowsPerPose(setup);
   if (rows > kMaxMeasurements) {
-    throw UsageError("--poses", std::to_string(o.poses) + " poses x " + std::to_string(rowsPerPose(setup)) +
-                                    " targets = " + std::to_string(rows) + " measurements, more than the " +
-                                    std::to_string(kMaxMeasurements) + " a measurement file holds");
+    throw UsageError(o.q_file.empty() ? "--poses" : o.q_file,
+                     std::to_string(o.poses) + " poses x " + std::to_string(rowsPerPose(setup)) + " targets = " +
+                         std::to_string(rows) + " measurements, more than the " + std::to_string(kMaxMeasurements) +
+                         " a measurement file holds");
   }
   if (blunders.count > rows) {
     throw UsageError("--blunders", "COUNT " + std::to_string(blunders.count) + " is more than the " +
                                        std::to_string(rows) + " measurements");
   }
   // every number written must be one the measurement reader takes (|x| <= 1e100): the joint values (within
-  // the ranges), the robot's reach, then what the frame, the noise and the blunders add
+  // the ranges, or read from --q-file under the same bound), the robot's reach, then what the frame, the noise
+  // and the blunders add
   for (const auto& r : truth.ranges) {
-    if (!(std::max(std::abs(r[0]), std::abs(r[1])) <= kMaxMagnitude)) {
+    if (o.q_file.empty() && !(std::max(std::abs(r[0]), std::abs(r[1])) <= kMaxMagnitude)) {
       throw UsageError(o.robot.path, "a joint range reaches " + shortest(std::max(std::abs(r[0]), std::abs(r[1]))) +
                                          ", above the 1e100 the measurement reader takes");
     }
@@ -352,11 +370,22 @@ int simulate(const SimulateOptions& o) {
 
   std::vector<Measurement> measurements;
   measurements.reserve(static_cast<size_t>(rows));
-  VecX q(static_cast<Eigen::Index>(truth.ranges.size()));
+  VecX q(joints);
   for (size_t k = 0; k < static_cast<size_t>(o.poses); ++k) {
-    randomSample(seed, k, truth.ranges, q);
+    if (o.q_file.empty()) {
+      randomSample(seed, k, truth.ranges, q);
+    } else {
+      q = Q.row(static_cast<Eigen::Index>(k)).transpose();
+    }
     const Pose T_base_tool = truth.tipPose(q);
-    if (!(T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) throw tooLarge(o.robot.path, k * static_cast<size_t>(rowsPerPose(setup)));
+    if (!(T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
+      // a joint value from the file is the cause: name its line
+      if (!o.q_file.empty()) {
+        throw RobotFileError(o.q_file + ":" + std::to_string(q_lines[k]) + ": the tool at this row's q has a coordinate "
+                             "above 1e100 in magnitude, which no reader takes");
+      }
+      throw tooLarge(o.robot.path, k * static_cast<size_t>(rowsPerPose(setup)));
+    }
     const size_t first = measurements.size();
     appendMeasurements(setup, seed, k, q, T_base_tool, measurements);
     for (size_t r = first; r < measurements.size(); ++r) {
@@ -393,11 +422,16 @@ int simulate(const SimulateOptions& o) {
 
 void addSimulateCommand(CLI::App& app, Commands& commands) {
   auto o = std::make_shared<SimulateOptions>();
-  auto* sub = app.add_subcommand("simulate", "measurements of the tool frame at random joint vectors (CSV)");
+  auto* sub = app.add_subcommand("simulate",
+                                 "measurements of the tool frame (CSV) at random joint vectors or at those of a CSV");
   addRobotArgument(*sub, o->robot);
-  sub->add_option("--poses", o->poses, "number of poses (joint vectors), 1 to 1000000")
-      ->required()
-      ->check(CLI::Range(1, kMaxPoses));
+  auto* poses = sub->add_option("--poses", o->poses, "number of random poses (joint vectors), 1 to 1000000")
+                    ->check(CLI::Range(1, kMaxPoses));
+  auto* q_file = sub->add_option("--q-file", o->q_file,
+                                 "measure exactly the joint vectors of this CSV instead (its q1..qn columns, e.g. "
+                                 "lowpair plan --out or a measurement file; other columns ignored)");
+  poses->excludes(q_file);
+  q_file->excludes(poses);
   // seeds are whole numbers in [0, 2^53], as for validate
   sub->add_option("--seed", o->seed, "seed in [0, 2^53] (default 1); the same seed gives the same file")
       ->check(CLI::Range(0LL, kMaxSeed));
@@ -419,7 +453,12 @@ void addSimulateCommand(CLI::App& app, Commands& commands) {
   sub->add_option("--joint-variables", o->joint_variables,
                   "model file: a robot file of the same chain whose joint variable (scale, offset, ranges) is sampled");
   sub->add_option("--out", o->out, "write the CSV here (all or nothing) instead of standard output");
-  commands.emplace_back(sub, [o] { return simulate(*o); });
+  commands.emplace_back(sub, [o, poses, q_file] {
+    if (poses->count() == 0 && q_file->count() == 0) {
+      throw UsageError("simulate", "--poses is required (or --q-file Q.csv: the joint vectors of a CSV)");
+    }
+    return simulate(*o);
+  });
 }
 
 }  // namespace lowpair::cli

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "lowpair/tolerances.hpp"
+#include "io/csv_text.hpp"
 #include "io/robot_file.hpp"
 
 namespace lowpair::io {
@@ -27,88 +28,6 @@ constexpr double kUnitQuaternionTolerance = 1e-6;
 
 // Text from the file for a message (robot_file.hpp).
 std::string quoted(const std::string& text) { return quotedFileText(text); }
-
-bool isBlank(char c) { return c == ' ' || c == '\t'; }
-
-// Splits at commas; each field trimmed of spaces and tabs.
-void splitFields(const std::string& line, std::vector<std::string>& fields) {
-  fields.clear();
-  size_t begin = 0;
-  while (true) {
-    const size_t comma = std::min(line.find(',', begin), line.size());
-    size_t a = begin, b = comma;
-    while (a < b && isBlank(line[a])) ++a;
-    while (b > a && isBlank(line[b - 1])) --b;
-    fields.emplace_back(line, a, b - a);
-    if (comma == line.size()) return;
-    begin = comma + 1;
-  }
-}
-
-// Lines of a stream without their LF or CRLF, at most kMaxMeasurementLineBytes each, read through a
-// fixed buffer (a file without line ends never grows memory).
-class LineReader {
- public:
-  LineReader(std::istream& in, std::string path)
-      : in_(in), path_(std::move(path)), buffer_(kMaxMeasurementLineBytes + 2) {}  // room for '\r'
-
-  /// The next line (false at the end of the file). @throws RobotFileError for a longer line or a read error
-  bool next(std::string& line) {
-    in_.getline(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
-    const auto got = static_cast<size_t>(in_.gcount());
-    if (in_.bad()) throw RobotFileError(path_ + ": cannot read file");
-    if (in_.eof()) {
-      if (got == 0) return false;
-      line.assign(buffer_.data(), got);  // the last line, without a line end
-    } else if (in_.fail()) {             // the buffer filled before a line end
-      throw tooLong(number_ + 1);
-    } else {
-      line.assign(buffer_.data(), got - 1);  // gcount counts the '\n'
-    }
-    ++number_;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.size() > kMaxMeasurementLineBytes) throw tooLong(number_);
-    if (number_ == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 byte order mark
-    return true;
-  }
-  long long number() const { return number_; }
-
- private:
-  RobotFileError tooLong(long long number) const {
-    return RobotFileError(path_ + ":" + std::to_string(number) + ": line longer than " +
-                          std::to_string(kMaxMeasurementLineBytes) + " bytes");
-  }
-
-  std::istream& in_;
-  std::string path_;
-  std::vector<char> buffer_;
-  long long number_ = 0;
-};
-
-bool isComment(const std::string& line) {
-  for (char c : line) {
-    if (!isBlank(c)) return c == '#';
-  }
-  return true;  // blank
-}
-
-// A `# length_unit: U` comment sets `unit` (the first one; a second must agree). @param fail throws
-// "FILE:LINE: what"
-template <class Fail>
-void readUnitComment(const std::string& line, std::string& unit, const Fail& fail) {
-  const size_t hash = line.find('#');
-  if (hash == std::string::npos) return;  // blank
-  size_t k = line.find_first_not_of(" \t", hash + 1);
-  static const std::string key = "length_unit:";
-  if (k == std::string::npos || line.compare(k, key.size(), key) != 0) return;
-  const size_t begin = line.find_first_not_of(" \t", k + key.size());
-  const size_t end = begin == std::string::npos ? begin : line.find_last_not_of(" \t") + 1;  // (no '\r': LineReader)
-  const std::string value = begin == std::string::npos ? "" : line.substr(begin, end - begin);
-  if (!isUnitLabel(value)) fail("length_unit " + quoted(value) + " is not a unit label (one token of 1-16 printable ASCII characters)");
-  const std::string& previous = unit;  // (const: std::quoted would take a non-const string by ADL)
-  if (!previous.empty() && previous != value) fail("length_unit " + quoted(value) + " after length_unit " + quoted(previous));
-  unit = value;
-}
 
 struct Columns {
   int dof = 0;
@@ -147,17 +66,11 @@ Columns parseHeader(const std::vector<std::string>& fields, const Fail& fail) {
 }
 
 // A whole token as a finite number. @param fail throws "FILE:LINE: what"
+// A token as a number (csv_text.hpp). @param fail throws "FILE:LINE: what"
 template <class Fail>
 double parseNumber(const std::string& token, const Fail& fail) {
-  char* end = nullptr;
-  const double x = token.empty() || std::isspace(static_cast<unsigned char>(token[0]))
-                       ? 0.0
-                       : std::strtod(token.c_str(), &end);
-  if (end != token.c_str() + token.size() || token.empty()) fail(quoted(token) + " is not a number");
-  // strtod also reads hexadecimal floats (0x1.8p+4), which no writer of this format produces
-  if (token.find_first_of("xX") != std::string::npos) fail(quoted(token) + " is not a decimal number");
-  if (!std::isfinite(x)) fail(quoted(token) + " is not a finite number");
-  if (std::abs(x) > kMaxMagnitude) fail(quoted(token) + " is above 1e100 in magnitude (kMaxMagnitude)");
+  double x = 0.0;
+  if (const std::string problem = parseCsvNumber(token, x); !problem.empty()) fail(problem);
   return x;
 }
 
@@ -221,7 +134,7 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
 
   MeasurementFile file;
   file.path = path;
-  LineReader lines(in, path);
+  CsvLineReader lines(in, path);
   auto fail = [&](const std::string& what) {
     throw RobotFileError(path + ":" + std::to_string(lines.number()) + ": " + what);
   };
@@ -234,11 +147,11 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
     if (lines.number() > kMaxMeasurementLines) {
       fail("more than " + std::to_string(kMaxMeasurementLines) + " lines (comments and blank lines count)");
     }
-    if (isComment(line)) {
-      readUnitComment(line, file.length_unit, fail);
+    if (isCsvComment(line)) {
+      if (const std::string problem = readLengthUnitComment(line, file.length_unit); !problem.empty()) fail(problem);
       continue;
     }
-    splitFields(line, fields);
+    splitCsvFields(line, fields);
     if (!have_header) {
       columns = parseHeader(fields, fail);
       file.dof = columns.dof;

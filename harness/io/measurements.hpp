@@ -43,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "io/csv_text.hpp"
 #include "lowpair/calibration.hpp"
 
 namespace lowpair::io {
@@ -62,7 +63,7 @@ struct MeasurementFile {
 /// Limits of the reader (see the file comment).
 constexpr int kMaxMeasurements = 1000000;
 constexpr int kMaxMeasurementJoints = 1000;
-constexpr size_t kMaxMeasurementLineBytes = 65536;
+constexpr size_t kMaxMeasurementLineBytes = kMaxCsvLineBytes;  ///< 65,536 (csv_text.hpp)
 constexpr long long kMaxMeasurementJointValues = 100000000;
 
 /// A unit label a `# length_unit: U` comment can hold: one token of 1-16 printable ASCII characters.

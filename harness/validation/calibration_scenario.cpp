@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -78,23 +79,139 @@ MeasurementSetup caseMeasurementSetup(const CalibrationCase& c, const MujocoRobo
   return setup;
 }
 
-MeasurementFile simulatedMeasurements(const CalibrationCase& c, const MeasurementSetup& setup, MujocoRobot::Evaluator& mujoco,
-                                      const std::vector<JointMotion>& variables, const std::vector<Range>& ranges,
-                                      int first, int count, std::string label) {
+namespace {
+
+// Pose k of `q` measured with the noise of stream row `first + k` (appendMeasurements).
+MeasurementFile measureAt(const CalibrationCase& c, const MeasurementSetup& setup, MujocoRobot::Evaluator& mujoco,
+                          const std::vector<JointMotion>& variables, const std::vector<VecX>& q, unsigned long long first,
+                          std::string label) {
   MeasurementFile file;
   file.path = std::move(label);
   file.measure = setup.measure;
   file.dof = static_cast<int>(variables.size());
   if (setup.measure == Measure::Targets) file.target_names = c.targets;
-  file.measurements.reserve(static_cast<size_t>(count) * static_cast<size_t>(rowsPerPose(setup)));
-  VecX q(file.dof), x(file.dof);
-  for (int s = first; s < first + count; ++s) {
-    randomSample(c.seed, static_cast<unsigned long long>(s), ranges, q);
-    for (int i = 0; i < file.dof; ++i) x[i] = variables[static_cast<size_t>(i)].motion(q[i]);
-    appendMeasurements(setup, c.seed, static_cast<unsigned long long>(s), q, mujoco.tipPose(x), file.measurements);
+  file.measurements.reserve(q.size() * static_cast<size_t>(rowsPerPose(setup)));
+  VecX x(file.dof);
+  for (size_t k = 0; k < q.size(); ++k) {
+    for (int i = 0; i < file.dof; ++i) x[i] = variables[static_cast<size_t>(i)].motion(q[k][i]);
+    appendMeasurements(setup, c.seed, first + k, q[k], mujoco.tipPose(x), file.measurements);
   }
   return file;
 }
+
+}  // namespace
+
+MeasurementFile simulatedMeasurements(const CalibrationCase& c, const MeasurementSetup& setup, MujocoRobot::Evaluator& mujoco,
+                                      const std::vector<JointMotion>& variables, const std::vector<Range>& ranges,
+                                      int first, int count, std::string label) {
+  const auto start = static_cast<unsigned long long>(first);
+  return measureAt(c, setup, mujoco, variables, randomSamples(c.seed, start, count, ranges), start, std::move(label));
+}
+
+MeasurementFile measuredAt(const CalibrationCase& c, const MeasurementSetup& setup, MujocoRobot::Evaluator& mujoco,
+                           const std::vector<JointMotion>& variables, const std::vector<VecX>& q, std::string label) {
+  return measureAt(c, setup, mujoco, variables, q, 0, std::move(label));
+}
+
+namespace {
+
+// The case's plan (CasePlan) on the nominal: the candidates are samples 0 .. M-1 of the case's stream over the
+// scenario's ranges; `q` gets the chosen ones, in sample order.
+CasePlanResult planCase(const Scenario& scenario, const CalibrationCase& config, const RobotFile& nominal_file,
+                        const PoeModel& nominal, const std::vector<Range>& ranges, std::vector<VecX>& q) {
+  const CasePlan& p = *config.plan;
+  PlanOptions options;
+  options.measure = config.measure();
+  options.free_pitch = config.free_pitch;
+  options.criterion = p.criterion;
+  for (const std::string& name : config.targets) {  // the planner knows the nominal only
+    const auto known = std::find_if(nominal_file.targets.begin(), nominal_file.targets.end(),
+                                    [&](const Target& t) { return t.name == name && t.point_tool; });
+    if (known == nominal_file.targets.end()) {
+      throw RobotFileError(scenario.path + ": calibration '" + config.name + "': plan: with targets the nominal " +
+                           config.nominal + " must list every target's point (the plan is made on the nominal); '" +
+                           name + "' is not among its targets:");
+    }
+    options.targets.push_back(*known->point_tool);
+    options.target_names.push_back(name);
+  }
+  // the candidates' blocks: rows per pose x (at most 7 columns per joint and the tool's 6 or targets' 3 each)
+  const double targets = static_cast<double>(config.targets.size());
+  const double rows = options.measure == Measure::Targets ? 3.0 * targets : options.measure == Measure::Position ? 3.0 : 6.0;
+  const double columns = 7.0 * nominal.dof() + (options.measure == Measure::Targets ? 3.0 * targets : 6.0);
+  if (static_cast<double>(p.candidates) * rows * columns > kMaxPlanEntries) {
+    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': plan: " + std::to_string(p.candidates) +
+                         " candidates x " + shortest(rows) + " rows x up to " + shortest(columns) +
+                         " parameters exceed the plan's " + shortest(kMaxPlanEntries) + " numbers: fewer candidates");
+  }
+  const std::vector<VecX> candidates = randomSamples(config.seed, 0, p.candidates, ranges);
+  CasePlanResult out;
+  const auto start = std::chrono::steady_clock::now();
+  const PlanCandidates blocks = planCandidates(nominal, candidates, options);
+  out.plan = planPoses(blocks, config.poses, options);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::vector<int> first(static_cast<size_t>(config.poses));
+  for (size_t k = 0; k < first.size(); ++k) first[k] = static_cast<int>(k);
+  out.first = evaluatePlan(blocks, first);
+  q.clear();
+  for (const int index : out.plan.indices) q.push_back(candidates[static_cast<size_t>(index)]);
+  return out;
+}
+
+// The case's compensation (CompensationResult) of the nominal programs `programs` (the validation joint vectors).
+CompensationResult compensateCase(const CalibrationCase& config, const PoeModel& nominal, const CalibrationResult& result,
+                                  const MeasurementSetup& setup, MujocoRobot::Evaluator& mujoco,
+                                  const std::vector<JointMotion>& variables, const std::vector<VecX>& programs) {
+  CompensationResult out;
+  // the task and what MuJoCo's actual robot shows of it, in its base frame without noise
+  MeasurementSetup actual;
+  actual.measure = config.measure();
+  IkOptions options;
+  options.measure = config.measure() == Measure::Pose ? Measure::Pose : Measure::Position;
+  if (actual.measure == Measure::Targets) {
+    actual.targets = {setup.targets.front()};  // the site, in MuJoCo's tip frame
+    options.point_tool = result.targets.front();  // the calibrated point, in the calibrated tool frame
+    out.point_name = config.targets.front();
+  }
+  out.measure = options.measure;
+  out.point_tool = options.point_tool;
+  out.length_scale = nominal.lengthScale();
+  // the calibrated model predicts the measurements in the measurement frame: back into the base frame
+  const PoeModel calibrated = config.frame ? movedModel(result.model, setup.T_frame_base.inverse()) : result.model;
+  const auto start = std::chrono::steady_clock::now();
+  Data data(nominal);
+  IkWorkspace work(nominal);
+  std::vector<Measurement> before, after;
+  const int n = nominal.dof();
+  VecX x(n);
+  auto command = [&](const VecX& q, const VecX& q_commanded, std::vector<Measurement>& out_rows, size_t k) {
+    for (int i = 0; i < n; ++i) x[i] = variables[static_cast<size_t>(i)].motion(q_commanded[i]);
+    appendMeasurements(actual, config.seed, k, q, mujoco.tipPose(x), out_rows);  // the row's q: the program
+  };
+  for (size_t k = 0; k < programs.size(); ++k) {
+    const VecX& q = programs[k];
+    command(q, q, before, k);
+    const IkResult& r = compensate(nominal, calibrated, data, q, options, work);
+    ++out.statuses[static_cast<size_t>(r.status)];
+    if (r.status == IkStatus::Ok) {
+      command(q, r.q, after, k);
+    } else {
+      out.not_ok.push_back({static_cast<int>(k), r.status, r.reason});
+    }
+  }
+  // errors against the nominal's prediction at the program q (its target), of the point compensated
+  const std::vector<Vec3> points{options.point_tool};
+  out.before = residualStatistics(nominal, before, actual.measure, points);
+  out.after = residualStatistics(nominal, after, actual.measure, points);
+  if (after.empty()) {  // nothing was commanded: no number to pass on
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    out.after.rms_position = out.after.max_position = out.after.rms_rotation = out.after.max_rotation = nan;
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace
 
 CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const CalibrationCase& config,
                                          const MujocoRobot& robot, const SampledVariable& sampled) {
@@ -138,12 +255,20 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
   MeasurementSetup noise_free = setup;
   noise_free.sd_position = noise_free.sd_rotation = 0.0;
   MujocoRobot::Evaluator mujoco(robot);
-  MeasurementFile fit = simulatedMeasurements(config, setup, mujoco, sampled.motions, sampled.ranges, 0, config.poses,
-                                              where + ": simulated measurements");
+  std::optional<CasePlanResult> plan;
+  std::vector<VecX> fit_q;
+  if (config.plan) {
+    plan = planCase(scenario, config, nominal_file, nominal, sampled.ranges, fit_q);
+  } else {
+    fit_q = randomSamples(config.seed, 0, config.poses, sampled.ranges);
+  }
+  MeasurementFile fit = measuredAt(config, setup, mujoco, sampled.motions, fit_q, where + ": simulated measurements");
   const std::vector<size_t> blunders = addBlunders(config.seed, config.blunders, config.blunder_size, fit.measurements);
-  const std::optional<MeasurementFile> validation =
-      simulatedMeasurements(config, noise_free, mujoco, sampled.motions, sampled.ranges, config.poses,
-                            config.validation_poses, where + ": noise-free validation measurements");
+  const std::vector<VecX> validation_q = randomSamples(
+      config.seed, static_cast<unsigned long long>(config.firstValidationSample()), config.validation_poses, sampled.ranges);
+  const std::optional<MeasurementFile> validation = measureAt(config, noise_free, mujoco, sampled.motions, validation_q,
+                                                              static_cast<unsigned long long>(config.firstValidationSample()),
+                                                              where + ": noise-free validation measurements");
 
   CalibrationOptions options;
   options.measure = measure;
@@ -183,6 +308,10 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
   out.validation_position_before = positionErrors(registered, held_out, measure, result.registration.targets);
   out.validation_position_after = positionErrors(result.model, held_out, measure, result.targets);
   out.blunders = blunders;
+  out.plan = std::move(plan);
+  if (config.compensation) {
+    out.compensation = compensateCase(config, nominal, result, setup, mujoco, sampled.motions, validation_q);
+  }
   for (size_t k = 0; k < result.residuals.size(); ++k) {
     const bool blunder = std::binary_search(blunders.begin(), blunders.end(), k);
     if (blunder && !result.residuals[k].outlier) out.missed_blunders.push_back(k);
@@ -213,6 +342,25 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
   }
   require(result.converged, "did not converge");
   require(result.accepted, "the fit was rejected: " + result.reason);
+  if (config.compensation) {
+    const CompensationResult& k = *out.compensation;
+    const int not_ok = static_cast<int>(k.not_ok.size());
+    require(k.after.rms_position <= config.compensation->tolerance,
+            "compensation: RMS position after " + fixed(k.after.rms_position, 9) + u + " > tolerance " +
+                fixed(config.compensation->tolerance, 9) + u);
+    if (not_ok > config.compensation->allowed_not_ok) {
+      std::string counts;
+      for (size_t s = 0; s < k.statuses.size(); ++s) {
+        if (s != static_cast<size_t>(IkStatus::Ok) && k.statuses[s] > 0) {
+          counts += (counts.empty() ? "" : ", ") + std::to_string(k.statuses[s]) + " " + ikStatusName(static_cast<IkStatus>(s));
+        }
+      }
+      require(false, "compensation: " + std::to_string(not_ok) + " of " + std::to_string(k.count()) +
+                         " rows not ok (" + counts + "), at most " + std::to_string(config.compensation->allowed_not_ok) +
+                         " allowed; first: validation pose " + std::to_string(k.not_ok.front().row + 1) + ": " +
+                         k.not_ok.front().reason);
+    }
+  }
   // blunders: the case says the robust fit finds exactly them
   if (config.blunders > 0) {
     require(out.missed_blunders.empty(), std::to_string(out.missed_blunders.size()) + " of " +

@@ -6,11 +6,14 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "lowpair/calibration.hpp"
+#include "lowpair/ik.hpp"
+#include "lowpair/plan.hpp"
 #include "mujoco/mujoco_robot.hpp"
 #include "io/measurements.hpp"
 #include "validation/calibration_output.hpp"
@@ -18,6 +21,39 @@
 #include "validation/scenario.hpp"
 
 namespace lowpair::validation {
+
+/// A case's `plan:` (CasePlan): the poses planPoses chose on the nominal among the candidates.
+struct CasePlanResult {
+  PlanResult plan;    ///< `plan.indices`: the chosen candidates, i.e. samples of the case's stream, increasing
+  /// The criterion of candidates 0 .. poses-1: the samples the case would fit without `plan:`.
+  PlanValue first;
+  double seconds = 0.0;  ///< planCandidates + planPoses
+};
+
+/// A case's `compensate:` (CaseCompensation). Every validation joint vector q is a nominal program: its target
+/// is the nominal's FK at q (in the robot's base frame: the tool frame for pose measurements, the tool origin
+/// for position measurements, the first target's point for target measurements). `q' = compensate(nominal,
+/// calibrated, q)` (lowpair/ik.hpp; the calibrated model moved from the measurement frame into the base frame
+/// by the case's known `frame:`), and MuJoCo's actual robot is commanded at q (before) and at q' (after), through
+/// the scenario's joint-variable map. A row whose status is not ok is counted and listed, never commanded.
+struct CompensationResult {
+  Measure measure = Measure::Pose;  ///< the compensated task: Pose, or Position (of `point_tool`)
+  std::string point_name;           ///< the target compensated (target measurements), else ""
+  Vec3 point_tool = Vec3::Zero();   ///< its point in the calibrated (and nominal) tool frame
+  double length_scale = 1.0;        ///< the nominal's L (the IK's position tolerance is relative to it)
+  /// MuJoCo's tool against the nominal's target: commanding q (every row), commanding q' (the ok rows; NaN when
+  /// there is none). Rotation for Pose only.
+  ResidualStatistics before, after;
+  std::array<int, 5> statuses{};  ///< rows per IkStatus (indexed by its value)
+  struct Row {
+    int row = 0;  ///< 0-based validation pose
+    IkStatus status = IkStatus::Ok;
+    std::string reason;
+  };
+  std::vector<Row> not_ok;  ///< the rows whose status is not ok, in order
+  double seconds = 0.0;     ///< compensation and the MuJoCo evaluations
+  int count() const { return before.count; }
+};
 
 struct CalibrationCaseResult {
   CalibrationCase config;
@@ -35,6 +71,8 @@ struct CalibrationCaseResult {
   /// The fitting measurements given a blunder (0-based, increasing), those of them not flagged as outliers,
   /// and the measurements flagged without one.
   std::vector<size_t> blunders, missed_blunders, false_outliers;
+  std::optional<CasePlanResult> plan;                  ///< with `plan:`
+  std::optional<CompensationResult> compensation;     ///< with `compensate:`
   bool pass = true;
   std::vector<std::string> failures;  ///< the acceptance criteria that failed, in words
 };
@@ -52,6 +90,13 @@ io::MeasurementFile simulatedMeasurements(const CalibrationCase& c, const Measur
                                           mujoco::MujocoRobot::Evaluator& mujoco,
                                           const std::vector<JointMotion>& variables, const std::vector<Range>& ranges,
                                           int first, int count, std::string label);
+
+/// The joint vectors `q` measured by MuJoCo and taken as `setup` says, pose k with the noise of row k of the
+/// case's stream (appendMeasurements): what `lowpair simulate --q-file` writes for the same q, model, joint
+/// variable, seed, measure, frame and noise.
+io::MeasurementFile measuredAt(const CalibrationCase& c, const MeasurementSetup& setup,
+                               mujoco::MujocoRobot::Evaluator& mujoco, const std::vector<JointMotion>& variables,
+                               const std::vector<VecX>& q, std::string label);
 
 /// @param sampled the scenario's sampled joint variable: its map to MuJoCo's motion, ranges and length unit
 /// @throws io::RobotFileError for a nominal robot file that cannot be read, does not match the chain, or is

@@ -32,6 +32,55 @@ std::vector<size_t> oneBased(const std::vector<size_t>& rows) {
   return out;
 }
 
+json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+// count, RMS and max position (and rotation for a pose task: null otherwise; null for a number not measured)
+json statisticsJson(const ResidualStatistics& s, bool rotation) {
+  return {{"count", s.count},
+          {"rms_position", finiteOrNull(s.rms_position)},
+          {"max_position", finiteOrNull(s.max_position)},
+          {"rms_rotation", rotation ? finiteOrNull(s.rms_rotation) : json(nullptr)},
+          {"max_rotation", rotation ? finiteOrNull(s.max_rotation) : json(nullptr)}};
+}
+
+json planJson(const CalibrationCase& config, const CasePlanResult& p) {
+  auto value = [](const PlanValue& v) {
+    return json{{"log_det", finiteOrNull(v.log_det)}, {"O1", v.o1}, {"rank", v.rank}};
+  };
+  return {{"criterion", planCriterionName(p.plan.criterion)},
+          {"candidates", config.plan->candidates},
+          {"samples", p.plan.indices},
+          {"planned", value(p.plan.value)},
+          {"first_samples", value(p.first)},
+          {"greedy", value(p.plan.start)},
+          {"swaps", p.plan.swaps},
+          {"passes", p.plan.passes},
+          {"rank", p.plan.rank.rank},
+          {"expected", p.plan.expected.total()},
+          {"seconds", p.seconds}};
+}
+
+json compensationJson(const CalibrationCase& config, const CompensationResult& k) {
+  const bool rotation = k.measure == Measure::Pose;
+  json statuses = json::object();
+  for (size_t s = 0; s < k.statuses.size(); ++s) statuses[ikStatusName(static_cast<IkStatus>(s))] = k.statuses[s];
+  json not_ok = json::array();
+  for (const CompensationResult::Row& r : k.not_ok) {
+    not_ok.push_back({{"validation_pose", r.row + 1}, {"status", ikStatusName(r.status)}, {"reason", r.reason}});
+  }
+  return {{"measure", measureName(k.measure)},
+          {"target", k.point_name.empty() ? json(nullptr) : json(k.point_name)},
+          {"point_tool", {k.point_tool.x(), k.point_tool.y(), k.point_tool.z()}},
+          {"length_scale", k.length_scale},
+          {"tolerance", config.compensation->tolerance},
+          {"allowed_not_ok", config.compensation->allowed_not_ok},
+          {"before", statisticsJson(k.before, rotation)},
+          {"after", statisticsJson(k.after, rotation)},
+          {"statuses", statuses},
+          {"not_ok", not_ok},
+          {"seconds", k.seconds}};
+}
+
 }  // namespace
 
 json validationJson(const std::vector<ScenarioResult>& results, const RunOptions& options) {
@@ -83,6 +132,8 @@ json validationJson(const std::vector<ScenarioResult>& results, const RunOptions
                            {"blunders", oneBased(c.blunders)},
                            {"missed_blunders", oneBased(c.missed_blunders)},
                            {"false_outliers", oneBased(c.false_outliers)}};
+        if (c.plan) j["plan"] = planJson(c.config, *c.plan);
+        if (c.compensation) j["compensation"] = compensationJson(c.config, *c.compensation);
         s["calibrations"].push_back(j);
       }
     }
@@ -148,6 +199,64 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
     }
   }
   if (header) out << "(calibration: validation RMS position error before and after, length unit of the nominal)\n";
+  header = false;
+  for (const auto& r : results) {
+    for (const auto& c : r.calibrations) {
+      if (!c.plan) continue;
+      if (!header) {
+        std::snprintf(line, sizeof line, "\n%-28s %-20s %6s %10s %5s %12s %12s %6s %8s\n", "scenario", "planned",
+                      "poses", "candidates", "crit", "log det", "first N", "swaps", "seconds");
+        out << line;
+        header = true;
+      }
+      const CasePlanResult& p = *c.plan;
+      std::snprintf(line, sizeof line, "%-28s %-20s %6d %10d %5s %12.4f %12.4f %6d %8.3f\n", r.scenario.name.c_str(),
+                    c.config.name.c_str(), c.config.poses, c.config.plan->candidates,
+                    planCriterionName(p.plan.criterion), p.plan.value.log_det, p.first.log_det, p.plan.swaps, p.seconds);
+      out << line;
+    }
+  }
+  if (header) {
+    out << "(plan: log det of the planned poses' information, and of the first N samples the case fits without plan:)\n";
+  }
+  header = false;
+  for (const auto& r : results) {
+    for (const auto& c : r.calibrations) {
+      if (!c.compensation) continue;
+      if (!header) {
+        std::snprintf(line, sizeof line, "\n%-28s %-20s %-8s %6s %6s %12s %12s %12s %12s %11s %11s\n", "scenario",
+                      "compensated", "task", "rows", "not ok", "RMS before", "RMS after", "max after", "tolerance",
+                      "rot before", "rot after");
+        out << line;
+        header = true;
+      }
+      const CompensationResult& k = *c.compensation;
+      const std::string task = k.point_name.empty() ? measureName(k.measure) : k.point_name;
+      const bool rotation = k.measure == Measure::Pose;
+      char rot_before[32] = "-", rot_after[32] = "-";
+      if (rotation) {
+        std::snprintf(rot_before, sizeof rot_before, "%.3e", k.before.rms_rotation);
+        std::snprintf(rot_after, sizeof rot_after, "%.3e", k.after.rms_rotation);
+      }
+      std::snprintf(line, sizeof line, "%-28s %-20s %-8s %6d %6zu %12.3e %12.3e %12.3e %12.3e %11s %11s\n",
+                    r.scenario.name.c_str(), c.config.name.c_str(), task.c_str(), k.count(), k.not_ok.size(),
+                    k.before.rms_position, k.after.rms_position, k.after.max_position, c.config.compensation->tolerance,
+                    rot_before, rot_after);
+      out << line;
+      for (size_t s = 0; s < k.statuses.size(); ++s) {
+        if (s != static_cast<size_t>(IkStatus::Ok) && k.statuses[s] > 0) out << "  " << k.statuses[s] << " row(s) " << ikStatusName(static_cast<IkStatus>(s)) << "\n";
+      }
+      constexpr size_t kRowsShown = 3;
+      for (size_t i = 0; i < k.not_ok.size() && i < kRowsShown; ++i) {
+        out << "  validation pose " << k.not_ok[i].row + 1 << ": " << ikStatusName(k.not_ok[i].status) << ": "
+            << k.not_ok[i].reason << "\n";
+      }
+    }
+  }
+  if (header) {
+    out << "(compensation: MuJoCo's tool commanded at the validation q (before) and at the compensated q' (after, ok "
+           "rows only) against the nominal's FK at q; position in the nominal's length unit, rotation RMS in rad)\n";
+  }
   out << (pass ? "all comparisons within tolerance" : "FAILED: a comparison is outside its tolerance (marked FAIL)")
       << "  (rotation in rad; translation relative to the robot size L; Jacobian rows: angular block as 'rot', "
          "linear as 'tr')\n";
@@ -382,6 +491,60 @@ std::string residualSummary(const CalibrationCaseResult& c) {
        << (std::binary_search(c.blunders.begin(), c.blunders.end(), k) ? "yes" : "no") << " |\n";
   }
   return md.str() + "\n";
+}
+
+// The plan in a sentence: the chosen samples and the criterion against the first N samples'.
+std::string planSummary(const CalibrationCaseResult& c) {
+  const CasePlanResult& p = *c.plan;
+  std::ostringstream md;
+  md << "Plan: " << c.config.poses << " poses chosen (criterion " << planCriterionName(p.plan.criterion)
+     << ", lowpair plan's greedy selection and " << p.plan.swaps << " exchange(s)) among the candidates, samples 0 to "
+     << c.config.plan->candidates - 1 << " of the case's stream; validation samples " << c.config.plan->candidates
+     << " to " << c.config.plan->candidates + c.config.validation_poses - 1 << ". log det of the information "
+     << fixed(p.plan.value.log_det, 4) << " (O1 " << p.plan.value.o1 << ") against " << fixed(p.first.log_det, 4)
+     << " (O1 " << p.first.o1 << ") for samples 0 to " << c.config.poses - 1 << "; rank " << p.plan.rank.rank << " of "
+     << p.plan.expected.total() << "; " << fixed(p.seconds, 3) << " s. Samples chosen: ";
+  for (size_t i = 0; i < p.plan.indices.size(); ++i) md << (i ? ", " : "") << p.plan.indices[i];
+  md << ".\n\n";
+  return md.str();
+}
+
+// The compensation table: before and after, and the rows not ok.
+std::string compensationSummary(const CalibrationCaseResult& c) {
+  const CompensationResult& k = *c.compensation;
+  const std::string unit = c.report && !c.report->nominal.length_unit.empty() ? c.report->nominal.length_unit : "length";
+  const bool rotation = k.measure == Measure::Pose;
+  std::ostringstream md;
+  md << "Compensation (" << (k.point_name.empty() ? std::string(measureName(k.measure)) : "target " + markdownText(k.point_name))
+     << "): the " << k.count() << " validation joint vectors q as a nominal program; MuJoCo's tool against the "
+     << "nominal's forward kinematics at q, commanding q (before) and the compensated q' (after, rows whose status is "
+     << "ok); acceptance: RMS position after <= " << c.config.compensation->tolerance << " " << unit << ", at most "
+     << c.config.compensation->allowed_not_ok << " row(s) not ok.\n\n"
+     << "| commanded | rows | RMS position (" << unit << ") | max position | RMS rotation (rad) | max rotation |\n"
+     << "|---|---|---|---|---|---|\n";
+  for (const auto& [name, s] : {std::pair<const char*, const ResidualStatistics*>{"q (before)", &k.before},
+                                {"q' (after)", &k.after}}) {
+    char numbers[160];
+    std::snprintf(numbers, sizeof numbers, "%d | %.3e | %.3e | ", s->count, s->rms_position, s->max_position);
+    md << "| " << name << " | " << numbers;
+    if (rotation) {
+      std::snprintf(numbers, sizeof numbers, "%.3e | %.3e", s->rms_rotation, s->max_rotation);
+      md << numbers << " |\n";
+    } else {
+      md << "- | - |\n";
+    }
+  }
+  md << "\nStatuses:";
+  for (size_t s = 0; s < k.statuses.size(); ++s) md << (s ? ", " : " ") << k.statuses[s] << " " << ikStatusName(static_cast<IkStatus>(s));
+  md << ".\n\n";
+  constexpr size_t kRowsListed = 20;
+  for (size_t i = 0; i < k.not_ok.size() && i < kRowsListed; ++i) {
+    md << "- validation pose " << k.not_ok[i].row + 1 << ": " << ikStatusName(k.not_ok[i].status) << ": "
+       << markdownText(k.not_ok[i].reason) << "\n";
+  }
+  if (k.not_ok.size() > kRowsListed) md << "- ... (" << k.not_ok.size() << " in all)\n";
+  if (!k.not_ok.empty()) md << "\n";
+  return md.str();
 }
 
 void plots(const fs::path& dir, const ScenarioResult& r) {
@@ -640,7 +803,8 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
       for (size_t k = 0; k < r.calibrations.size(); ++k) {
         const CalibrationCaseResult& c = r.calibrations[k];
         md << "### Calibration '" << markdownText(c.config.name) << "': " << (c.pass ? "pass" : "**FAIL**") << "\n\n"
-           << c.config.poses << " poses measured on the MuJoCo model (" << measureName(c.config.measure());
+           << c.config.poses << (c.config.plan ? " planned" : "") << " poses measured on the MuJoCo model ("
+           << measureName(c.config.measure());
         if (!c.config.targets.empty()) {
           std::string names;
           for (const std::string& t : c.config.targets) names += (names.empty() ? "" : ", ") + t;
@@ -658,6 +822,8 @@ void writeReport(const std::string& dir, const std::vector<ScenarioResult>& resu
            << " noise-free validation poses; acceptance: validation RMS position <= " << c.config.tolerance_position;
         if (c.config.min_improvement) md << ", at least " << *c.config.min_improvement << "x below the registered nominal's";
         md << ", converged, the verdict accepted" << (c.config.blunders > 0 ? ", exactly the blunders flagged" : "") << ".\n\n";
+        if (c.plan) md << planSummary(c);
+        if (c.compensation) md << compensationSummary(c);
         for (const auto& f : c.failures) md << "- failed: " << markdownText(f) << "\n";
         if (!c.failures.empty()) md << "\n";
         std::ostringstream text;

@@ -133,6 +133,13 @@ void randomSample(unsigned long long seed, unsigned long long index, const std::
   }
 }
 
+std::vector<VecX> randomSamples(unsigned long long seed, unsigned long long first, int count,
+                                const std::vector<Range>& ranges) {
+  std::vector<VecX> out(static_cast<size_t>(std::max(0, count)), VecX(static_cast<Eigen::Index>(ranges.size())));
+  for (size_t k = 0; k < out.size(); ++k) randomSample(seed, first + k, ranges, out[k]);
+  return out;
+}
+
 void addMeasurementNoise(unsigned long long seed, unsigned long long index, double sd_position, double sd_rotation,
                          Pose& T) {
   if (sd_position == 0.0 && sd_rotation == 0.0) return;

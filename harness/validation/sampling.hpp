@@ -58,6 +58,10 @@ SampledVariable sampledVariable(const mujoco::MujocoRobot& robot, const std::str
 void randomSample(unsigned long long seed, unsigned long long index, const std::vector<Range>& ranges,
                   Eigen::Ref<VecX> q);
 
+/// Samples first .. first+count-1 of the stream `seed` (randomSample), in order.
+std::vector<VecX> randomSamples(unsigned long long seed, unsigned long long first, int count,
+                                const std::vector<Range>& ranges);
+
 /// Measurement noise of measurement `index` of the stream `seed` (`lowpair simulate`, calibration scenarios):
 /// `T.p += N(0, sd_position^2)` per coordinate, then `T.R <- expSO3(n) T.R` with `n ~ N(0, sd_rotation^2 I3)`,
 /// from a std::mt19937_64 seeded with splitmix64(splitmix64(seed ^ "noise-st") + index): independent of

@@ -52,11 +52,63 @@ std::vector<std::string> readTargetNames(const YamlReader& in, const YAML::Node&
   return names;
 }
 
+PlanCriterion readCriterion(const YamlReader& in, const YAML::Node& node, const std::string& what) {
+  const std::string text = in.string(node, what);
+  for (const PlanCriterion c : {PlanCriterion::D, PlanCriterion::O1}) {
+    if (text == planCriterionName(c)) return c;
+  }
+  yamlError(in.path(), node, what + " must be D or O1, got '" + text + "'");
+}
+
+// `plan: D` (or O1), or `plan: {criterion: D|O1, candidates: M}`: M from `poses` (planPoses chooses that many
+// of them) to kMaxPlanCandidates
+CasePlan readCasePlan(const YamlReader& in, const YAML::Node& node, int poses, const std::string& where) {
+  CasePlan plan;
+  if (node.IsScalar()) {
+    plan.criterion = readCriterion(in, node, where + ".plan");
+    if (poses > plan.candidates) {
+      yamlError(in.path(), node, where + ": plan chooses the " + std::to_string(poses) + " poses among " +
+                                     std::to_string(plan.candidates) + " candidates (the default): give plan.candidates >= poses");
+    }
+    return plan;
+  }
+  in.allowOnly(node, where + ".plan", {"criterion", "candidates"});
+  if (node["criterion"]) plan.criterion = readCriterion(in, node["criterion"], where + ".plan.criterion");
+  if (node["candidates"]) {
+    plan.candidates = static_cast<int>(in.integer(node["candidates"], where + ".plan.candidates", 1, kMaxPlanCandidates));
+  }
+  if (poses > plan.candidates) {
+    yamlError(in.path(), node["candidates"] ? node["candidates"] : node,
+              where + ": plan.candidates " + std::to_string(plan.candidates) + " is below poses " + std::to_string(poses) +
+                  " (the plan chooses the poses among the candidates)");
+  }
+  return plan;
+}
+
+// `compensate: {tolerance: T, allowed_not_ok: K}`: T a positive length, K in [0, validation_poses]
+CaseCompensation readCaseCompensation(const YamlReader& in, const YAML::Node& node, int validation_poses,
+                                      const std::string& where) {
+  in.allowOnly(node, where + ".compensate", {"tolerance", "allowed_not_ok"});
+  if (!node["tolerance"]) {
+    yamlError(in.path(), node, where + ".compensate: missing 'tolerance' (RMS position error after compensation, length)");
+  }
+  CaseCompensation k;
+  k.tolerance = in.number(node["tolerance"], where + ".compensate.tolerance");
+  if (!(k.tolerance > 0) || k.tolerance > kMaxMagnitude) {
+    yamlError(in.path(), node["tolerance"], where + ".compensate.tolerance must be positive and at most 1e100 (length)");
+  }
+  if (node["allowed_not_ok"]) {
+    k.allowed_not_ok = static_cast<int>(
+        in.integer(node["allowed_not_ok"], where + ".compensate.allowed_not_ok", 0, validation_poses));
+  }
+  return k;
+}
+
 CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node, size_t index) {
   const std::string& path = in.path();
   in.allowOnly(node, "a calibration case",
                {"name", "nominal", "poses", "validation_poses", "seed", "measure", "free_pitch", "noise",
-                "tolerance", "targets", "frame", "blunders", "loss"});
+                "tolerance", "targets", "frame", "blunders", "loss", "plan", "compensate"});
   CalibrationCase c;
   c.name = node["name"] ? in.string(node["name"], "calibration name") : "calibration" + std::to_string(index + 1);
   const std::string where = "calibration '" + c.name + "'";
@@ -142,6 +194,8 @@ CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node
     }
     if (!known) yamlError(path, node["loss"], where + ".loss must be squared, huber or cauchy, got '" + loss + "'");
   }
+  if (const YAML::Node p = node["plan"]) c.plan = readCasePlan(in, p, c.poses, where);
+  if (const YAML::Node k = node["compensate"]) c.compensation = readCaseCompensation(in, k, c.validation_poses, where);
   const YAML::Node t = node["tolerance"];
   if (!t) yamlError(path, node, where + ": missing 'tolerance' (at least position: validation RMS after, length)");
   in.allowOnly(t, where + ".tolerance", {"position", "rotation", "improvement"});

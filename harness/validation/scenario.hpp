@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "lowpair/calibration.hpp"
+#include "lowpair/plan.hpp"
 #include "validation/sampling.hpp"
 
 namespace lowpair::validation {
@@ -28,14 +29,42 @@ struct SingularPose {
 /// Upper bound on `samples` (a scenario or --samples).
 constexpr int kMaxSamples = 100000000;
 
+/// Default and upper bound of a case's `plan: {candidates: M}` (as `lowpair plan --candidates`).
+constexpr int kDefaultPlanCandidates = 5000;
+constexpr int kMaxPlanCandidates = 100000;
+/// Upper bound on the numbers of a plan's candidate blocks (candidates x rows per pose x parameters), as
+/// `lowpair plan`'s: they are held about four times, 1e7 numbers is about 320 MB.
+constexpr double kMaxPlanEntries = 1e7;
+
+/// `plan: {criterion: D|O1, candidates: M}` (or `plan: D`): the fitting poses are chosen by planPoses on the
+/// nominal from the candidates, samples 0 .. M-1 of the case's stream (the candidates `lowpair plan --seed
+/// SEED --candidates M` draws when the nominal's ranges are the scenario's).
+struct CasePlan {
+  PlanCriterion criterion = PlanCriterion::D;
+  int candidates = kDefaultPlanCandidates;
+};
+
+/// `compensate: {tolerance: T, allowed_not_ok: K}`: the validation joint vectors taken as a nominal program,
+/// compensated on the calibrated model (lowpair/ik.hpp compensate) and commanded on MuJoCo's actual robot.
+struct CaseCompensation {
+  double tolerance = 0.0;  ///< acceptance: RMS position error after compensation (length)
+  int allowed_not_ok = 0;  ///< acceptance: rows whose compensation status is not ok, at most
+};
+
 /// A calibration in the loop (docs/calibration.md): the nominal robot file is calibrated from `poses`
 /// measurements of the scenario's MuJoCo model (the "actual" robot; q is the scenario's joint variable),
 /// then checked on `validation_poses` noise-free measurements of it.
+///
+/// Samples of the case's stream (seed): without `plan`, the fitting poses are samples 0 .. poses-1 and the
+/// validation poses samples poses .. poses+validation_poses-1; with `plan`, the candidates are samples
+/// 0 .. M-1, the fitting poses the planned ones among them (in sample order; fitting row k gets the noise of
+/// row k, as `simulate --q-file`), and the validation poses samples M .. M+validation_poses-1 (disjoint from
+/// every candidate).
 struct CalibrationCase {
   std::string name;
   std::string nominal;            ///< robot file
-  int poses = 50;                 ///< fitting measurements: samples 0 .. poses-1 of the calibration stream
-  int validation_poses = 200;     ///< samples poses .. poses+validation_poses-1 of the same stream, noise-free
+  int poses = 50;                 ///< fitting poses (see above)
+  int validation_poses = 200;     ///< noise-free validation poses (see above)
   unsigned long long seed = 1;
   bool position_only = false;     ///< `measure: position`
   bool free_pitch = false;
@@ -54,6 +83,10 @@ struct CalibrationCase {
   long long blunders = 0;     ///< `blunders: {count, size}`: fitting measurements moved by `blunder_size` (addBlunders)
   double blunder_size = 0.0;  ///< length
   Loss loss = Loss::Squared;  ///< `loss:`
+  std::optional<CasePlan> plan;                  ///< `plan:`
+  std::optional<CaseCompensation> compensation;  ///< `compensate:`
+  /// The first validation sample of the stream: `poses`, or M with a plan.
+  int firstValidationSample() const { return plan ? plan->candidates : poses; }
   Measure measure() const {
     return !targets.empty() ? Measure::Targets : position_only ? Measure::Position : Measure::Pose;
   }
