@@ -98,7 +98,7 @@ inline PoeModel jointMix(const std::string& types, double L, std::mt19937_64& rn
   for (char t : types) {
     JointSpec s;
     const Vec3 w = lowpair_test::unitVector(rng);
-    const Vec3 c = L * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 c = L * lowpair_test::draw3(u, rng);
     const double q_bar = scale(rng);
     if (t == 'P') {
       s.type = JointType::Prismatic;
@@ -113,7 +113,7 @@ inline PoeModel jointMix(const std::string& types, double L, std::mt19937_64& rn
     joints.push_back(s);
   }
   Vec6 tool;
-  tool << 1.5 * Vec3(u(rng), u(rng), u(rng)), L * Vec3(u(rng), u(rng), u(rng));
+  tool << 1.5 * lowpair_test::draw3(u, rng), L * lowpair_test::draw3(u, rng);
   return PoeModel(joints, expSE3(tool), types);
 }
 
@@ -146,8 +146,8 @@ inline std::vector<Measurement> measure(const PoeModel& truth, const std::vector
 inline void addNoise(std::vector<Measurement>& ms, double sp, double sr, std::mt19937_64& rng) {
   std::normal_distribution<double> n;
   for (Measurement& m : ms) {
-    m.T_base_tool.p += sp * Vec3(n(rng), n(rng), n(rng));
-    m.T_base_tool.R = expSO3(sr * Vec3(n(rng), n(rng), n(rng))) * m.T_base_tool.R;
+    m.T_base_tool.p += sp * lowpair_test::draw3(n, rng);
+    m.T_base_tool.R = expSO3(sr * lowpair_test::draw3(n, rng)) * m.T_base_tool.R;
   }
 }
 

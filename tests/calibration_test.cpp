@@ -186,7 +186,7 @@ TEST(ErrorModelApply, KeepsJointTypesPitchesAndAddsIncrements) {
     const Pose& T = model.toolPose();
     const int tool0 = em.size() - 6;
     VecX d = VecX::Zero(em.size());
-    const Vec3 t = 0.3 * L * Vec3(n(rng), n(rng), n(rng)), rot = 0.5 * Vec3(n(rng), n(rng), n(rng));
+    const Vec3 t = 0.3 * L * lowpair_test::draw3(n, rng), rot = 0.5 * lowpair_test::draw3(n, rng);
     d.segment<3>(tool0 + 3) = t;
     const Pose translated = em.apply(d).toolPose();
     d.segment<3>(tool0 + 3).setZero();

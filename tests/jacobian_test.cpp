@@ -641,11 +641,11 @@ TEST(Jacobian, ConversionsInvertAndMayAlias) {
   for (int r = 0; r < 200; ++r) {
     const double size = std::pow(10.0, 3.0 * u(rng));
     Vec6 xi;
-    xi << 3.0 * Vec3(u(rng), u(rng), u(rng)), size * Vec3(u(rng), u(rng), u(rng));
+    xi << 3.0 * lowpair_test::draw3(u, rng), size * lowpair_test::draw3(u, rng);
     const Pose T = expSE3(xi);
     const int n = 1 + static_cast<int>(rng() % 7);
     Mat6X J(6, n);
-    for (int i = 0; i < n; ++i) J.col(i) << Vec3(u(rng), u(rng), u(rng)), size * Vec3(u(rng), u(rng), u(rng));
+    for (int i = 0; i < n; ++i) J.col(i) << lowpair_test::draw3(u, rng), size * lowpair_test::draw3(u, rng);
     Mat6X X(6, n), Y(6, n), A(6, n);
     auto relative = [&](const Mat6X& a, const Mat6X& b) {
       // spatial [w; v], |w| <= 1 rad and |v| <= size: angular rows as they are, linear rows / size

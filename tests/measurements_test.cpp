@@ -20,6 +20,7 @@
 #include "lowpair/se3.hpp"
 #include "io/measurements.hpp"
 #include "io/robot_file.hpp"
+#include "random_robot.hpp"
 
 // the harness rooms this test reads through
 using namespace lowpair::io;
@@ -96,8 +97,8 @@ std::vector<Measurement> randomMeasurements(int count, int dof, unsigned seed) {
     // magnitudes from subnormal to huge, and a negative zero: all must come back bit for bit
     for (int i = 0; i < dof; ++i) m.q[i] = unit(rng) * std::pow(10.0, 40 * unit(rng));
     m.q[0] = k == 0 ? -0.0 : k == 1 ? 4.9406564584124654e-324 : m.q[0];
-    m.T_base_tool.p = Vec3(unit(rng), unit(rng), unit(rng)) * 1e3;
-    m.T_base_tool.R = expSO3(Vec3(unit(rng), unit(rng), unit(rng)) * 3.0);
+    m.T_base_tool.p = lowpair_test::draw3(unit, rng) * 1e3;
+    m.T_base_tool.R = expSO3(lowpair_test::draw3(unit, rng) * 3.0);
     out.push_back(m);
   }
   return out;
@@ -224,7 +225,7 @@ TEST(MeasurementCsv, QuaternionScalarIsNonNegative) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::vector<Measurement> measurements;
   for (int k = 0; k < 200; ++k) {
-    const Vec3 axis = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+    const Vec3 axis = lowpair_test::draw3(unit, rng).normalized();
     measurements.push_back({Eigen::Matrix<double, 1, 1>(0.0), Pose{expSO3(axis * (M_PI - 0.5 * std::abs(unit(rng)))), Vec3::Zero()}});
   }
   std::istringstream text(formatMeasurements(Measure::Pose, measurements, {}));

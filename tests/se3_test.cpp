@@ -8,6 +8,7 @@
 
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
+#include "random_robot.hpp"
 
 using namespace lowpair;
 
@@ -97,7 +98,7 @@ std::vector<double> sweepAngles() {
 
 Vec3 randomUnit(std::mt19937_64& rng) {
   std::normal_distribution<double> n;
-  return Vec3(n(rng), n(rng), n(rng)).normalized();
+  return lowpair_test::draw3(n, rng).normalized();
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/singularity.hpp"
+#include "random_robot.hpp"
 #include "io/robot_file.hpp"
 
 // the harness rooms this test reads through
@@ -373,8 +374,8 @@ PoeModel randomChain(int n, std::mt19937_64& rng) {
   std::normal_distribution<double> normal;
   std::vector<JointSpec> joints(static_cast<size_t>(n));
   for (JointSpec& j : joints) {
-    const Vec3 w = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
-    const Vec3 p(normal(rng), normal(rng), normal(rng));
+    const Vec3 w = lowpair_test::draw3(normal, rng).normalized();
+    const Vec3 p = lowpair_test::draw3(normal, rng);
     j.twist << w, p.cross(w);
   }
   return PoeModel(joints, Pose());

@@ -138,7 +138,10 @@ TEST(ErrorStatistics, MergeIsExactWhateverTheSplit) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> exponent(-17.0, -12.0);
   std::vector<SampleErrors> samples;
-  for (int k = 0; k < 5000; ++k) samples.push_back(errors(std::pow(10.0, exponent(rng)), std::pow(10.0, exponent(rng))));
+  for (int k = 0; k < 5000; ++k) {
+    const double a = std::pow(10.0, exponent(rng));  // (two statements: the draws in a fixed order)
+    samples.push_back(errors(a, std::pow(10.0, exponent(rng))));
+  }
   samples[1234] = samples[4321];  // a tie for the worst sample would go to the smaller index
   auto run = [&](int threads, bool interleaved) {
     std::vector<ErrorStatistics> parts(static_cast<size_t>(threads), ErrorStatistics(1e-12, 1e-12, 0.7));

@@ -1123,7 +1123,7 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
     c.set = set;
     CalibrationOptions o = options;
     o.parameters = set;
-    double sum_p = 0.0, sum_r = 0.0;
+    double sum_p = 0.0, sum_r = 0.0, score = 0.0;
     int held = 0;
     for (int f = 0; f < folds && !c.failed; ++f) {
       std::vector<Measurement> train, test;
@@ -1136,6 +1136,11 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
         sum_p += s.rms_position * s.rms_position * s.count;
         sum_r += s.rms_rotation * s.rms_rotation * s.count;
         held += s.count;
+        // the score: position and rotation in noise units (the fit's weights), so that a pose's rotation
+        // counts as the fit counts it
+        const double wp = fit.sigma_position, wr = fit.sigma_rotation;
+        score += s.count * (s.rms_position * s.rms_position / (wp * wp) +
+                            (o.measure == Measure::Pose ? s.rms_rotation * s.rms_rotation / (wr * wr) : 0.0));
       } catch (const std::invalid_argument&) {
         c.failed = true;
       }
@@ -1143,14 +1148,14 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
     if (held > 0) {
       c.rms_position = std::sqrt(sum_p / held);
       c.rms_rotation = std::sqrt(sum_r / held);
+      c.score = std::sqrt(score / held);
     }
     out.candidates.push_back(c);
   }
   const CrossValidation::Candidate* best = nullptr;
   for (const auto& c : out.candidates) {
     if (c.failed) continue;
-    if (!best || c.rms_position < best->rms_position ||
-        (c.rms_position == best->rms_position && c.parameters < best->parameters)) {
+    if (!best || c.score < best->score || (c.score == best->score && c.parameters < best->parameters)) {
       best = &c;
     }
   }

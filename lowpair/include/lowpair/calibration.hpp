@@ -345,12 +345,16 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
 
 /// k-fold cross-validation of the parameter levels (Full, Lines, Offsets): measurement i is in fold i % k;
 /// each level is fitted on k - 1 folds and predicts the held-out one (the RMS of position errors, length,
-/// and rotation, rad). `chosen` is the level with the least held-out RMS position (ties: fewer parameters).
+/// and rotation, rad). `chosen` is the level with the least held-out score (Candidate::score: position and
+/// rotation in the fit's noise units; ties: fewer parameters).
 struct CrossValidation {
   struct Candidate {
     ParameterSet set = ParameterSet::Full;
     int parameters = 0;
     double rms_position = 0.0, rms_rotation = 0.0;
+    /// What is compared: the held-out RMS of the weighted residual per measurement (position over
+    /// sigma_position, rotation over sigma_rotation: the fit's weights; without stated noise, 1/L and 1/rad)
+    double score = 0.0;
     bool failed = false;  ///< a fold's fit threw or did not converge: not a candidate
   };
   std::vector<Candidate> candidates;
