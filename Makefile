@@ -2,7 +2,8 @@
 # and build into build/, then run. `make bench` builds in Release and runs the benchmarks.
 PACKAGES := cmake g++ make libeigen3-dev libmujoco-dev libqhull-dev liburdfdom-dev libyaml-cpp-dev \
             googletest libgtest-dev libbenchmark-dev liborocos-kdl-dev libcli11-dev nlohmann-json3-dev gnuplot-nox python3 \
-            valgrind bc libsleef-dev clang libclang-rt-14-dev libtinyxml2-dev
+            valgrind bc libsleef-dev clang libclang-rt-14-dev libtinyxml2-dev \
+            pybind11-dev python3-numpy python3-pytest
 BUILD ?= build
 JOBS ?= $(shell nproc)
 
@@ -57,7 +58,7 @@ SAN_SKIP := ^(package_consumer|HostileInput.ThreadThatCannotBeCreatedDoesNotAbor
 .PHONY: sanitize sanitize-build
 sanitize-build: deps
 	@test -f $(SAN_BUILD)/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) \
-	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)"
+	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DLOWPAIR_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)"
 	cmake --build $(SAN_BUILD) -j$(JOBS)
 sanitize: sanitize-build
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \

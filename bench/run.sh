@@ -29,3 +29,8 @@ mkdir -p "$(dirname "$BENCH_OUT")"
   --benchmark_filter="$BENCH_FILTER"
 echo
 python3 "$here/report.py" "$BENCH_OUT"
+# the Python module's batched FK against the C++ batch in the same run (python/bench_fk.py, docs/python.md)
+if [ -z "${BENCH_SMOKE:-}" ] && [ -f "$BUILD/python/lowpair/__init__.py" -o -z "${BENCH_NO_BUILD:-}" ]; then
+  cmake --build "$BUILD" --target lowpair_python -j"${JOBS:-2}" >/dev/null &&
+    PYTHONPATH="$BUILD/python" /usr/bin/python3 "$root/python/bench_fk.py"
+fi

@@ -54,14 +54,7 @@ RobotFile loadRobot(const RobotSource& source) {
     return readRobotFile(source.path);
   }
   if (source.tip.empty()) throw UsageError(source.path, "--tip NAME is required with a model file");
-  if (ext == ".urdf") return readUrdf(source.path, source.tip, source.base);  // urdfdom, not MuJoCo
-  const MujocoRobot robot(source.path, source.tip, source.base);
-  RobotFile file;
-  file.path = source.path;
-  file.name = std::filesystem::path(source.path).stem().string();
-  file.description = "extracted by MuJoCo: chain to '" + source.tip + "'";
-  file.poe = robot.poeModel();
-  return file;
+  return robotFileOfModel(source.path, source.tip, source.base);
 }
 
 namespace {

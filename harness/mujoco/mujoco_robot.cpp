@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <set>
@@ -16,6 +17,7 @@
 #include "lowpair/tolerances.hpp"
 #include "mujoco/model_copy.hpp"
 #include "io/robot_file.hpp"
+#include "io/urdf_reader.hpp"
 
 namespace lowpair::mujoco {
 
@@ -584,6 +586,17 @@ PoeModel matchingModel(const RobotFile& file, const MujocoRobot& robot, const st
     }
   }
   return m;
+}
+
+io::RobotFile robotFileOfModel(const std::string& path, const std::string& tip, const std::string& base) {
+  if (std::filesystem::path(path).extension() == ".urdf") return io::readUrdf(path, tip, base);  // urdfdom, not MuJoCo
+  const MujocoRobot robot(path, tip, base);
+  io::RobotFile file;
+  file.path = path;
+  file.name = std::filesystem::path(path).stem().string();
+  file.description = "extracted by MuJoCo: chain to '" + tip + "'";
+  file.poe = robot.poeModel();
+  return file;
 }
 
 }  // namespace lowpair::mujoco

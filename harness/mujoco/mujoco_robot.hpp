@@ -103,4 +103,9 @@ class MujocoRobot {
 PoeModel matchingModel(const io::RobotFile& file, const MujocoRobot& robot, const std::string& model_path,
                        const std::string& tip);
 
+/// The chain of a model file to `tip` as a robot file (POE): a URDF read by urdfdom, an MJCF by MuJoCo. The
+/// one reading of `ROBOT --tip NAME` for the command line and the Python module.
+/// @throws io::RobotFileError, std::invalid_argument as readUrdf and MujocoRobot
+io::RobotFile robotFileOfModel(const std::string& path, const std::string& tip, const std::string& base);
+
 }  // namespace lowpair::mujoco

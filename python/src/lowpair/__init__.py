@@ -1,0 +1,23 @@
+"""lowpair: serial-robot POE/D-H kinematics, Jacobians, singularities, identifiability and calibration.
+
+The C++ library and the harness behind the ``lowpair`` command line, as a Python module (docs/python.md).
+Arrays are numpy float64; lengths are in the robot's ``length_unit``, angles in rad. Errors raise
+``lowpair.Error`` (a ValueError) with the one-line message the CLI prints.
+"""
+from ._lowpair import (  # noqa: F401
+    Calibration,
+    DhTable,
+    Error,
+    Identifiability,
+    Robot,
+    Singularity,
+    __version__,
+    _time_batch_fk,
+    calibrate,
+    export,
+    identifiability,
+    load,
+)
+
+__all__ = ["Calibration", "DhTable", "Error", "Identifiability", "Robot", "Singularity", "calibrate", "export",
+           "identifiability", "load"]
