@@ -57,7 +57,7 @@ if(NOT libs)
 endif()
 file(GLOB_RECURSE installed RELATIVE ${prefix} ${prefix}/*)
 foreach(f ${installed})
-  if(NOT f MATCHES "^(${INSTALL_INCLUDEDIR}/lowpair/|${INSTALL_LIBDIR}/(cmake/lowpair/|(lib)?lowpair\\.)|lib/python3[^/]*/(site|dist)-packages/lowpair/)")
+  if(NOT f MATCHES "^(${INSTALL_INCLUDEDIR}/lowpair/|${INSTALL_LIBDIR}/(cmake/lowpair/|(lib)?lowpair\\.)|(local/)?lib/python3[^/]*/(site|dist)-packages/lowpair/)")
     message(FATAL_ERROR "package_consumer: unexpected installed file ${f}")
   endif()
 endforeach()
@@ -91,7 +91,8 @@ step(run ${exe})
 message(STATUS "${step_output}")
 
 # 3b. the Python module, when the build made one: imported from the prefix alone (docs/python.md)
-file(GLOB python_package LIST_DIRECTORIES true ${prefix}/lib/python3*/*-packages/lowpair)
+file(GLOB python_package LIST_DIRECTORIES true ${prefix}/lib/python3*/*-packages/lowpair
+     ${prefix}/local/lib/python3*/*-packages/lowpair)
 if(python_package AND EXISTS /usr/bin/python3)
   get_filename_component(python_site ${python_package} DIRECTORY)
   step(python_import ${CMAKE_COMMAND} -E env PYTHONPATH=${python_site} PYTHONNOUSERSITE=1 /usr/bin/python3 -c
