@@ -48,13 +48,14 @@ bench: configure
 # (float-cast-overflow included, no recovery), the whole test suite except three tests that cannot run
 # under them: package_consumer (the consumer would need the sanitizer runtime at link time),
 # ThreadThatCannotBeCreatedDoesNotAbort and OutOfMemoryIsOneLine (they limit virtual memory, and ASan
-# reserves terabytes). LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their robots
+# reserves terabytes), and two statistical tests of the pose planner (hundreds of calibrations, a minute each
+# under the sanitizers; the planner's code runs under them in the other plan tests). LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their robots
 # (tests/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
 # -O1 and line tables only: file:line in every report, less to compile and link than -O2 -g (not timed apart)
 SAN_OPT := -O1 -gline-tables-only -DNDEBUG
-SAN_SKIP := ^(package_consumer|HostileInput.ThreadThatCannotBeCreatedDoesNotAbort|HostileInput.OutOfMemoryIsOneLine)$$
+SAN_SKIP := ^(package_consumer|HostileInput.ThreadThatCannotBeCreatedDoesNotAbort|HostileInput.OutOfMemoryIsOneLine|PlanCalibration.PlannedFifteenPosesCalibrateBetterThanRandomOnes|PlanExchange.NoSingleSwapImprovesThePlan)$$
 .PHONY: sanitize sanitize-build
 sanitize-build: deps
 	@test -f $(SAN_BUILD)/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) \

@@ -294,8 +294,9 @@ TEST(Sampling, SimulateAndCalibrationCaseDrawTheSamePoses) {
   for (const auto& [name, case_name] : {std::pair{"puma560_okamura_actual.yaml", "tracker"},
                                         std::pair{"stanford_corke_actual.yaml", "tracker-frame"}}) {
     const Scenario scenario = readScenario(std::string(LOWPAIR_SCENARIOS) + "/" + name);
+    const std::string wanted = case_name;  // (clang 14 cannot capture a structured binding)
     const auto found = std::find_if(scenario.calibrations.begin(), scenario.calibrations.end(),
-                                    [&](const CalibrationCase& k) { return k.name == case_name; });
+                                    [&](const CalibrationCase& k) { return k.name == wanted; });
     ASSERT_NE(found, scenario.calibrations.end()) << name << ": no case " << case_name;
     const CalibrationCase& c = *found;
     EXPECT_TRUE(c.frame) << name << ": the " << case_name << " case is measured in a frame of its own";
