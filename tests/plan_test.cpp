@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -75,6 +77,7 @@ struct RobotCase {
 std::vector<RobotCase> robots() {
   std::mt19937_64 rng(2024);
   std::vector<RobotCase> out = {{"puma-like", pumaLike(0.0, true)}, {"stanford-like", stanfordLike()}};
+  if (std::getenv("LOWPAIR_SANITIZE")) return out;  // make sanitize: the two arms (the same code, a tenth of the time)
   for (const std::string types : {"RRRRRR", "RPRRHR", "RRRRR"}) {
     out.push_back({"random " + types, jointMix(types, 300.0, rng)});
   }
