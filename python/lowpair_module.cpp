@@ -932,6 +932,9 @@ PYBIND11_MODULE(_lowpair, m) {
             return names;
           },
           "")
+      .def_property_readonly("estimate", [](const Calibration& c) { return vectorArray(c.report.result.estimate); },
+                             "(p,): every parameter's estimate from the registered nominal, in parameter_names "
+                             "order and units (to_dict()['parameters'][k]['value']).")
       .def_property_readonly("standard_deviation",
                              [](const Calibration& c) { return vectorArray(c.report.result.standard_deviation); },
                              "Per parameter (inf when undetermined).")

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -141,6 +143,35 @@ TEST(RoughEdges, CalibrateJsonFields) {
   }
 }
 
+// Item 14: every parameter's value is in the JSON. The actual robot differs from the nominal only in the
+// offsets of joints 2 and 4; offsets add exactly (CalibrationResult::estimate), so a noise-free fit of the
+// offsets level finds them to the rounding of the fit: its residual ends at about 1e3 eps L (L ~ 1e3 mm:
+// 2e-10 mm) over levers of at least 100 mm, 2e-12 rad; 1e-9 rad leaves room for LM's stopping rule.
+TEST(RoughEdges, CalibrateJsonParameterValues) {
+  std::ifstream in(kNominal);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const auto& [joint, offset] : {std::pair<std::string, std::string>{"{name: j2, type: revolute,", "0.001"},
+                                     {"{name: j4, type: revolute,", "-0.002"}}) {
+    const size_t at = text.find(joint);
+    ASSERT_NE(at, std::string::npos) << joint;
+    text.insert(at + joint.size(), " offset: " + offset + ",");
+  }
+  const std::string actual = writeScratchFile("offsets_actual.yaml", text);
+  const std::string m = scratch() + "/offsets.csv";
+  ASSERT_EQ(runCli("simulate " + shellQuote(actual) + " --poses 30 --seed 8 --out " + shellQuote(m)).status, 0);
+  const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m) +
+                          " --parameters offsets --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  std::map<std::string, double> value;
+  for (const auto& p : j["parameters"]) value[p["name"].get<std::string>()] = p["value"].get<double>();
+  constexpr double kTolerance = 1e-9;  // rad
+  EXPECT_NEAR(value.at("j2.offset"), 0.001, kTolerance);
+  EXPECT_NEAR(value.at("j3.offset"), 0.0, kTolerance);
+  EXPECT_NEAR(value.at("j4.offset"), -0.002, kTolerance);
+  EXPECT_NEAR(value.at("j5.offset"), 0.0, kTolerance);
+}
+
 // Item 16: every bundled scenario validates at least 10,000 random samples.
 TEST(RoughEdges, EveryScenarioHasTenThousandSamples) {
   int scenarios = 0;
@@ -270,6 +301,67 @@ dh:
   }
   digits.erase(0, digits.find_first_not_of('0'));
   EXPECT_EQ(digits.size(), 3u) << line;
+}
+
+// Item 12 (the rest): the calibrated D-H table fits 120 columns; the entries the D-H convention sets (the row
+// placed by a prismatic axis: a = d = 0) print as fixed, not as a rounding-level standard deviation, and are
+// flagged in the JSON.
+TEST(RoughEdges, CalibratedDhTableFitsAndSaysFixed) {
+  const std::string stanford = modelPath("stanford_corke.yaml");  // joint 3 prismatic
+  const std::string m = scratch() + "/stanford.csv";
+  ASSERT_EQ(runCli("simulate " + shellQuote(stanford) + " --poses 40 --seed 2 --noise-position 1e-5 --noise-rotation 1e-5 --out " +
+                   shellQuote(m)).status, 0);
+  const std::string args = "calibrate " + shellQuote(stanford) + " --measurements " + shellQuote(m) +
+                           " --noise-position 1e-5 --noise-rotation 1e-5";
+  const CliRun r = runCli(args);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream lines(r.out.substr(r.out.find("calibrated D-H table")));
+  std::string line;
+  int rows = 0;
+  bool fixed_row = false;
+  while (std::getline(lines, line) && line.rfind("(standard deviations", 0) != 0) {
+    EXPECT_LE(line.size(), 120u) << line;
+    ++rows;
+    // the row placed by joint 3's axis is row 2; in the deviations table its d and a are "fixed"
+    std::istringstream fields(line);
+    std::vector<std::string> f{std::istream_iterator<std::string>(fields), std::istream_iterator<std::string>()};
+    if (f.size() >= 6 && f[0] == "2" && f[3] == "fixed" && f[5] == "fixed") fixed_row = true;
+  }
+  EXPECT_GE(rows, 2 * (1 + 6 + 2));  // two tables: header, base, 6 rows, tool
+  EXPECT_TRUE(fixed_row) << r.out;
+  const CliRun j = runCli(args + " --json");
+  ASSERT_EQ(j.status, 0) << j.err;
+  const auto row2 = nlohmann::json::parse(j.out)["dh"]["joints"][1];
+  EXPECT_EQ(row2["fixed"], nlohmann::json::array({"d", "a"})) << row2.dump();
+  EXPECT_EQ(row2["sd"]["d"], 0.0);
+  EXPECT_EQ(row2["sd"]["a"], 0.0);
+  EXPECT_EQ(row2["d"], 0.0);
+  EXPECT_EQ(row2["a"], 0.0);
+}
+
+// Item 12 (the rest): axes parallel but for an angle a file's rounding makes (the IRB 2400 URDF's tool: 4.9e-12
+// rad) get a note naming --parallel-threshold, with a value that, given back, makes them parallel.
+TEST(RoughEdges, NearlyParallelNotePointsAtTheThreshold) {
+  // joint 2 through (1, 0, 0), its axis turned 3e-9 rad from joint 1's about x
+  const double t = 3e-9;
+  std::ostringstream robot;
+  robot.precision(17);
+  robot << "name: nearly-parallel\nlength_unit: m\npoe:\n  joints:\n"
+        << "    - {type: revolute, twist: [0, 0, 1, 0, 0, 0]}\n"
+        << "    - {type: revolute, twist: [0, " << -std::sin(t) << ", " << std::cos(t) << ", 0, " << -std::cos(t) << ", "
+        << -std::sin(t) << "]}\n"
+        << "  tool: [0, 0, 0, 2, 0, 0]\n";
+  const std::string path = writeScratchFile("nearly_parallel.yaml", robot.str());
+  const CliRun r = runCli("poe2dh " + shellQuote(path));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const size_t note = r.out.find("note: row 1: the axes of joints 1 and 2 are parallel but for 3e-09 rad");
+  ASSERT_NE(note, std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--parallel-threshold 1e-07 makes them parallel", note), std::string::npos) << r.out;
+  const CliRun again = runCli("poe2dh " + shellQuote(path) + " --parallel-threshold 1e-07 --json");
+  ASSERT_EQ(again.status, 0) << again.err;
+  const auto j = nlohmann::json::parse(again.out);
+  EXPECT_TRUE(j["notes"].empty()) << j["notes"].dump();
+  EXPECT_TRUE(j["conditioning"][1]["parallel"].get<bool>()) << j["conditioning"].dump();
 }
 
 }  // namespace

@@ -91,9 +91,6 @@ std::string significant(double x, int digits) {
   return buf;
 }
 
-// "1.2e-05", or "undetermined" for +inf
-std::string deviation(double sd) { return std::isfinite(sd) ? significant(sd, 2) : "undetermined"; }
-
 json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 void appendNumber(std::string& out, double x) {
@@ -134,31 +131,6 @@ std::string qFileText(const PlanReport& r) {
   return s;
 }
 
-json dhJsonOf(const DhUncertainty& dh) {
-  auto row = [](const DhParams& v, const DhParams& sd) {
-    return json{{"theta", v.theta}, {"d", v.d}, {"alpha", v.alpha}, {"a", v.a},
-                {"sd", {{"theta", finiteOrNull(sd.theta)}, {"d", finiteOrNull(sd.d)}, {"alpha", finiteOrNull(sd.alpha)},
-                        {"a", finiteOrNull(sd.a)}}}};
-  };
-  const DhModel& m = dh.conversion.model;
-  json joints = json::array();
-  for (int i = 0; i < m.dof(); ++i) {
-    const auto k = static_cast<size_t>(i);
-    json j = row(m.joint(i).link, dh.links[k]);
-    j["type"] = jointTypeName(m.joint(i).type);
-    if (m.joint(i).type == JointType::Helical) {
-      j["pitch"] = m.joint(i).pitch;
-      j["sd"]["pitch"] = finiteOrNull(dh.pitch[k]);
-    }
-    j["scale"] = m.joint(i).scale;
-    j["sd"]["scale"] = finiteOrNull(dh.scale[k]);
-    joints.push_back(j);
-  }
-  return {{"base", row(m.base(), dh.base)},
-          {"joints", joints},
-          {"tool", {{"theta", m.toolTheta()}, {"d", m.toolD()},
-                    {"sd", {{"theta", finiteOrNull(dh.tool_theta)}, {"d", finiteOrNull(dh.tool_d)}}}}}};
-}
 
 json planJson(const PlanReport& r) {
   const PlanResult& p = r.plan;
@@ -222,40 +194,12 @@ json planJson(const PlanReport& r) {
   o["noise"] = {{"position", c.sigma_position},
                 {"rotation", r.measure == Measure::Pose ? json(c.sigma_rotation) : json(nullptr)},
                 {"source", r.noise_source}};
-  o["standard_deviations"] = {{"parameters", parameters}, {"dh", dhJsonOf(r.expected->dh)}};
+  o["standard_deviations"] = {{"parameters", parameters}, {"dh", dhUncertaintyJson(r.expected->dh)}};
   o["out"] = r.out.empty() ? json(nullptr) : json(r.out);
   o["seconds"] = {{"plan", r.seconds_plan}, {"random", r.seconds_random}, {"uncertainty", r.seconds_uncertainty}};
   return o;
 }
 
-void printDhTable(std::ostream& out, const RobotFile& file, const DhUncertainty& dh) {
-  const std::string u = lengthUnit(file);
-  char line[320];
-  std::snprintf(line, sizeof line, "%-6s %-9s %24s %26s %24s %26s %24s %22s\n", "row", "joint", "theta",
-                ("d (" + u + ")").c_str(), "alpha", ("a (" + u + ")").c_str(), ("pitch (" + u + "/rad)").c_str(), "scale");
-  out << line;
-  auto pm = [](double v, double sd, double factor, int decimals) {
-    return fixed(v * factor, decimals) + " +- " + deviation(sd * factor);
-  };
-  auto row = [&](const std::string& label, const std::string& type, const DhParams& v, const DhParams& sd,
-                 const std::string& pitch, const std::string& scale) {
-    std::snprintf(line, sizeof line, "%-6s %-9s %24s %26s %24s %26s %24s %22s\n", label.c_str(), type.c_str(),
-                  pm(v.theta, sd.theta, kDeg, 4).c_str(), pm(v.d, sd.d, 1.0, 4).c_str(), pm(v.alpha, sd.alpha, kDeg, 4).c_str(),
-                  pm(v.a, sd.a, 1.0, 4).c_str(), pitch.c_str(), scale.c_str());
-    out << line;
-  };
-  const DhModel& m = dh.conversion.model;
-  row("base", "", m.base(), dh.base, "", "");
-  for (int i = 0; i < m.dof(); ++i) {
-    const auto k = static_cast<size_t>(i);
-    const DhJoint& j = m.joint(i);
-    const std::string pitch = j.type == JointType::Helical ? pm(j.pitch, dh.pitch[k], 1.0, 6) : "";
-    row(std::to_string(i + 1), jointTypeName(j.type), j.link, dh.links[k], pitch, pm(j.scale, dh.scale[k], 1.0, 6));
-  }
-  std::snprintf(line, sizeof line, "%-6s %-9s %24s %26s\n", "tool", "", pm(m.toolTheta(), dh.tool_theta, kDeg, 4).c_str(),
-                pm(m.toolD(), dh.tool_d, 1.0, 4).c_str());
-  out << line;
-}
 
 void printPlan(std::ostream& out, const PlanReport& r) {
   const PlanResult& p = r.plan;
@@ -310,8 +254,8 @@ void printPlan(std::ostream& out, const PlanReport& r) {
   out << "\nexpected standard deviations after calibrating on the plan, noise " << significant(c.sigma_position, 3) << " "
       << u << " per coordinate";
   if (r.measure == Measure::Pose) out << ", " << significant(c.sigma_rotation, 3) << " rad per axis";
-  out << " (" << r.noise_source << ")\nD-H table of the nominal (value +- standard deviation; angles in deg):\n";
-  printDhTable(out, r.file, r.expected->dh);
+  out << " (" << r.noise_source << ")\nD-H table of the nominal:\n";
+  printDhWithDeviations(out, r.file, r.expected->dh, "its expected standard deviations");
   out << "(standard deviations: the parameter covariance of a calibration on these poses at this noise, propagated "
          "through the D-H conversion; they grow without bound as consecutive axes become parallel, docs/plan.md)\n";
 

@@ -106,6 +106,28 @@ std::vector<std::string> conversionWarnings(const DhConversion& c, const FkCheck
   return warnings;
 }
 
+std::vector<std::string> conversionNotes(const DhConversion& c) {
+  std::vector<std::string> notes;
+  for (const DhRowReport& r : c.rows) {
+    if (r.parallel || !(r.axis_angle > 0.0 && r.axis_angle <= kNearlyParallelNote)) continue;
+    const int n = c.model.dof();
+    const std::string lines = r.row == 0 ? "the base z and joint 1's axis"
+                              : r.row == n ? "joint " + std::to_string(n) + "'s axis and the tool z"
+                                           : "the axes of joints " + std::to_string(r.row) + " and " + std::to_string(r.row + 1);
+    // a threshold ten times the angle's sine, rounded up to a power of ten
+    const double suggested = std::pow(10.0, std::ceil(std::log10(10.0 * std::sin(r.axis_angle))));
+    std::ostringstream msg;
+    msg.precision(2);
+    msg << (r.row == 0 ? std::string("base row") : "row " + std::to_string(r.row)) << ": " << lines << " are parallel but for "
+        << r.axis_angle << " rad (above the threshold " << c.parallel_threshold
+        << "), so the row's theta and d are ill-conditioned; if they are parallel by design and a rounded angle in the file "
+           "(1.5708 for pi/2) tilts them, --parallel-threshold "
+        << suggested << " makes them parallel";
+    notes.push_back(msg.str());
+  }
+  return notes;
+}
+
 json dhJson(const RobotFile& file, const DhConversion& c, const FkCheck& check) {
   json j = headerJson(file, c.size);
   j["convention"] = "standard";
@@ -124,6 +146,7 @@ json dhJson(const RobotFile& file, const DhConversion& c, const FkCheck& check) 
   j["conditioning"] = conditioningJson(c);
   j["fk_check"] = fkCheckJson(check);
   j["warnings"] = conversionWarnings(c, check);
+  j["notes"] = conversionNotes(c);
   return j;
 }
 
@@ -144,6 +167,7 @@ json modifiedDhJson(const RobotFile& file, const DhConversion& c, const FkCheck&
   j["conditioning"] = conditioningJson(c);
   j["fk_check"] = fkCheckJson(check);
   j["warnings"] = conversionWarnings(c, check);
+  j["notes"] = conversionNotes(c);
   return j;
 }
 
@@ -165,19 +189,18 @@ json poeJson(const RobotFile& file, const PoeModel& model) {
   return j;
 }
 
-namespace {
-// Decimals that resolve a length to about 1e-6 L (lengths are known to rounding, far better: the table
-// shows what a controller's D-H entries need) and an angle to 1e-6 deg.
-int lengthDecimals(double L) {
+int dhLengthDecimals(double L) {
   const double resolution = 1e-6 * (L > 0 && std::isfinite(L) ? L : 1.0);
   return std::clamp(static_cast<int>(std::ceil(-std::log10(resolution) - 1e-9)), 0, 12);
 }
-constexpr int kAngleDecimals = 6;
+
+namespace {
 
 void printWarnings(std::ostream& out, const DhConversion& c, const FkCheck& check) {
   out << "FK check: POE vs D-H over " << check.samples << " configurations: max rotation "
       << fixed(check.max_rotation, 2) << " rad, max translation " << fixed(check.max_translation, 2) << "\n";
   for (const auto& w : conversionWarnings(c, check)) out << "warning: " << w << "\n";
+  for (const auto& note : conversionNotes(c)) out << "note: " << note << "\n";
 }
 
 std::string pitchUnit(const RobotFile& file) { return unitOr(file) + "/" + file.angle_unit; }
@@ -188,9 +211,9 @@ void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c, co
   out << robotLabel(file) << ": standard D-H (Wu et al. eq. 10), L = " << fixed(c.size)
       << " " << u << "\n";
   out << "H = A(base) * prod_i [Q_i(scale_i q_i) * A(row i)] * Rz(theta_T) Tz(d_T),  A = Rz(theta) Tz(d) Rx(alpha) Tx(a)\n\n";
-  const int ld = lengthDecimals(c.size);
+  const int ld = dhLengthDecimals(c.size);
   const auto len = [ld](double x) { return fixed(x, ld); };
-  const auto deg = [](double x) { return fixed(x * kDeg, kAngleDecimals); };
+  const auto deg = [](double x) { return fixed(x * kDeg, kDhAngleDecimals); };
   char line[256];
   std::snprintf(line, sizeof line, "%-6s %-9s %-9s %14s %16s %14s %16s %14s %12s\n", "row", "frames", "joint",
                 "theta(deg)", ("d(" + u + ")").c_str(), "alpha(deg)", ("a(" + u + ")").c_str(),
@@ -228,9 +251,9 @@ void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversio
       << "\n";
   out << "H = Rz(theta_B) Tz(d_B) * prod_i [Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + q) Tz(d_i)] * Rx(alpha_n) Tx(a_n) "
          "Rz(theta_T) Tz(d_T)\n\n";
-  const int ld = lengthDecimals(c.size);
+  const int ld = dhLengthDecimals(c.size);
   const auto len = [ld](double x) { return fixed(x, ld); };
-  const auto deg = [](double x) { return fixed(x * kDeg, kAngleDecimals); };
+  const auto deg = [](double x) { return fixed(x * kDeg, kDhAngleDecimals); };
   char line[256];
   std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s\n", "row", "joint", "alpha(deg)",
                 ("a(" + u + ")").c_str(), "theta(deg)", ("d(" + u + ")").c_str(),

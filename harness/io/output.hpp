@@ -31,6 +31,13 @@ void printPose(std::ostream& out, const Pose& T, const std::string& length_unit)
 /// ill-conditioned row, one for an ill-conditioned tool, one for a parallel threshold above rounding level
 /// (with the deviation `check` measured).
 std::vector<std::string> conversionWarnings(const DhConversion& conversion, const FkCheck& check);
+/// Rows whose lines meet at a positive angle up to this (rad) get a note (conversionNotes): such a pair is
+/// parallel by design far more often than not, tilted by an angle a file rounds (1.5708 for pi/2 is 3.7e-6
+/// rad off), and the row's theta and d are then ill-conditioned. Tilts a calibration finds are larger (1e-4
+/// rad and up).
+constexpr double kNearlyParallelNote = 1e-5;
+/// One sentence per such row, pointing at `--parallel-threshold` with a value that makes the pair parallel.
+std::vector<std::string> conversionNotes(const DhConversion& conversion);
 
 /// The robot's name, or its file when it has none.
 std::string robotLabel(const RobotFile& file);
@@ -43,5 +50,10 @@ std::string shortest(double x);
 
 /// "12.3456" for moderate magnitudes, "1.2346e+07" beyond; never "-0.0000".
 std::string fixed(double x, int decimals = 4);
+
+/// Decimals of a D-H table's lengths, about 1e-6 L (the table shows what a controller's D-H entries need;
+/// the numbers are known to rounding, far better), and of its angles in degrees, 1e-6 deg.
+int dhLengthDecimals(double L);
+constexpr int kDhAngleDecimals = 6;
 
 }  // namespace lowpair::io

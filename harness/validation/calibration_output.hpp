@@ -71,6 +71,14 @@ CalibrationReport makeCalibrationReport(io::RobotFile nominal, io::MeasurementFi
 nlohmann::json identifiabilityJson(const io::RobotFile& file, const Identifiability& id);
 void printIdentifiability(std::ostream& out, const Identifiability& id);
 
+/// A D-H table with standard deviations (a calibration's, or a plan's expected ones): the values as
+/// `poe2dh` prints them (lengths to about 1e-6 L, angles to 1e-6 deg), then the standard deviations in the
+/// same shape under `deviations_title` ("fixed" where the D-H convention sets the entry); 108 columns.
+void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const DhUncertainty& dh,
+                           const std::string& deviations_title);
+/// The same as JSON: base, joints, tool, each value with `sd` (null = undetermined) and `fixed`.
+nlohmann::json dhUncertaintyJson(const DhUncertainty& dh);
+
 nlohmann::json calibrationJson(const CalibrationReport& report);
 void printCalibration(std::ostream& out, const CalibrationReport& report);
 /// The `#` lines of a calibrated robot file: where it came from and how well it fits.

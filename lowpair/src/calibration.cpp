@@ -1,6 +1,6 @@
 #include "lowpair/calibration.hpp"
+#include "linalg.hpp"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -912,6 +912,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   constexpr double kMuStart = 1e-6, kMuMin = 1e-12, kMuMax = 1e16, kMuStep = 10.0;
   constexpr double kRelativeDecrease = 1e-10;  // converged when an undamped step gains less than this
   int iterations = 0;
+  VecX estimate = VecX::Zero(n);
   auto fit = [&]() {  // one Levenberg-Marquardt run at the current robust weights; true when converged
     double mu = kMuStart;
     for (int pass = 0; pass < options.max_iterations; ++pass) {
@@ -936,8 +937,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
         double cost_new = kInf;
         std::optional<PoeModel> candidate;
         std::vector<Vec3> targets;
+        const VecX step = basis * y;
         try {
-          const VecX step = basis * y;
           candidate.emplace(em.apply(step));
           targets = em.applyTargets(step);
           cost_new = residual(*candidate, targets, measurements, measure, w, robust, r_new);
@@ -950,6 +951,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
           cost = cost_new;
           r = std::move(r_new);
           em = em.rebased(*candidate, targets);
+          estimate += step;
           mu /= kMuStep * kMuStep;  // the loop's increment follows: net one step down
         }
       }
@@ -1079,7 +1081,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
                         outliers,
                         false,
                         {},
-                        options.outlier_threshold};
+                        options.outlier_threshold,
+                        estimate};
 
   // the verdict
   std::ostringstream why;
@@ -1225,7 +1228,7 @@ VecX dhDifference(const VecX& a, const VecX& b, const std::vector<bool>& angle) 
 
 DhUncertainty dhUncertainty(const CalibrationResult& result) {
   const ErrorModel& em = result.error_model;
-  DhUncertainty out{poeToDh(result.model), {}, {}, {}, {}, 0.0, 0.0};
+  DhUncertainty out{poeToDh(result.model), {}, {}, {}, {}, 0.0, 0.0, {}, {}};
   std::vector<bool> angle;
   const VecX center = dhNumbers(out.conversion.model, &angle);
   const int n = result.model.dof();
@@ -1302,6 +1305,28 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
   }
   out.tool_theta = sd[k++];
   out.tool_d = sd[k++];
+  // a row placed by a prismatic axis (the base for joint 1, link_{i-1} for joint i) has a = d = 0 by the
+  // conversion's convention; an offset of joint i-1 folds into that row's d when joint i-1 slides
+  // (prismatic, helical) and is nonzero or fitted
+  out.links_fixed.resize(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    if (result.model.joint(i).type != JointType::Prismatic) continue;
+    DhUncertainty::Fixed& fixed = i == 0 ? out.base_fixed : out.links_fixed[static_cast<size_t>(i - 1)];
+    DhParams& deviation = i == 0 ? out.base : out.links[static_cast<size_t>(i - 1)];
+    fixed.a = true;
+    deviation.a = 0.0;
+    bool offset_moves_d = false;
+    if (i > 0 && result.model.joint(i - 1).type != JointType::Revolute) {
+      offset_moves_d = result.model.joint(i - 1).offset != 0.0 ||
+                       std::any_of(em.parameters().begin(), em.parameters().end(), [&](const Parameter& p) {
+                         return p.kind == ParameterKind::Offset && p.joint == i - 1;
+                       });
+    }
+    if (!offset_moves_d) {
+      fixed.d = true;
+      deviation.d = 0.0;
+    }
+  }
   return out;
 }
 

@@ -1,12 +1,11 @@
 #include "lowpair/ik.hpp"
+#include "linalg.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 
-#include <Eigen/Cholesky>
-#include <Eigen/SVD>
 
 #include "lowpair/check.hpp"
 #include "lowpair/jacobian.hpp"
@@ -18,7 +17,7 @@ namespace lowpair {
 namespace {
 
 // at most 6 x 6, on the stack: the normal matrices, the QR factor and its SVD never allocate
-using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+using linalg::Small;
 using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
 int taskRows(Measure measure) { return measure == Measure::Pose ? 6 : 3; }

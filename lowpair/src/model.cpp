@@ -1,9 +1,9 @@
 #include "lowpair/model.hpp"
+#include "linalg.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/SVD>
 
 #include "lowpair/check.hpp"
 #include "lowpair/se3.hpp"

@@ -1,7 +1,6 @@
 #include "lowpair/plan.hpp"
+#include "linalg.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -15,7 +14,6 @@ namespace lowpair {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // a direction's coefficient above which it is named (RankAnalysis::undetermined)
 constexpr double kNamedCoefficient = 0.1;
 

@@ -1,13 +1,11 @@
 #include "lowpair/singularity.hpp"
+#include "linalg.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/QR>
-#include <Eigen/SVD>
 
 #include "lowpair/check.hpp"
 #include "lowpair/jacobian.hpp"

@@ -332,6 +332,11 @@ struct CalibrationResult {
   bool accepted = false;
   std::string reason;
   double outlier_threshold = 5.0;  ///< CalibrationOptions::outlier_threshold
+  /// The estimate of every parameter (`error_model.parameters()` order and units): the sum of the accepted
+  /// steps from the registered nominal (`before`): exact for offsets, scales, pitches and targets' points;
+  /// to first order for the twists and the tool (the model moves by one `exp` per step, and composed
+  /// exponentials add only to first order). With `standard_deviation` it is the parameter table of a fit.
+  VecX estimate;
 };
 
 /// Levenberg–Marquardt in the error model's coordinates (directions fixed at the nominal, re-centred at
@@ -371,13 +376,21 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
 /// wrapped; a row whose `a` changes sign is compared on the central table's branch, `(theta - pi, d, -alpha,
 /// -a)` with pi moved to the next theta). A D-H number that moves along an undetermined direction is +inf.
 /// No standard deviation is below the number's rounding, `eps max(|value|, unit)` (unit: L for lengths and
-/// pitches, 1 for angles and scales): a noise-free fit gives that floor, never an exact 0.
+/// pitches, 1 for angles and scales): a noise-free fit gives that floor, never an exact 0. An entry the
+/// conversion fixes by convention has standard deviation 0 and its flag set: a row placed by a prismatic
+/// joint's axis has `a = 0` and `d = 0` (docs/conversion.md; `d` only while no offset of the joint before
+/// it, prismatic or helical, moves it).
 struct DhUncertainty {
   DhConversion conversion;              ///< of the calibrated model
   DhParams base;                        ///< standard deviations
   std::vector<DhParams> links;          ///< per joint
   std::vector<double> pitch, scale;     ///< per joint (pitch 0 for non-helical)
   double tool_theta = 0.0, tool_d = 0.0;
+  struct Fixed {
+    bool d = false, a = false;
+  };
+  Fixed base_fixed;                 ///< set by the D-H convention, not measured (standard deviation 0)
+  std::vector<Fixed> links_fixed;   ///< per joint's row
 };
 
 DhUncertainty dhUncertainty(const CalibrationResult& result);
