@@ -36,7 +36,7 @@ TEST(ConversionProperty, TenThousandRandomRobots) {
   std::map<std::string, Worst> by_category;
   Worst dh_roundtrip, modified, tool_form, local_form;
   int robots = 0, samples = 0;
-  for (int r = 0; r < 10000; ++r) {
+  for (int r = 0; r < lowpair_test::robotCount(10000); ++r) {  // (1,000 under the sanitizers)
     const RandomRobot robot = randomRobot(rng);
     const PoeModel& poe = robot.model;
     const DhConversion c = poeToDh(poe);

@@ -57,10 +57,12 @@ inline Vec3 tilted(const Vec3& u, double angle, std::mt19937_64& rng) {
   return expSO3(angle * perp) * u;
 }
 
-// How many random robots a property test runs: `full`, or a tenth of it (at least 50) under the sanitizer
-// build (`make sanitize` sets LOWPAIR_SANITIZE), where each robot costs 10-40 times as much.
+// The sanitizer build's test run (`make sanitize` sets LOWPAIR_SANITIZE), where each computation costs 10-40
+// times as much: statistical and property tests run the same code on fewer cases there.
+inline bool sanitized() { return std::getenv("LOWPAIR_SANITIZE") != nullptr; }
+// How many random robots a property test runs: `full`, or a tenth of it (at least 50) under the sanitizers.
 inline int robotCount(int full) {
-  return std::getenv("LOWPAIR_SANITIZE") ? std::max(50, full / 10) : full;
+  return sanitized() ? std::max(50, full / 10) : full;
 }
 
 inline RandomRobot randomRobot(std::mt19937_64& rng) {
