@@ -12,6 +12,7 @@
 #include "lowpair/calibration.hpp"
 #include "lowpair/ik.hpp"
 #include "lowpair/kinematics.hpp"
+#include "registration.hpp"
 #include "robots_lowpair.hpp"
 
 namespace lowpair_bench {
@@ -70,7 +71,7 @@ bool checked(benchmark::State& state, const PoeModel& model, const IkPool& pool,
 
 void ikBench(benchmark::State& state, RobotId id, Measure measure, bool check_singularity) {
   const PoeModel& model = robotModels(id).poe;
-  static std::vector<IkPool> pools(3);
+  static std::vector<IkPool> pools(kRobotIds);
   IkPool& pool = pools[static_cast<size_t>(id)];
   if (pool.q.empty()) pool = ikPool(id);
   IkOptions o;
@@ -123,21 +124,18 @@ void compensateBench(benchmark::State& state) {
   state.counters["ok"] = static_cast<double>(ok) / kPool;
 }
 
-// (not robotCase(id).name: registration runs before main, the robots are loaded on first use)
-const char* ikName(RobotId id) { return id == RobotId::Puma560 ? "Puma560" : id == RobotId::Stanford ? "Stanford" : "Panda"; }
-
 const bool registered = [] {
   using benchmark::RegisterBenchmark;
-  for (RobotId id : kRobots) {
-    const std::string n = ikName(id);
-    RegisterBenchmark(("BM_Ik_Pose_" + n).c_str(), ikBench, id, Measure::Pose, true);
-    RegisterBenchmark(("BM_Ik_Position_" + n).c_str(), ikBench, id, Measure::Position, true);
-  }
   RegisterBenchmark("BM_Ik_PoseNoSingularityCheck_Puma560", ikBench, RobotId::Puma560, Measure::Pose, false);
   RegisterBenchmark("BM_Compensate_Pose_Puma560", compensateBench);
   return true;
 }();
 
 }  // namespace
+
+void registerIkBenchmarks(RobotId id, const std::string& name) {
+  benchmark::RegisterBenchmark(("BM_Ik_Pose_" + name).c_str(), ikBench, id, Measure::Pose, true);
+  benchmark::RegisterBenchmark(("BM_Ik_Position_" + name).c_str(), ikBench, id, Measure::Position, true);
+}
 
 }  // namespace lowpair_bench

@@ -1,6 +1,7 @@
 // KDL peers: ChainFkSolverPos_recursive and ChainJntToJacSolver on chains built from the robots' D-H
-// tables (standard for PUMA/Stanford, modified for Panda). Compiled with EIGEN_MAX_ALIGN_BYTES=16 into
-// a shared library with hidden visibility: no Eigen code is shared with the rest of the benchmark.
+// tables (standard for a D-H robot file: PUMA, Stanford; modified for a POE one: Panda). Compiled with
+// EIGEN_MAX_ALIGN_BYTES=16 into a shared library with hidden visibility: no Eigen code is shared with the
+// rest of the benchmark.
 #include <benchmark/benchmark.h>
 
 #include <kdl/chain.hpp>
@@ -70,13 +71,16 @@ struct KdlFixture {
       jac_solver.JntToJac(q, jac);
       std::unique_ptr<double[]> J(new double[6 * static_cast<size_t>(n)]);
       for (int a = 0; a < 6; ++a) {
-        for (int b = 0; b < n; ++b) J[static_cast<size_t>(a * n + b)] = jac(static_cast<unsigned>(a), static_cast<unsigned>(b));
+        for (int b = 0; b < n; ++b) {  // d/dx -> d/dq
+          const double dx = jac(static_cast<unsigned>(a), static_cast<unsigned>(b));
+          J[static_cast<size_t>(a * n + b)] = dx * r.scale_kdl[static_cast<size_t>(b)];
+        }
       }
       jac_error = std::max(jac_error, jacobianMismatch(r, k, J.get()));
     }
   }
   void load(int k) {
-    const double* src = &r.q[static_cast<size_t>(k * r.dof)];
+    const double* src = &r.x_kdl[static_cast<size_t>(k * r.dof)];
     for (int i = 0; i < r.dof; ++i) q(static_cast<unsigned>(i)) = src[i];
   }
   const RobotCase& r;
@@ -89,7 +93,7 @@ struct KdlFixture {
 };
 
 KdlFixture& fixture(RobotCaseGetter get, RobotId id) {
-  static std::unique_ptr<KdlFixture> cache[3];
+  static std::unique_ptr<KdlFixture> cache[kRobotIds];
   auto& slot = cache[static_cast<int>(id)];
   if (!slot) slot.reset(new KdlFixture(get(id)));
   return *slot;
@@ -103,34 +107,31 @@ bool rejected(benchmark::State& state, double error, const char* what) {
 
 }  // namespace
 
-void registerKdlBenchmarks(RobotCaseGetter get) {
-  for (RobotId id : kRobots) {
-    const std::string name = id == RobotId::Puma560 ? "Puma560" : id == RobotId::Stanford ? "Stanford" : "Panda";
-    benchmark::RegisterBenchmark(("BM_Fk_Kdl_" + name).c_str(), [get, id](benchmark::State& state) {
-      KdlFixture& f = fixture(get, id);
-      if (rejected(state, f.fk_error, "KDL FK")) return;
-      KDL::Frame F;
-      int k = 0;
-      for (auto _ : state) {
-        f.load(k);
-        f.fk.JntToCart(f.q, F);
-        benchmark::DoNotOptimize(F);
-        k = (k + 1) & (kPool - 1);
-      }
-    });
-    benchmark::RegisterBenchmark(("BM_Jacobian_Kdl_" + name).c_str(), [get, id](benchmark::State& state) {
-      KdlFixture& f = fixture(get, id);
-      if (rejected(state, f.jac_error, "KDL Jacobian")) return;
-      int k = 0;
-      for (auto _ : state) {
-        f.load(k);
-        f.jac_solver.JntToJac(f.q, f.jac);
-        benchmark::DoNotOptimize(f.jac.data.data());
-        benchmark::ClobberMemory();
-        k = (k + 1) & (kPool - 1);
-      }
-    });
-  }
+void registerKdlBenchmarks(RobotCaseGetter get, RobotId id, const std::string& name) {
+  benchmark::RegisterBenchmark(("BM_Fk_Kdl_" + name).c_str(), [get, id](benchmark::State& state) {
+    KdlFixture& f = fixture(get, id);
+    if (rejected(state, f.fk_error, "KDL FK")) return;
+    KDL::Frame F;
+    int k = 0;
+    for (auto _ : state) {
+      f.load(k);
+      f.fk.JntToCart(f.q, F);
+      benchmark::DoNotOptimize(F);
+      k = (k + 1) & (kPool - 1);
+    }
+  });
+  benchmark::RegisterBenchmark(("BM_Jacobian_Kdl_" + name).c_str(), [get, id](benchmark::State& state) {
+    KdlFixture& f = fixture(get, id);
+    if (rejected(state, f.jac_error, "KDL Jacobian")) return;
+    int k = 0;
+    for (auto _ : state) {
+      f.load(k);
+      f.jac_solver.JntToJac(f.q, f.jac);
+      benchmark::DoNotOptimize(f.jac.data.data());
+      benchmark::ClobberMemory();
+      k = (k + 1) & (kPool - 1);
+    }
+  });
 }
 
 void runKdlCalls(RobotCaseGetter get, RobotId id, bool jacobian, int calls, void (*start)(), void (*stop)()) {

@@ -14,9 +14,10 @@
 #include "helper_thread.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
-#include "se3_variants.hpp"
-#include "robots_lowpair.hpp"
 #include "lowpair/jacobian.hpp"
+#include "registration.hpp"
+#include "robots_lowpair.hpp"
+#include "se3_variants.hpp"
 
 namespace lowpair_bench {
 
@@ -130,7 +131,31 @@ void jacobianSpatial(benchmark::State& state, RobotId id) {
   }
 }
 
-// ---- batched FK (PUMA 560): 1024 configurations per call, reported per pose --------------------------
+void jacobianBody(benchmark::State& state, RobotId id) {
+  const RobotCase& r = robotCase(id);
+  const PoeModel& model = robotModels(id).poe;
+  Data data(model);
+  Mat6X J(6, r.dof);
+  Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jg(6, r.dof);
+  double err = 0.0;
+  for (int k = 0; k < kPool; ++k) {
+    computeJacobians(model, data, qOf(r, k)); getBodyJacobian(data, J);
+    // body [w_b; v_b] (tool frame) -> geometric [R v_b; R w_b] for the comparison
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(&r.pose[static_cast<size_t>(k) * 12]);
+    for (int i = 0; i < r.dof; ++i) Jg.col(i) << R * J.col(i).tail<3>(), R * J.col(i).head<3>();
+    err = std::max(err, jacobianMismatch(r, k, Jg.data()));
+  }
+  if (rejected(state, err, "body Jacobian")) return;
+  int k = 0;
+  for (auto _ : state) {
+    computeJacobians(model, data, qOf(r, k)); getBodyJacobian(data, J);
+    benchmark::DoNotOptimize(J.data());
+    benchmark::ClobberMemory();
+    k = (k + 1) & (kPool - 1);
+  }
+}
+
+// ---- batched FK: 1024 configurations per call, reported per pose ---------------------------------------
 
 struct Batch {
   explicit Batch(const RobotCase& robot) : r(robot), q(kPool, r.dof), out(kPool, 12) {
@@ -177,8 +202,7 @@ struct TwoThreadJob {
 
 enum class BatchImpl { Scalar, Soa, SoaDh, SoaThreads2 };
 
-void fkBatch(benchmark::State& state, BatchImpl impl) {
-  const RobotId id = RobotId::Puma560;
+void fkBatch(benchmark::State& state, RobotId id, BatchImpl impl) {
   const PoeModel& model = robotModels(id).poe;
   const DhModel& dh = robotModels(id).dh;
   Data data(model);
@@ -245,10 +269,6 @@ Pose expEigen(const Vec6& xi) {
 
 // ---- registration --------------------------------------------------------------------------------------
 
-const char* nameOf(RobotId id) {
-  return id == RobotId::Puma560 ? "Puma560" : id == RobotId::Stanford ? "Stanford" : "Panda";
-}
-
 const bool registered = [] {
   using benchmark::RegisterBenchmark;
   RegisterBenchmark("BM_Exp_Rodrigues", [](benchmark::State& s) { expBench(s, [](const Vec6& xi) { return expSE3(xi); }); });
@@ -256,20 +276,26 @@ const bool registered = [] {
   RegisterBenchmark("BM_Exp_Quaternion",
                     [](benchmark::State& s) { expBench(s, [](const Vec6& xi) { return expSE3Quaternion(xi); }); });
   RegisterBenchmark("BM_Exp_EigenMatrixExp", [](benchmark::State& s) { expBench(s, expEigen); });
-  for (RobotId id : kRobots) {
-    const std::string n = nameOf(id);
-    RegisterBenchmark(("BM_Fk_Poe_" + n).c_str(), fkPoe, id);
-    RegisterBenchmark(("BM_Fk_Dh_" + n).c_str(), fkDh, id);
-    RegisterBenchmark(("BM_Jacobian_Spatial_" + n).c_str(), jacobianSpatial, id);
-    RegisterBenchmark(("BM_Jacobian_Geometric_" + n).c_str(), jacobianGeometric, id);
-  }
-  RegisterBenchmark("BM_FkBatch_Scalar_Puma560", fkBatch, BatchImpl::Scalar);
-  RegisterBenchmark("BM_FkBatch_Soa_Puma560", fkBatch, BatchImpl::Soa);
-  RegisterBenchmark("BM_FkBatch_SoaDh_Puma560", fkBatch, BatchImpl::SoaDh);
-  RegisterBenchmark("BM_FkBatch_SoaThreads2_Puma560", fkBatch, BatchImpl::SoaThreads2)->UseRealTime();
   return true;
 }();
 
 }  // namespace
+
+void registerKinematicsBenchmarks(RobotId id, const std::string& name) {
+  using benchmark::RegisterBenchmark;
+  RegisterBenchmark(("BM_Fk_Poe_" + name).c_str(), fkPoe, id);
+  RegisterBenchmark(("BM_Fk_Dh_" + name).c_str(), fkDh, id);
+  RegisterBenchmark(("BM_Jacobian_Spatial_" + name).c_str(), jacobianSpatial, id);
+  RegisterBenchmark(("BM_Jacobian_Body_" + name).c_str(), jacobianBody, id);
+  RegisterBenchmark(("BM_Jacobian_Geometric_" + name).c_str(), jacobianGeometric, id);
+}
+
+void registerBatchBenchmarks(RobotId id, const std::string& name) {
+  using benchmark::RegisterBenchmark;
+  RegisterBenchmark(("BM_FkBatch_Scalar_" + name).c_str(), fkBatch, id, BatchImpl::Scalar);
+  RegisterBenchmark(("BM_FkBatch_Soa_" + name).c_str(), fkBatch, id, BatchImpl::Soa);
+  RegisterBenchmark(("BM_FkBatch_SoaDh_" + name).c_str(), fkBatch, id, BatchImpl::SoaDh);
+  RegisterBenchmark(("BM_FkBatch_SoaThreads2_" + name).c_str(), fkBatch, id, BatchImpl::SoaThreads2)->UseRealTime();
+}
 
 }  // namespace lowpair_bench

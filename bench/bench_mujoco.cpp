@@ -1,13 +1,17 @@
 // MuJoCo peers: mj_kinematics (FK) and mj_kinematics + mj_comPos + mj_jacSite (Jacobian) on the robots'
-// MJCF files, site "tool". qpos = qpos0 + q (design.md "MuJoCo facts"; scales are 1 for these robots).
+// MJCF files, site "tool". qpos = qpos0 + x, x = scale (q + offset) of the robot file's POE joints (design.md
+// "MuJoCo facts", harness/validation: the same map `lowpair validate` uses).
 #include <benchmark/benchmark.h>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "registration.hpp"
 #include "robots.hpp"
 
 namespace lowpair_bench {
@@ -28,7 +32,11 @@ struct MujocoFixture {
     if (!m) throw std::runtime_error(r.mjcf + ": " + error);
     d.reset(mj_makeData(m.get()));
     site = mj_name2id(m.get(), mjOBJ_SITE, "tool");
-    if (site < 0 || m->njnt != r.dof || m->nv != r.dof) throw std::runtime_error(r.mjcf + ": unexpected model");
+    if (site < 0) throw std::runtime_error(r.mjcf + ": no site named tool");
+    if (m->njnt != r.dof || m->nv != r.dof) {
+      throw std::runtime_error(r.mjcf + ": " + std::to_string(m->njnt) + " joints, the robot file " + std::to_string(r.dof) +
+                               " (the MuJoCo benchmarks take one hinge or slide per joint, no coupled pairs)");
+    }
     jacp.resize(static_cast<size_t>(3 * m->nv));
     jacr.resize(static_cast<size_t>(3 * m->nv));
     std::vector<double> J(static_cast<size_t>(6 * r.dof));
@@ -43,14 +51,17 @@ struct MujocoFixture {
       mj_jacSite(m.get(), d.get(), jacp.data(), jacr.data(), site);
       std::copy(jacp.begin(), jacp.end(), J.begin());
       std::copy(jacr.begin(), jacr.end(), J.begin() + 3 * r.dof);
+      for (int e = 0; e < 6 * r.dof; ++e) {  // d/dx -> d/dq
+        J[static_cast<size_t>(e)] *= r.scale_mujoco[static_cast<size_t>(e % r.dof)];
+      }
       jac_error = std::max(jac_error, jacobianMismatch(r, k, J.data()));
     }
   }
   void load(int k) {
-    const double* q = &r.q[static_cast<size_t>(k * r.dof)];
+    const double* x = &r.x_mujoco[static_cast<size_t>(k * r.dof)];
     for (int i = 0; i < r.dof; ++i) {
       const int adr = m->jnt_qposadr[i];
-      d->qpos[adr] = m->qpos0[adr] + q[i];
+      d->qpos[adr] = m->qpos0[adr] + x[i];
     }
   }
   const RobotCase& r;
@@ -62,7 +73,7 @@ struct MujocoFixture {
 };
 
 MujocoFixture& fixture(RobotId id) {
-  static std::unique_ptr<MujocoFixture> cache[3];
+  static std::unique_ptr<MujocoFixture> cache[kRobotIds];
   auto& slot = cache[static_cast<int>(id)];
   if (!slot) slot.reset(new MujocoFixture(robotCase(id)));
   return *slot;
@@ -102,15 +113,27 @@ void jacobianMujoco(benchmark::State& state, RobotId id) {
   }
 }
 
-const bool registered = [] {
-  for (RobotId id : kRobots) {
-    const std::string n = id == RobotId::Puma560 ? "Puma560" : id == RobotId::Stanford ? "Stanford" : "Panda";
-    benchmark::RegisterBenchmark(("BM_Fk_Mujoco_" + n).c_str(), fkMujoco, id);
-    benchmark::RegisterBenchmark(("BM_Jacobian_Mujoco_" + n).c_str(), jacobianMujoco, id);
-  }
-  return true;
-}();
-
 }  // namespace
+
+std::string registerMujocoBenchmarks(RobotId id, const std::string& name) {
+  if (id == RobotId::User) {
+    const RobotCase& r = robotCase(id);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(r.mjcf, ec)) return "no " + r.mjcf + " (the robot as MJCF, with a site named tool)";
+    try {
+      const MujocoFixture& f = fixture(id);
+      const double error = std::max(f.fk_error, f.jac_error);
+      if (error > kAgree) {
+        return r.mjcf + ": disagrees with the robot file by " + std::to_string(error) +
+               " x size (FK or Jacobian at site tool, qpos = qpos0 + x; the same units?)";
+      }
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+  }
+  benchmark::RegisterBenchmark(("BM_Fk_Mujoco_" + name).c_str(), fkMujoco, id);
+  benchmark::RegisterBenchmark(("BM_Jacobian_Mujoco_" + name).c_str(), jacobianMujoco, id);
+  return "";
+}
 
 }  // namespace lowpair_bench

@@ -83,13 +83,9 @@ void planTotalBench(benchmark::State& state, RobotId id) {
   }
 }
 
-const char* nameOf(RobotId id) {
-  return id == RobotId::Puma560 ? "Puma560" : id == RobotId::Stanford ? "Stanford" : "Panda";
-}
-
 const bool registered = [] {
   for (const RobotId id : {RobotId::Puma560, RobotId::Panda}) {
-    const std::string n = nameOf(id);
+    const std::string n = bundledName(id);
     benchmark::RegisterBenchmark(("BM_Plan_Candidates_" + n).c_str(), planCandidatesBench, id)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("BM_Plan_Poses_" + n).c_str(), planPosesBench, id)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("BM_Plan_Total_" + n).c_str(), planTotalBench, id)->Unit(benchmark::kMillisecond);

@@ -46,8 +46,8 @@ int runMujoco(const RobotCase& r, bool jacobian, int calls) {
   std::vector<double> jacp(static_cast<size_t>(3 * m->nv)), jacr(static_cast<size_t>(3 * m->nv));
   start();
   for (int c = 0; c < calls; ++c) {
-    const double* q = &r.q[static_cast<size_t>((c & (kPool - 1)) * r.dof)];
-    for (int i = 0; i < r.dof; ++i) d->qpos[m->jnt_qposadr[i]] = m->qpos0[m->jnt_qposadr[i]] + q[i];
+    const double* x = &r.x_mujoco[static_cast<size_t>((c & (kPool - 1)) * r.dof)];
+    for (int i = 0; i < r.dof; ++i) d->qpos[m->jnt_qposadr[i]] = m->qpos0[m->jnt_qposadr[i]] + x[i];
     mj_kinematics(m.get(), d.get());
     if (jacobian) {
       mj_comPos(m.get(), d.get());

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Speed-up table from one Google Benchmark JSON run (bench/run.sh): each lowpair result against the
-MuJoCo and KDL results of the same area and robot, from the same run's medians (or the single
-iteration runs in smoke mode). Exits 1 if any benchmark reported an error (e.g. a peer disagreed)."""
+MuJoCo and KDL results of the same area and robot (BM_<Area>_<Impl>_<Robot>; a user's robot file,
+BENCH_ROBOT, as any bundled robot), from the same run's medians (or the single iteration runs in smoke
+mode). Exits 1 if any benchmark reported an error (e.g. a peer disagreed)."""
 import json
 import sys
 
@@ -27,13 +28,16 @@ def main(path):
         unit = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}[b["time_unit"]]
         runs[name] = (b["real_time"] * unit * scale, b["cpu_time"] * unit * scale)
 
+    if "lowpair_robot" in data["context"]:
+        print(f"robot file: {data['context']['lowpair_robot']}")
     runs = dict(sorted(runs.items(), key=lambda kv: (kv[0].split("_")[1], kv[0].split("_")[-1], kv[0])))
-    print(f"{'benchmark (median)':<36} {'real ns':>10} {'cpu ns':>10} {'x MuJoCo':>9} {'x KDL':>9}")
+    w = max([36] + [len(name) for name in runs])
+    print(f"{'benchmark (median)':<{w}} {'real ns':>10} {'cpu ns':>10} {'x MuJoCo':>9} {'x KDL':>9}")
     for name, (real, cpu) in runs.items():
         parts = name.split("_")  # BM, Area, Impl, Robot
         if len(parts) != 4 or parts[2] in ("Mujoco", "Kdl"):
             if not (len(parts) == 4 and parts[2] in ("Mujoco", "Kdl")):
-                print(f"{name:<36} {real:>10.1f} {cpu:>10.1f}")
+                print(f"{name:<{w}} {real:>10.1f} {cpu:>10.1f}")
             continue
         area, robot = parts[1], parts[3]
         peer_area = "Fk" if area == "FkBatch" else area
@@ -41,11 +45,11 @@ def main(path):
         for peer in ("Mujoco", "Kdl"):
             ref = runs.get(f"BM_{peer_area}_{peer}_{robot}")
             cols.append(f"{ref[0] / real:>8.2f}x" if ref else f"{'-':>9}")
-        print(f"{name:<36} {real:>10.1f} {cpu:>10.1f} {cols[0]} {cols[1]}")
+        print(f"{name:<{w}} {real:>10.1f} {cpu:>10.1f} {cols[0]} {cols[1]}")
     for peer in ("Mujoco", "Kdl"):
         for name, (real, cpu) in runs.items():
             if f"_{peer}_" in name:
-                print(f"{name:<36} {real:>10.1f} {cpu:>10.1f}")
+                print(f"{name:<{w}} {real:>10.1f} {cpu:>10.1f}")
     print("(FkBatch rows are per pose; ratios use real-time medians: peer time / lowpair time)")
     if errors:
         print("errors:\n  " + "\n  ".join(errors), file=sys.stderr)

@@ -1,11 +1,13 @@
 #include "robots_lowpair.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <map>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <random>
+#include <stdexcept>
 
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
@@ -36,42 +38,51 @@ const char* fileStem(RobotId id) {
     case RobotId::Puma560: return "puma560_corke";
     case RobotId::Stanford: return "stanford_corke";
     case RobotId::Panda: return "panda";
-  }
-  return "";
-}
-const char* caseName(RobotId id) {
-  switch (id) {
-    case RobotId::Puma560: return "Puma560";
-    case RobotId::Stanford: return "Stanford";
-    case RobotId::Panda: return "Panda";
+    case RobotId::User: break;
   }
   return "";
 }
 
-std::unique_ptr<Entry> build(RobotId id) {
-  const std::string stem = std::string(LOWPAIR_MODELS_DIR) + "/" + fileStem(id);
-  const io::RobotFile file = io::readRobotFile(stem + ".yaml");
+// The range q is drawn from: the joint's, else docs/conventions.md "Sampled joint values" (a turn, or
+// [-L, L] for a prismatic joint; harness/validation/sampling.hpp defaultRange).
+std::array<double, 2> poolRange(const PoeModel& poe, int i) {
+  const Joint& j = poe.joint(i);
+  if (j.range) return *j.range;
+  const double half = j.type == JointType::Prismatic ? poe.lengthScale() : M_PI;
+  return {-half, half};
+}
+
+std::unique_ptr<Entry> build(const io::RobotFile& file, const std::string& name, const std::string& mjcf, unsigned seed) {
   PoeModel poe = file.poeModel();
   DhModel dh = file.dh ? *file.dh : poeToDh(poe).model;
   auto e = std::unique_ptr<Entry>(new Entry{RobotModels{poe, dh}, RobotCase{}});
   RobotCase& r = e->robot;
-  r.name = caseName(id);
-  r.mjcf = stem + ".xml";
+  r.name = name;
+  r.mjcf = mjcf;
   r.dof = poe.dof();
   r.size = poe.lengthScale();
   const size_t n = static_cast<size_t>(r.dof);
-  for (int i = 0; i < r.dof; ++i) r.prismatic.push_back(poe.joint(i).type == JointType::Prismatic);
+  for (int i = 0; i < r.dof; ++i) {
+    r.prismatic.push_back(poe.joint(i).type == JointType::Prismatic);
+    r.scale_mujoco.push_back(poe.joint(i).scale);
+    r.scale_kdl.push_back(dh.joint(i).scale);
+  }
 
-  std::mt19937_64 rng(20240605u + static_cast<unsigned>(id));
+  std::mt19937_64 rng(seed);
   r.q.resize(kPool * n);
   r.pose.resize(kPool * 12);
   r.jac.resize(kPool * 6 * n);
+  r.x_mujoco.resize(kPool * n);
+  r.x_kdl.resize(kPool * n);
   Data data(poe);
   for (int k = 0; k < kPool; ++k) {
     for (int i = 0; i < r.dof; ++i) {
-      const auto& range = poe.joint(i).range;
-      std::uniform_real_distribution<double> u(range ? (*range)[0] : -M_PI, range ? (*range)[1] : M_PI);
-      r.q[k * n + static_cast<size_t>(i)] = u(rng);
+      const std::array<double, 2> range = poolRange(poe, i);
+      std::uniform_real_distribution<double> u(range[0], range[1]);
+      const size_t at = k * n + static_cast<size_t>(i);
+      r.q[at] = u(rng);
+      r.x_mujoco[at] = poe.joint(i).motion(r.q[at]);
+      r.x_kdl[at] = dh.joint(i).motion(r.q[at]);
     }
     const Eigen::Map<const VecX> q(&r.q[k * n], r.dof);
     forwardKinematics(poe, data, q);
@@ -84,6 +95,11 @@ std::unique_ptr<Entry> build(RobotId id) {
   }
 
   // KDL chain description.
+  for (int i = 0; i < r.dof && r.kdl_unsupported.empty(); ++i) {
+    if (poe.joint(i).type == JointType::Helical) {
+      r.kdl_unsupported = "joint " + std::to_string(i + 1) + " is helical (KDL has no screw joint)";
+    }
+  }
   if (file.dh) {
     r.use_modified = false;
     const DhParams& b = dh.base();
@@ -101,18 +117,79 @@ std::unique_ptr<Entry> build(RobotId id) {
   return e;
 }
 
+std::unique_ptr<Entry> buildBundled(RobotId id) {
+  const std::string stem = std::string(LOWPAIR_MODELS_DIR) + "/" + fileStem(id);
+  return build(io::readRobotFile(stem + ".yaml"), bundledName(id), stem + ".xml", 20240605u + static_cast<unsigned>(id));
+}
+
+// `text` as one benchmark-name part: its ASCII letters and digits, each word capitalized ("rhino-xr3-slide"
+// -> "RhinoXr3Slide"), so that report.py can split BM_<Area>_<Impl>_<Name> at "_". Other ASCII separates
+// words; bytes of non-ASCII characters are dropped inside their word.
+std::string camelCase(const std::string& text) {
+  std::string out;
+  bool word_start = true;
+  for (const char c : text) {
+    if (static_cast<unsigned char>(c) >= 0x80) continue;
+    const bool alnum = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+    if (!alnum) {
+      word_start = true;
+      continue;
+    }
+    out += word_start && c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c;
+    word_start = false;
+  }
+  return out;
+}
+
+// The user robot's name: its file's name:, else the file stem; never a bundled robot's name (then
+// "<Name>User"), never empty ("Robot").
+std::string userName(const io::RobotFile& file, const std::filesystem::path& path) {
+  std::string name = camelCase(file.name);
+  if (name.empty()) name = camelCase(path.stem().string());
+  if (name.empty()) name = "Robot";
+  for (const RobotId id : kRobots) {
+    if (name == bundledName(id)) name += "User";
+  }
+  return name;
+}
+
+std::mutex cache_mutex;
+std::unique_ptr<Entry> cache[kRobotIds];
+
 const Entry& entry(RobotId id) {
-  static std::mutex mutex;
-  static std::map<RobotId, std::unique_ptr<Entry>> cache;
-  std::lock_guard<std::mutex> lock(mutex);
-  auto& slot = cache[id];
-  if (!slot) slot = build(id);
+  std::lock_guard<std::mutex> lock(cache_mutex);
+  auto& slot = cache[static_cast<int>(id)];
+  if (!slot) {
+    if (id == RobotId::User) throw std::logic_error("robotCase(RobotId::User) before loadUserRobot");
+    slot = buildBundled(id);
+  }
   return *slot;
 }
 
 }  // namespace
 
 const RobotCase& robotCase(RobotId id) { return entry(id).robot; }
+
+void loadUserRobot(const std::string& path) {
+  const std::filesystem::path file_path(path);
+  const std::string ext = file_path.extension().string();
+  if (ext == ".xml" || ext == ".urdf") {
+    throw io::RobotFileError(path + ": an MJCF or URDF is not benchmarked: write it as a robot file first "
+                             "(lowpair export FILE --tip NAME --format poe --out ROBOT.yaml)");
+  }
+  const io::RobotFile file = io::readRobotFile(path);
+  std::filesystem::path mjcf = file_path;
+  mjcf.replace_extension(".xml");
+  std::unique_ptr<Entry> built;
+  try {
+    built = build(file, userName(file, file_path), mjcf.string(), 20240605u + static_cast<unsigned>(RobotId::User));
+  } catch (const std::invalid_argument& e) {  // the library about this file's model (e.g. "poeToDh: ...")
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+  std::lock_guard<std::mutex> lock(cache_mutex);
+  cache[static_cast<int>(RobotId::User)] = std::move(built);
+}
+
 const RobotModels& robotModels(RobotId id) { return entry(id).models; }
 
 void referenceGeometricJacobian(const PoeModel& model, const double* q_ptr, double* jac) {

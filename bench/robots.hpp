@@ -1,14 +1,22 @@
 #pragma once
 // The benchmark robots as plain data (no Eigen at this interface: the KDL translation unit includes it
-// and must not share Eigen code with the rest, see README.md). Built once from models/ by robots.cpp.
+// and must not share Eigen code with the rest, see README.md). Built once by robots.cpp: the bundled
+// robots from models/, the user's robot (BENCH_ROBOT, `lowpair_bench --robot=FILE`) from its file.
 #include <cmath>
 #include <string>
 #include <vector>
 
 namespace lowpair_bench {
 
-enum class RobotId { Puma560, Stanford, Panda };
-constexpr RobotId kRobots[] = {RobotId::Puma560, RobotId::Stanford, RobotId::Panda};
+enum class RobotId { Puma560, Stanford, Panda, User };
+constexpr RobotId kRobots[] = {RobotId::Puma560, RobotId::Stanford, RobotId::Panda};  // the bundled ones
+constexpr int kRobotIds = 4;  // caches indexed by RobotId
+
+// The last part of a bundled robot's benchmark names, BM_<Area>_<Impl>_<Name>. (Registration must not
+// load the robot to learn it; the user robot's is robotCase(RobotId::User).name, loaded before.)
+inline const char* bundledName(RobotId id) {
+  return id == RobotId::Puma560 ? "Puma560" : id == RobotId::Stanford ? "Stanford" : "Panda";
+}
 
 constexpr int kPool = 1024;  // configurations cycled through, one per iteration
 
@@ -18,17 +26,23 @@ struct DhRow {
 };
 
 struct RobotCase {
-  std::string name;      // "Puma560", "Stanford", "Panda"
-  std::string mjcf;      // models/*.xml, site "tool"
+  std::string name;      // "Puma560", "Stanford", "Panda"; the user's: its name: (or file stem) in CamelCase
+  std::string mjcf;      // models/*.xml, site "tool"; the user's: <stem>.xml beside its file (if it exists)
   int dof = 0;
   double size = 1.0;     // robot size L
   std::vector<int> prismatic;  // 1 if joint i is prismatic
   std::vector<double> q;       // kPool x dof, seeded random configurations within the joint ranges
   std::vector<double> pose;    // kPool x 12, library POE FK: R row-major, then p
   std::vector<double> jac;     // kPool x 6 x dof, library geometric Jacobian [v; w], row-major
-  // KDL chains. Standard D-H (PUMA, Stanford from their robot files): base row, joint rows
-  // (theta includes the joint's constant; the joint variable adds to theta or d), tool (theta, d).
-  // Panda: modified D-H export of its POE model (use_modified = true).
+  // The peers' joint values of the pool, kPool x dof: the motions x = scale (q + offset) of the POE joints
+  // (MuJoCo's qpos - qpos0) and of the D-H joints (KDL's; a POE file's offsets are folded into its D-H table).
+  std::vector<double> x_mujoco, x_kdl;
+  // Per joint, dx/dq = scale of those motions: the peers' Jacobian columns are d/dx, the library's d/dq.
+  std::vector<double> scale_mujoco, scale_kdl;
+  std::string kdl_unsupported;  // why KDL cannot hold the chain (a helical joint), "" when it can
+  // KDL chains. Standard D-H (PUMA, Stanford from their robot files, a user's D-H file): base row, joint
+  // rows (theta includes the joint's constant; the joint variable adds to theta or d), tool (theta, d).
+  // Panda, a user's POE file: modified D-H export of the POE model (use_modified = true).
   bool use_modified = false;
   DhRow base{};
   std::vector<DhRow> rows;
@@ -37,6 +51,11 @@ struct RobotCase {
 };
 
 const RobotCase& robotCase(RobotId id);
+
+// Reads the user's robot file (a lowpair POE or D-H robot file, .yaml) as RobotId::User and builds its
+// case. Call once, before registering benchmarks. Throws std::exception whose message starts with
+// `path: ` (an MJCF or URDF, an unreadable or invalid file).
+void loadUserRobot(const std::string& path);
 
 // Largest pose difference (rotation entries and position / size) between `pose12` and the library's
 // pose of configuration k, in units of the robot size (1e-12 is the acceptance threshold).

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds the benchmarks in $BUILD (Release), runs them and prints lowpair's speed-ups over MuJoCo and KDL
 # from this run's medians (bench/README.md). Env: BUILD (default build), BENCH_OUT (JSON, default
-# $BUILD/bench.json), BENCH_FILTER (regex, default .), BENCH_SMOKE=1 (each benchmark runs ~1 ms, no
+# $BUILD/bench.json), BENCH_FILTER (regex; default every benchmark, or with BENCH_ROBOT that robot's),
+# BENCH_ROBOT (a robot file, .yaml: benchmark it instead of the bundled robots; passed as one argument,
+# --robot=FILE, never through a shell command), BENCH_SMOKE=1 (each benchmark runs ~1 ms, no
 # repetitions: a seconds-long check that everything builds, agrees and runs), BENCH_NO_BUILD=1 (use the
 # existing binary), JOBS (build parallelism, default 2).
 set -euo pipefail
@@ -9,7 +11,8 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(dirname "$here")
 BUILD=${BUILD:-build}
 BENCH_OUT=${BENCH_OUT:-$BUILD/bench.json}
-BENCH_FILTER=${BENCH_FILTER:-.}
+BENCH_FILTER=${BENCH_FILTER:-}
+BENCH_ROBOT=${BENCH_ROBOT:-}
 
 if [ -z "${BENCH_NO_BUILD:-}" ]; then
   cmake -S "$root" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DLOWPAIR_BUILD_BENCH=ON >/dev/null
@@ -24,13 +27,18 @@ else
   args=(--benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
         --benchmark_report_aggregates_only=true)
 fi
+[ -z "$BENCH_FILTER" ] || args+=(--benchmark_filter="$BENCH_FILTER")
+robot_args=()
+[ -z "$BENCH_ROBOT" ] || robot_args=(--robot="$BENCH_ROBOT")
 mkdir -p "$(dirname "$BENCH_OUT")"
-"$exe" "${args[@]}" --benchmark_out="$BENCH_OUT" --benchmark_out_format=json \
-  --benchmark_filter="$BENCH_FILTER"
+# a robot file that cannot be benchmarked: one line `error: FILE: what` and exit 2 from here, nothing run
+"$exe" "${args[@]}" "${robot_args[@]}" --benchmark_out="$BENCH_OUT" --benchmark_out_format=json
 echo
 python3 "$here/report.py" "$BENCH_OUT"
 # the Python module's batched FK against the C++ batch in the same run (python/bench_fk.py, docs/python.md)
 if [ -z "${BENCH_SMOKE:-}" ] && [ -f "$BUILD/python/lowpair/__init__.py" -o -z "${BENCH_NO_BUILD:-}" ]; then
+  robot_args=()
+  [ -z "$BENCH_ROBOT" ] || robot_args=(--robot "$BENCH_ROBOT")
   cmake --build "$BUILD" --target lowpair_python -j"${JOBS:-2}" >/dev/null &&
-    PYTHONPATH="$BUILD/python" /usr/bin/python3 "$root/python/bench_fk.py"
+    PYTHONPATH="$BUILD/python" /usr/bin/python3 "$root/python/bench_fk.py" "${robot_args[@]}"
 fi

@@ -862,8 +862,24 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
     w.rotation = 1.0;
   }
 
-  // the measurement frame (and the unknown targets' points), then the fit from there
-  const Registration reg = registration(nominal, measurements, measure, options.targets, options.register_frame);
+  // the measurement frame (and the unknown targets' points), then the fit from there; the registration
+  // only where it pays (kRegistrationGain)
+  Registration reg = registration(nominal, measurements, measure, options.targets, options.register_frame);
+  if (options.register_frame) {
+    Registration unmoved = registration(nominal, measurements, measure, options.targets, false);
+    VecX scratch;
+    const VecX ones = VecX::Ones(static_cast<Eigen::Index>(measurements.size()));
+    const double registered = residual(movedModel(nominal, reg.T_meas_base), reg.targets, measurements, measure, w, ones, scratch);
+    const double unregistered = residual(nominal, unmoved.targets, measurements, measure, w, ones, scratch);
+    reg.rms_ratio = unregistered > 0.0 ? std::sqrt(registered / unregistered) : 1.0;
+    if (!(reg.rms_ratio < kRegistrationGain)) {
+      unmoved.applied = false;
+      unmoved.rms_ratio = reg.rms_ratio;
+      reg = std::move(unmoved);
+    }
+  } else {
+    reg.applied = false;
+  }
   const PoeModel start = movedModel(nominal, reg.T_meas_base);
   ErrorModelSpec spec;
   spec.free_pitch = options.free_pitch;
