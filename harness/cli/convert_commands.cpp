@@ -99,7 +99,9 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
                            {"q_file", o.q_file}, {"measure", o.measure}, {"rows", rows}})
               << "\n";
   } else if (!o.out.empty()) {
-    std::cout << measurements.size() << " " << o.measure << " measurements written to " << o.out << "\n";
+    // ("300 target measurements", "50 pose measurements")
+    std::cout << measurements.size() << " " << (o.measure == "targets" ? std::string("target") : o.measure)
+              << " measurements written to " << o.out << "\n";
   } else {
     std::cout << text;
   }

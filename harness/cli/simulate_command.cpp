@@ -413,7 +413,9 @@ int simulate(const SimulateOptions& given) {
     std::cout << text;
   } else {
     writeFileAtomically(o.out, text);  // all or nothing
-    std::cout << measurements.size() << " " << o.measure << " measurements written to " << o.out << "\n";
+    // ("300 target measurements", "50 pose measurements")
+    std::cout << measurements.size() << " " << (o.measure == "targets" ? std::string("target") : o.measure)
+              << " measurements written to " << o.out << "\n";
   }
   return 0;
 }
