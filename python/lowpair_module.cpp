@@ -1,15 +1,21 @@
 // The Python module lowpair._lowpair (docs/python.md): robots from robot files and MJCF/URDF models, forward
-// kinematics (single and batched), Jacobians, the D-H table, singularities, identifiability, calibration from
-// arrays, save and export. Every call computes what the CLI computes, with the same functions, so the numbers
-// are the CLI's bit for bit (python/tests/ checks it); errors are lowpair.Error with the CLI's one-line message.
+// kinematics (single and batched), Jacobians, the D-H table, singularities, identifiability, simulated
+// measurements, calibration from arrays (poses, positions, tracker targets), inverse kinematics, compensation,
+// calibration planning, save and export. Every call computes what the CLI computes, with the same library and
+// harness functions, so the numbers are the CLI's (python/tests/ compares each result with the CLI's --json);
+// errors are lowpair.Error with the CLI's one-line message. Where a command's glue lives in cli/ (the ik seed
+// loop, plan's random sets and JSON, simulate's checks), this file mirrors it and the tests pin it to the CLI.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -18,6 +24,14 @@
 #include <string>
 #include <tuple>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
 
 #include "io/atomic_file.hpp"
 #include "io/export.hpp"
@@ -28,8 +42,10 @@
 #include "io/urdf_reader.hpp"
 #include "lowpair/calibration.hpp"
 #include "lowpair/convert.hpp"
+#include "lowpair/ik.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
+#include "lowpair/plan.hpp"
 #include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
 #include "mujoco/mujoco_robot.hpp"
@@ -236,112 +252,241 @@ std::string kindOf(const Robot& r, const std::optional<std::string>& model) {
   return kind;
 }
 
-// Batched FK of the (N, n) array `q` into (N, 4, 4), in chunks of 1024 configurations: each chunk is copied
-// (and checked finite) into a column-major buffer that stays in cache, evaluated by forwardKinematicsBatch and
-// scattered. 1024 is a multiple of every SIMD block (4 or 8), so the blocks are those of one whole call.
-// Called without the GIL: `q` is kept alive by the caller and only read.
-void fkBatchInto(const Robot& r, const std::string& kind, const py::detail::unchecked_reference<double, 2>& q,
-                 double* out) {
-  constexpr Eigen::Index kChunk = 1024;
-  const Eigen::Index count = q.shape(0), dof = r.dof();
-  MatX Q(std::min(count, kChunk), dof), poses(std::min(count, kChunk), 12);
-  for (Eigen::Index start = 0; start < count; start += kChunk) {
-    const Eigen::Index len = std::min(kChunk, count - start);
-    for (Eigen::Index i = 0; i < dof; ++i) {
-      for (Eigen::Index k = 0; k < len; ++k) Q(k, i) = q(start + k, i);
-    }
-    if (!Q.topRows(len).allFinite()) {
-      for (Eigen::Index k = 0; k < len; ++k) {
-        for (Eigen::Index i = 0; i < dof; ++i) {
-          if (!std::isfinite(Q(k, i))) {
-            throw UsageError(r.subject(), "q[" + std::to_string(start + k) + ", " + std::to_string(i) + "]: '" +
-                                              io::shortest(Q(k, i)) + "' is not finite");
-          }
-        }
-      }
-    }
-    Eigen::Ref<MatX> chunk = poses.topRows(len);
-    if (kind == "poe") {
-      forwardKinematicsBatch(r.poe, Q.topRows(len), chunk);
-    } else {
-      forwardKinematicsBatch(r.dhModel(), Q.topRows(len), chunk);
-    }
-    for (Eigen::Index k = 0; k < len; ++k) {
-      double* T = out + 16 * (start + k);
-      for (int a = 0; a < 3; ++a) {
-        T[4 * a + 0] = chunk(k, 3 * a + 0);
-        T[4 * a + 1] = chunk(k, 3 * a + 1);
-        T[4 * a + 2] = chunk(k, 3 * a + 2);
-        T[4 * a + 3] = chunk(k, 9 + a);
-      }
-      T[12] = 0.0, T[13] = 0.0, T[14] = 0.0, T[15] = 1.0;
-    }
+// ----- forward kinematics -------------------------------------------------------------------------------
+
+// A float64 array read in place: C-contiguous and aligned (what numpy makes). Anything else (lists, integers,
+// Fortran order, strided views, other byte orders) is converted by numpy first, as InArray is.
+using CArray = py::array_t<double, py::array::c_style | py::array::forcecast | py::detail::npy_api::NPY_ARRAY_ALIGNED_>;
+
+CArray cArray(const py::handle& x, const char* what) {
+  if (CArray::check_(x) && py::detail::check_flags(x.ptr(), py::detail::npy_api::NPY_ARRAY_ALIGNED_)) {
+    return py::reinterpret_borrow<CArray>(x);
   }
+  CArray a = CArray::ensure(x);
+  if (!a) {
+    throw py::type_error(std::string(what) + ": expected an array of numbers (float64), got " +
+                         py::str(py::type::handle_of(x).attr("__name__")).cast<std::string>());
+  }
+  return a;
+}
+
+// A new C-contiguous float64 array of `shape`, allocated by numpy (py::array's constructor would first build
+// std::vectors of the shape and strides: a single fk(q) notices).
+template <size_t D>
+py::array_t<double> newArray(const std::array<py::ssize_t, D>& shape) {
+  auto& api = py::detail::npy_api::get();
+  PyObject* a = api.PyArray_NewFromDescr_(api.PyArray_Type_, api.PyArray_DescrFromType_(py::detail::npy_api::NPY_DOUBLE_),
+                                          static_cast<int>(D), const_cast<Py_intptr_t*>(shape.data()), nullptr,
+                                          nullptr, 0, nullptr);
+  if (!a) throw py::error_already_set();
+  return py::reinterpret_steal<py::array_t<double>>(a);
 }
 
 // `out`: a preallocated float64 C-contiguous writeable array of the result's shape (no fresh pages per call).
-double* outBuffer(const std::optional<py::array>& out, const std::vector<py::ssize_t>& shape) {
+template <size_t D>
+double* outBuffer(const std::optional<py::array>& out, const std::array<py::ssize_t, D>& shape) {
   if (!out) return nullptr;
   const py::array& a = *out;
-  bool ok = py::isinstance<py::array_t<double>>(a) && a.writeable() &&
-            (a.flags() & py::array::c_style) && a.ndim() == static_cast<py::ssize_t>(shape.size());
-  for (size_t k = 0; ok && k < shape.size(); ++k) ok = a.shape(static_cast<py::ssize_t>(k)) == shape[k];
+  bool ok = py::isinstance<py::array_t<double>>(a) && a.writeable() && (a.flags() & py::array::c_style) &&
+            a.ndim() == static_cast<py::ssize_t>(D);
+  for (size_t k = 0; ok && k < D; ++k) ok = a.shape(static_cast<py::ssize_t>(k)) == shape[k];
   if (!ok) {
     std::string want = "(";
-    for (size_t k = 0; k < shape.size(); ++k) want += (k ? ", " : "") + std::to_string(shape[k]);
+    for (size_t k = 0; k < D; ++k) want += (k ? ", " : "") + std::to_string(shape[k]);
     throw UsageError("out", "expected a writeable C-contiguous float64 array of shape " + want + "), got shape " +
                                 shapeText(a));
   }
-  return static_cast<double*>(const_cast<void*>(a.data()));
+  return static_cast<double*>(const_cast<void*>(a.data()));  // writeable, checked above
 }
 
-py::object fk(const Robot& r, const InArray& q, const std::optional<std::string>& model,
-              const std::optional<py::array>& out_arg) {
-  const std::string kind = kindOf(r, model);
-  if (q.ndim() == 1) {
-    const VecX x = jointVector(q, r.dof(), r.subject());
-    Pose T;
-    {
-      // no GIL release: one FK (~70 ns) costs less than releasing and taking it again
-      if (kind == "poe") {
-        Data& data = threadData(r.poe.chain(), r.dof());
-        forwardKinematics(r.poe, data, x);
-        T = data.T_base_tool;
-      } else {
-        const DhModel& dh = r.dhModel();
-        Data& data = threadData(dh.chain(), dh.dof());
-        forwardKinematics(dh, data, x);
-        T = data.T_base_tool;
+// T as a row-major 4 x 4 matrix.
+void writePose(const Pose& T, double* dst) {
+  for (int a = 0; a < 3; ++a) {
+    dst[4 * a + 0] = T.R(a, 0), dst[4 * a + 1] = T.R(a, 1), dst[4 * a + 2] = T.R(a, 2), dst[4 * a + 3] = T.p(a);
+  }
+  dst[12] = 0.0, dst[13] = 0.0, dst[14] = 0.0, dst[15] = 1.0;
+}
+
+// Batched FK, chunk by chunk: 256 configurations (a multiple of every SIMD block, 4 or 8, so the blocks are
+// those of one whole call) keep the chunk's joint values and poses (36 KB for six joints) in the L1 cache.
+constexpr Eigen::Index kFkChunk = 256;
+// Results of at least this many bytes are written with non-temporal stores when their pages are resident: they
+// bypass the caches the result would not fit in anyway, and skip reading each line before writing it (12.8 MB for
+// N = 100,000). Smaller results stay in the cache for the caller's next read. Into pages not yet faulted in
+// (memory new to the process) non-temporal stores cost more than plain ones (docs/python.md, "Speed").
+constexpr size_t kStreamBytes = size_t{1} << 20;
+
+// Whether every page of [p, p + bytes) is resident (mincore; one system call, ~3,000 pages for 12.8 MB).
+bool resident(const void* p, size_t bytes) {
+#if defined(__linux__)
+  const auto page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+  const uintptr_t begin = reinterpret_cast<uintptr_t>(p) & ~(page - 1), end = reinterpret_cast<uintptr_t>(p) + bytes;
+  std::vector<unsigned char> pages((end - begin + page - 1) / page);
+  if (mincore(reinterpret_cast<void*>(begin), end - begin, pages.data()) != 0) return false;
+  return std::all_of(pages.begin(), pages.end(), [](unsigned char c) { return (c & 1) != 0; });
+#else
+  (void)p, (void)bytes;
+  return true;
+#endif
+}
+
+// The chunk's rows of the row-major (len x dof) q, transposed into the column-major Q the library takes: two
+// rows at a time, each 2 x 2 block (row pair, joint pair) transposed in registers (SSE2), the finiteness check
+// folded in; false when a value is not finite.
+bool transposeChunk(const double* q, Eigen::Index len, Eigen::Index dof, MatX& Q) {
+  constexpr double kLargest = std::numeric_limits<double>::max();
+  double* dst = Q.data();
+  const Eigen::Index ld = Q.rows();
+  bool finite = true;
+  Eigen::Index k = 0;
+#if defined(__SSE2__)
+  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff)), largest = _mm_set1_pd(kLargest);
+  __m128d bad = _mm_setzero_pd();  // lanes of NaN or +-inf: not (|x| <= largest)
+  for (; k + 2 <= len; k += 2) {
+    const double* a = q + k * dof;  // rows k and k + 1
+    const double* b = a + dof;
+    Eigen::Index i = 0;
+    for (; i + 2 <= dof; i += 2) {
+      const __m128d ra = _mm_loadu_pd(a + i), rb = _mm_loadu_pd(b + i);
+      bad = _mm_or_pd(bad, _mm_or_pd(_mm_cmpnle_pd(_mm_and_pd(ra, magnitude), largest),
+                                     _mm_cmpnle_pd(_mm_and_pd(rb, magnitude), largest)));
+      _mm_storeu_pd(dst + i * ld + k, _mm_unpacklo_pd(ra, rb));
+      _mm_storeu_pd(dst + (i + 1) * ld + k, _mm_unpackhi_pd(ra, rb));
+    }
+    for (; i < dof; ++i) {
+      dst[i * ld + k] = a[i], dst[i * ld + k + 1] = b[i];
+      finite &= std::abs(a[i]) <= kLargest && std::abs(b[i]) <= kLargest;
+    }
+  }
+  finite &= _mm_movemask_pd(bad) == 0;
+#endif
+  for (; k < len; ++k) {
+    for (Eigen::Index i = 0; i < dof; ++i) {
+      const double x = q[k * dof + i];
+      dst[i * ld + k] = x;
+      finite &= std::abs(x) <= kLargest;
+    }
+  }
+  return finite;
+}
+
+// The library's (len x 12) column-major poses (rotation row-major in columns 0..8, position in 9..11) as len
+// row-major 4 x 4 matrices at `out`: two configurations at a time, each 2 x 2 block of (column pair, pose
+// pair) transposed in registers (SSE2, the x86-64 baseline); `stream`: non-temporal stores (out 16-aligned).
+void repackChunk(const MatX& poses, Eigen::Index len, double* out, bool stream) {
+  const double* c = poses.data();
+  const Eigen::Index ld = poses.rows();
+  Eigen::Index k = 0;
+#if defined(__SSE2__)
+  const __m128d zero_zero = _mm_setzero_pd(), zero_one = _mm_set_pd(1.0, 0.0);
+  auto store = [stream](double* dst, __m128d v) { stream ? _mm_stream_pd(dst, v) : _mm_storeu_pd(dst, v); };
+  for (; k + 2 <= len; k += 2, out += 32) {
+    for (int a = 0; a < 3; ++a) {
+      const __m128d r0 = _mm_loadu_pd(c + (3 * a + 0) * ld + k), r1 = _mm_loadu_pd(c + (3 * a + 1) * ld + k);
+      const __m128d r2 = _mm_loadu_pd(c + (3 * a + 2) * ld + k), p = _mm_loadu_pd(c + (9 + a) * ld + k);
+      store(out + 4 * a, _mm_unpacklo_pd(r0, r1));
+      store(out + 4 * a + 2, _mm_unpacklo_pd(r2, p));
+      store(out + 16 + 4 * a, _mm_unpackhi_pd(r0, r1));
+      store(out + 16 + 4 * a + 2, _mm_unpackhi_pd(r2, p));
+    }
+    store(out + 12, zero_zero), store(out + 14, zero_one), store(out + 28, zero_zero), store(out + 30, zero_one);
+  }
+#endif
+  for (; k < len; ++k, out += 16) {
+    for (int a = 0; a < 3; ++a) {
+      out[4 * a + 0] = c[(3 * a + 0) * ld + k], out[4 * a + 1] = c[(3 * a + 1) * ld + k];
+      out[4 * a + 2] = c[(3 * a + 2) * ld + k], out[4 * a + 3] = c[(9 + a) * ld + k];
+    }
+    out[12] = 0.0, out[13] = 0.0, out[14] = 0.0, out[15] = 1.0;
+  }
+}
+
+// Batched FK of `count` configurations (row-major count x dof `q`) into `out` (count x 4 x 4, row-major): per
+// chunk, transposeChunk (with the finiteness check), forwardKinematicsBatch, repackChunk. Called without the GIL
+// (the caller keeps `q` and `out` alive).
+void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, double* out) {
+  const Eigen::Index dof = r.dof(), rows = std::min(count, kFkChunk);
+  MatX Q(rows, dof), poses(rows, 12);
+  bool stream = false;
+#if defined(__SSE2__)
+  const size_t bytes = static_cast<size_t>(count) * 16 * sizeof(double);
+  stream = bytes >= kStreamBytes && reinterpret_cast<uintptr_t>(out) % 16 == 0 && resident(out, bytes);
+#endif
+  for (Eigen::Index start = 0; start < count; start += kFkChunk) {
+    const Eigen::Index len = std::min(kFkChunk, count - start);
+    if (!transposeChunk(q + start * dof, len, dof, Q)) {
+      for (Eigen::Index k = start * dof;; ++k) {
+        if (!std::isfinite(q[k])) {
+          throw UsageError(r.subject(), "q[" + std::to_string(k / dof) + ", " + std::to_string(k % dof) + "]: '" +
+                                            io::shortest(q[k]) + "' is not finite");
+        }
       }
     }
-    if (double* dst = outBuffer(out_arg, {4, 4})) {
-      Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>> view(dst);
-      view = T.matrix();
-      return *out_arg;
+    if (poe) {
+      forwardKinematicsBatch(r.poe, Q.topRows(len), poses.topRows(len));
+    } else {
+      forwardKinematicsBatch(r.dhModel(), Q.topRows(len), poses.topRows(len));
     }
-    return poseArray(T);
+    repackChunk(poses, len, out + 16 * start, stream);
+  }
+#if defined(__SSE2__)
+  if (stream) _mm_sfence();  // the non-temporal stores are visible before the GIL is taken back
+#endif
+}
+
+py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::string>& model,
+              const std::optional<py::array>& out_arg) {
+  const std::string kind = kindOf(r, model);
+  const CArray q = cArray(q_arg, "q");
+  const int dof = r.dof();
+  if (q.ndim() == 1) {
+    if (q.shape(0) != dof) {
+      throw UsageError(r.subject(), "q: expected " + std::to_string(dof) + " joint values (shape (" +
+                                        std::to_string(dof) + ",)), got shape " + shapeText(q));
+    }
+    const Eigen::Map<const VecX> x(q.data(), dof);
+    if (!x.allFinite()) requireFinite(x.data(), dof, 0, r.subject(), "q");  // throws, naming the value
+    double* dst = outBuffer<2>(out_arg, {4, 4});
+    py::array_t<double> result;
+    if (!dst) {
+      result = newArray<2>({4, 4});
+      dst = result.mutable_data();
+    }
+    // no GIL release: one FK (~70 ns) costs less than releasing and taking it again
+    if (kind == "poe") {
+      Data& data = threadData(r.poe.chain(), dof);
+      forwardKinematics(r.poe, data, x);
+      writePose(data.T_base_tool, dst);
+    } else {
+      const DhModel& dh = r.dhModel();
+      Data& data = threadData(dh.chain(), dof);
+      forwardKinematics(dh, data, x);
+      writePose(data.T_base_tool, dst);
+    }
+    if (out_arg) return *out_arg;
+    return std::move(result);
   }
   if (q.ndim() != 2) {
-    throw UsageError(r.subject(), "q: expected shape (" + std::to_string(r.dof()) + ",) or (N, " +
-                                      std::to_string(r.dof()) + "), got shape " + shapeText(q));
+    throw UsageError(r.subject(), "q: expected shape (" + std::to_string(dof) + ",) or (N, " + std::to_string(dof) +
+                                      "), got shape " + shapeText(q));
   }
-  if (q.shape(1) != r.dof()) {
-    throw UsageError(r.subject(), "q: expected shape (N, " + std::to_string(r.dof()) + "), got shape " + shapeText(q));
+  if (q.shape(1) != dof) {
+    throw UsageError(r.subject(), "q: expected shape (N, " + std::to_string(dof) + "), got shape " + shapeText(q));
   }
   if (kind == "dh") r.dhModel();  // convert (or throw) with the GIL held
-  double* dst = outBuffer(out_arg, {q.shape(0), 4, 4});
-  py::array_t<double> out;
+  const py::ssize_t count = q.shape(0);
+  double* dst = outBuffer<3>(out_arg, {count, 4, 4});
+  py::array_t<double> result;
   if (!dst) {
-    out = py::array_t<double>({static_cast<py::ssize_t>(q.shape(0)), py::ssize_t{4}, py::ssize_t{4}});
-    dst = out.mutable_data();
+    result = newArray<3>({count, 4, 4});
+    dst = result.mutable_data();
   }
-  const auto view = q.unchecked<2>();
   {
     py::gil_scoped_release release;
-    fkBatchInto(r, kind, view, dst);
+    fkBatchInto(r, kind == "poe", q.data(), count, dst);
   }
   if (out_arg) return *out_arg;
-  return std::move(out);
+  return std::move(result);
 }
 
 py::array_t<double> jacobian(const Robot& r, const InArray& q, const std::string& frame) {
@@ -459,14 +604,56 @@ IdentifiabilityResult identifiability(const Robot& r, const std::string& measure
 
 constexpr double kUnitQuaternionTolerance = 1e-6;  // the measurement CSV reader's (io/measurements.cpp)
 
+// A rotation from a quaternion qw, qx, qy, qz as the measurement CSV reader makes it (unit within 1e-6, then
+// normalized), so that arrays and a CSV of the same numbers give the same bits.
+Mat3 quaternionRotation(double w, double x, double y, double z, const std::string& subject, Eigen::Index row) {
+  const Eigen::Quaterniond quaternion(w, x, y, z);
+  const double norm = quaternion.norm();
+  if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) {
+    throw UsageError(subject, "row " + std::to_string(row) + ": qw..qz is not a unit quaternion (norm " +
+                                  io::shortest(norm) + ")");
+  }
+  return quaternion.normalized().toRotationMatrix();
+}
+
 struct Calibration {
   validation::CalibrationReport report;
   RobotPtr robot;
   json j;
 };
 
-std::vector<Measurement> measurementsFromArrays(const Robot& r, const InArray& q, const InArray& positions,
-                                                const std::optional<InArray>& rotations, const std::string& prefix) {
+// The target names of target measurements (the CSV's `target` column, one per row), numbered in order of first
+// appearance as the CSV reader numbers them: sets each measurement's index and returns the names.
+std::vector<std::string> numberTargets(const std::vector<std::string>& names, std::vector<Measurement>& measurements,
+                                       const std::string& subject) {
+  if (names.size() != measurements.size()) {
+    throw UsageError(subject, "expected " + std::to_string(measurements.size()) + " target names (one per row), got " +
+                                  std::to_string(names.size()));
+  }
+  std::vector<std::string> distinct;
+  for (size_t k = 0; k < names.size(); ++k) {
+    const std::string problem = io::targetNameProblem(names[k]);
+    if (!problem.empty()) {
+      throw UsageError(subject, "[" + std::to_string(k) + "]: " + io::quotedFileText(names[k]) + " " + problem + " (" +
+                                    io::kTargetNameRule + ")");
+    }
+    auto it = std::find(distinct.begin(), distinct.end(), names[k]);
+    if (it == distinct.end()) {
+      if (distinct.size() == static_cast<size_t>(io::kMaxTargets)) {
+        throw UsageError(subject, "more than " + std::to_string(io::kMaxTargets) + " distinct targets");
+      }
+      it = distinct.insert(distinct.end(), names[k]);
+    }
+    measurements[k].target = static_cast<int>(it - distinct.begin());
+  }
+  return distinct;
+}
+
+// The measurement CSV's columns as arrays: q (N, n); positions (N, 3); rotations (N, 4) qw..qz for pose
+// measurements; targets (N names) for target measurements (positions are then the targets' points).
+io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const InArray& positions,
+                                      const std::optional<InArray>& rotations,
+                                      const std::optional<std::vector<std::string>>& targets, const std::string& prefix) {
   const MatX Q = jointMatrix(q, r.dof(), r.subject(), prefix + "q");
   const auto N = Q.rows();
   if (N == 0) throw UsageError(prefix + "q", "no measurements");
@@ -474,15 +661,23 @@ std::vector<Measurement> measurementsFromArrays(const Robot& r, const InArray& q
     throw UsageError(prefix + "positions", "expected shape (" + std::to_string(N) + ", 3), got shape " +
                                                shapeText(positions));
   }
+  if (rotations && targets) {
+    throw UsageError(prefix + "rotations", "target measurements are points: give rotations or targets, not both");
+  }
   if (rotations && (rotations->ndim() != 2 || rotations->shape(0) != N || rotations->shape(1) != 4)) {
     throw UsageError(prefix + "rotations", "expected shape (" + std::to_string(N) +
                                                ", 4) (unit quaternions qw, qx, qy, qz), got shape " +
                                                shapeText(*rotations));
   }
-  std::vector<Measurement> out(static_cast<size_t>(N));
+  io::MeasurementFile file;
+  file.path = prefix.empty() ? "<arrays>" : "<validation arrays>";
+  file.dof = r.dof();
+  file.measure = rotations ? Measure::Pose : targets ? Measure::Targets : Measure::Position;
+  file.length_unit = r.file.length_unit;
+  file.measurements.resize(static_cast<size_t>(N));
   auto p = positions.unchecked<2>();
   for (Eigen::Index k = 0; k < N; ++k) {
-    Measurement& m = out[static_cast<size_t>(k)];
+    Measurement& m = file.measurements[static_cast<size_t>(k)];
     m.q = Q.row(k).transpose();
     for (int a = 0; a < 3; ++a) {
       m.T_base_tool.p(a) = p(k, a);
@@ -493,32 +688,65 @@ std::vector<Measurement> measurementsFromArrays(const Robot& r, const InArray& q
     }
     if (rotations) {
       auto w = rotations->unchecked<2>();
-      Eigen::Quaterniond quaternion(w(k, 0), w(k, 1), w(k, 2), w(k, 3));
-      const double norm = quaternion.norm();
-      if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) {
-        throw UsageError(prefix + "rotations", "row " + std::to_string(k) + ": qw..qz is not a unit quaternion (norm " +
-                                                   io::shortest(norm) + ")");
-      }
-      m.T_base_tool.R = quaternion.normalized().toRotationMatrix();
+      m.T_base_tool.R = quaternionRotation(w(k, 0), w(k, 1), w(k, 2), w(k, 3), prefix + "rotations", k);
     }
+    file.lines.push_back(static_cast<long long>(k));
   }
-  return out;
+  if (targets) file.target_names = numberTargets(*targets, file.measurements, prefix + "targets");
+  return file;
 }
 
-Calibration calibrateArrays(const Robot& r, const InArray& q, const InArray& positions,
-                            const std::optional<InArray>& rotations, std::optional<double> noise_position,
-                            std::optional<double> noise_rotation, bool free_pitch, const std::string& loss,
-                            double outlier_threshold, const std::string& parameters,
-                            const std::optional<InArray>& validation_q, const std::optional<InArray>& validation_positions,
-                            const std::optional<InArray>& validation_rotations) {
+// A joint value beyond kFarOutsideRange range widths outside the nominal's range is a wrong column or unit,
+// never fitted silently (as `lowpair calibrate` rejects it; the CLI's warnings for values just outside are not
+// repeated here).
+void checkFarOutsideRanges(const Robot& r, const io::MeasurementFile& m, const std::string& prefix) {
+  constexpr double kFarOutsideRange = 10.0;
+  for (size_t k = 0; k < m.measurements.size(); ++k) {
+    for (int i = 0; i < r.dof(); ++i) {
+      const auto& range = r.poe.joint(i).range;
+      const double q = m.measurements[k].q[i];
+      if (!range || (q >= (*range)[0] && q <= (*range)[1])) continue;
+      const double width = (*range)[1] - (*range)[0];
+      const double beyond = q < (*range)[0] ? (*range)[0] - q : q - (*range)[1];
+      if (beyond > kFarOutsideRange * width) {
+        throw UsageError(prefix + "q", "[" + std::to_string(k) + ", " + std::to_string(i) + "] = " + io::shortest(q) +
+                                           " is outside joint " + std::to_string(i + 1) + "'s range [" +
+                                           io::shortest((*range)[0]) + ", " + io::shortest((*range)[1]) + "] of " +
+                                           r.subject() + " by more than " + io::shortest(kFarOutsideRange) +
+                                           " times its width: a wrong column or unit?");
+      }
+    }
+  }
+}
+
+// parameters=: a level, or a comma list of names (the CLI's --parameters).
+void parseParameters(const std::string& text, CalibrationOptions& options) {
+  if (text == "full" || text == "lines" || text == "offsets") {
+    options.parameters = text == "full" ? ParameterSet::Full : text == "lines" ? ParameterSet::Lines : ParameterSet::Offsets;
+    return;
+  }
+  options.parameters = ParameterSet::Named;
+  std::stringstream in(text);
+  for (std::string name; std::getline(in, name, ',');) {
+    const auto b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
+    if (b == std::string::npos) throw UsageError("parameters", "an empty name in '" + text + "'");
+    options.parameter_names.push_back(name.substr(b, e - b + 1));
+  }
+  if (options.parameter_names.empty()) throw UsageError("parameters", "expected full, lines, offsets or names");
+}
+
+struct CalibrateArguments {
+  std::optional<double> noise_position, noise_rotation;
+  bool free_pitch = false;
+  std::string loss = "squared";
+  double outlier_threshold = 5.0;
+  std::optional<std::string> parameters, select;
+  int folds = 5;
+};
+
+Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::optional<io::MeasurementFile> held_out,
+                            const CalibrateArguments& a) {
   const PoeModel& nominal = r.poe;
-  io::MeasurementFile fit;
-  fit.path = "<arrays>";
-  fit.dof = nominal.dof();
-  fit.measure = rotations ? Measure::Pose : Measure::Position;
-  fit.measurements = measurementsFromArrays(r, q, positions, rotations, "");
-  for (size_t k = 0; k < fit.measurements.size(); ++k) fit.lines.push_back(static_cast<long long>(k));
-  fit.length_unit = r.file.length_unit;
   if (fit.measurements.size() > static_cast<size_t>(validation::kMaxCalibrationMeasurements) ||
       validation::identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) >
           validation::kMaxJacobianEntries) {
@@ -527,72 +755,74 @@ Calibration calibrateArrays(const Robot& r, const InArray& q, const InArray& pos
                               std::to_string(validation::kMaxCalibrationMeasurements) + " measurements and at most " +
                               io::shortest(validation::kMaxJacobianEntries) + " numbers at once");
   }
-  std::optional<io::MeasurementFile> held_out;
-  if (validation_q || validation_positions || validation_rotations) {
-    if (!validation_q || !validation_positions) {
-      throw UsageError("validation_q", "give validation_q and validation_positions (and validation_rotations for poses)");
+  checkFarOutsideRanges(r, fit, "");
+  if (held_out) {
+    checkFarOutsideRanges(r, *held_out, "validation_");
+    // targets by name: the validation rows' indices mapped to the fit's
+    for (Measurement& m : held_out->measurements) {
+      if (m.target < 0) continue;
+      const std::string& name = held_out->target_names[static_cast<size_t>(m.target)];
+      const auto it = std::find(fit.target_names.begin(), fit.target_names.end(), name);
+      if (it == fit.target_names.end()) {
+        throw UsageError("validation_targets", "target " + name + " is not measured in the fit (targets)");
+      }
+      m.target = static_cast<int>(it - fit.target_names.begin());
     }
-    if (validation_rotations.has_value() != rotations.has_value()) {
-      throw UsageError("validation_rotations", rotations ? "the fit has pose measurements: give validation_rotations too"
-                                                         : "the fit has position measurements: no validation_rotations");
-    }
-    held_out.emplace();
-    held_out->path = "<validation arrays>";
-    held_out->dof = nominal.dof();
-    held_out->measure = fit.measure;
-    held_out->measurements = measurementsFromArrays(r, *validation_q, *validation_positions, validation_rotations,
-                                                    "validation_");
-    for (size_t k = 0; k < held_out->measurements.size(); ++k) held_out->lines.push_back(static_cast<long long>(k));
-    held_out->length_unit = r.file.length_unit;
+    held_out->target_names = fit.target_names;
   }
-  for (const auto& [value, flag, limit] : {std::tuple{noise_position, "noise_position", kMaxMagnitude},
-                                           std::tuple{noise_rotation, "noise_rotation", M_PI}}) {
+  for (const auto& [value, flag, limit] : {std::tuple{a.noise_position, "noise_position", kMaxMagnitude},
+                                           std::tuple{a.noise_rotation, "noise_rotation", M_PI}}) {
     if (value && !(*value > 0.0 && *value <= limit)) {
       throw UsageError(flag, "must be a positive number up to " + io::shortest(limit) + ", got " + io::shortest(*value));
     }
   }
-  if (noise_rotation && fit.measure != Measure::Pose) {
-    throw UsageError("noise_rotation", "position measurements (rotations=None): there is no rotation to weigh");
+  if (a.noise_rotation && fit.measure != Measure::Pose) {
+    throw UsageError("noise_rotation", std::string(measureName(fit.measure)) +
+                                           " measurements (rotations=None): there is no rotation to weigh");
   }
-  if (!(outlier_threshold >= 1e-3 && outlier_threshold <= 1e6)) {
-    throw UsageError("outlier_threshold", "must be in [0.001, 1e6], got " + io::shortest(outlier_threshold));
+  if (!(a.outlier_threshold >= 1e-3 && a.outlier_threshold <= 1e6)) {
+    throw UsageError("outlier_threshold", "must be in [0.001, 1e6], got " + io::shortest(a.outlier_threshold));
   }
   CalibrationOptions options;
   options.measure = fit.measure;
-  options.free_pitch = free_pitch;
-  options.sigma_position = noise_position;
-  options.sigma_rotation = noise_rotation;
-  if (loss != "squared" && loss != "huber" && loss != "cauchy") {
-    throw UsageError("loss", "expected 'squared', 'huber' or 'cauchy', got '" + loss + "'");
+  options.free_pitch = a.free_pitch;
+  options.sigma_position = a.noise_position;
+  options.sigma_rotation = a.noise_rotation;
+  if (a.loss != "squared" && a.loss != "huber" && a.loss != "cauchy") {
+    throw UsageError("loss", "expected 'squared', 'huber' or 'cauchy', got '" + a.loss + "'");
   }
-  options.loss = loss == "huber" ? Loss::Huber : loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
-  options.outlier_threshold = outlier_threshold;
-  if (parameters == "full" || parameters == "lines" || parameters == "offsets") {
-    options.parameters = parameters == "full" ? ParameterSet::Full
-                         : parameters == "lines" ? ParameterSet::Lines
-                                                 : ParameterSet::Offsets;
-  } else {
-    options.parameters = ParameterSet::Named;
-    std::stringstream in(parameters);
-    for (std::string name; std::getline(in, name, ',');) {
-      const auto b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
-      if (b == std::string::npos) throw UsageError("parameters", "an empty name in '" + parameters + "'");
-      options.parameter_names.push_back(name.substr(b, e - b + 1));
-    }
-    if (options.parameter_names.empty()) throw UsageError("parameters", "expected full, lines, offsets or names");
+  options.loss = a.loss == "huber" ? Loss::Huber : a.loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
+  options.outlier_threshold = a.outlier_threshold;
+  if (a.select && *a.select != "cv") throw UsageError("select", "expected 'cv' or None, got '" + *a.select + "'");
+  if (!(a.folds >= 2 && a.folds <= 20)) throw UsageError("folds", "must be in [2, 20], got " + std::to_string(a.folds));
+  if (a.parameters) {
+    if (a.select) throw UsageError("select", "choose the parameters by parameters= or by select=, not both");
+    parseParameters(*a.parameters, options);
   }
+  // targets: a point from the nominal's targets: list of the same name, else estimated
+  for (const std::string& name : fit.target_names) {
+    const auto it = std::find_if(r.file.targets.begin(), r.file.targets.end(),
+                                 [&](const Target& t) { return t.name == name; });
+    options.targets.push_back(it != r.file.targets.end() ? *it : Target{name, std::nullopt});
+  }
+  std::optional<CrossValidation> cv;
   std::optional<CalibrationResult> result;
   std::optional<DhUncertainty> dh;
   double seconds = 0.0;
   {
     py::gil_scoped_release release;
     const auto start = std::chrono::steady_clock::now();
+    if (a.select) {
+      cv = crossValidate(nominal, fit.measurements, options, a.folds);
+      options.parameters = cv->chosen;
+    }
     result.emplace(calibrate(nominal, fit.measurements, options));
     dh.emplace(dhUncertainty(*result));
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   validation::CalibrationReport report = validation::makeCalibrationReport(r.file, std::move(fit), std::move(held_out),
                                                                            *result, *dh, seconds);
+  report.cross_validation = cv;
   // the calibrated robot, as `calibrate --out` writes it
   io::RobotFile calibrated;
   calibrated.name = (r.file.name.empty() ? std::filesystem::path(r.file.path).stem().string() : r.file.name) +
@@ -605,6 +835,613 @@ Calibration calibrateArrays(const Robot& r, const InArray& q, const InArray& pos
   auto robot = std::make_shared<Robot>(std::move(calibrated), validation::calibrationProvenance(report));
   json j = validation::calibrationJson(report);
   return Calibration{std::move(report), std::move(robot), std::move(j)};
+}
+
+Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray& positions,
+                                const std::optional<InArray>& rotations, std::optional<double> noise_position,
+                                std::optional<double> noise_rotation, bool free_pitch, const std::string& loss,
+                                double outlier_threshold, const std::optional<std::string>& parameters,
+                                const std::optional<InArray>& validation_q,
+                                const std::optional<InArray>& validation_positions,
+                                const std::optional<InArray>& validation_rotations,
+                                const std::optional<std::vector<std::string>>& targets,
+                                const std::optional<std::vector<std::string>>& validation_targets,
+                                const std::optional<std::string>& select, int folds) {
+  io::MeasurementFile fit = measurementArrays(r, q, positions, rotations, targets, "");
+  std::optional<io::MeasurementFile> held_out;
+  if (validation_q || validation_positions || validation_rotations || validation_targets) {
+    if (!validation_q || !validation_positions) {
+      throw UsageError("validation_q", "give validation_q and validation_positions (and validation_rotations or "
+                                       "validation_targets as the fit has rotations or targets)");
+    }
+    if (validation_rotations.has_value() != rotations.has_value()) {
+      throw UsageError("validation_rotations", rotations ? "the fit has pose measurements: give validation_rotations too"
+                                                         : "the fit has no pose measurements: no validation_rotations");
+    }
+    if (validation_targets.has_value() != targets.has_value()) {
+      throw UsageError("validation_targets", targets ? "the fit has target measurements: give validation_targets too"
+                                                     : "the fit has no target measurements: no validation_targets");
+    }
+    held_out = measurementArrays(r, *validation_q, *validation_positions, validation_rotations, validation_targets,
+                                 "validation_");
+  }
+  CalibrateArguments a;
+  a.noise_position = noise_position;
+  a.noise_rotation = noise_rotation;
+  a.free_pitch = free_pitch;
+  a.loss = loss;
+  a.outlier_threshold = outlier_threshold;
+  a.parameters = parameters;
+  a.select = select;
+  a.folds = folds;
+  return calibrateArrays(r, std::move(fit), std::move(held_out), a);
+}
+
+// ----- inverse kinematics, compensation (lowpair/ik.hpp; `lowpair ik`, `lowpair compensate`) ------------
+
+json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+// The rows of `ik` or `compensate`: each target's IkResult and the seed it was solved from.
+struct IkSolutions {
+  std::vector<IkResult> rows;
+  std::vector<int> seeds;  // ik: the random seed's index s (0..K-1); -1: q0 (the CSV's q columns)
+  bool with_seed = true;   // ik (compensate has no seed column)
+  json j;
+};
+
+// The CLI's `rows` and `counts` (cli/ik_commands.cpp); `line` is the 0-based row.
+json ikRowsJson(const IkSolutions& s) {
+  json out = json::array();
+  for (size_t k = 0; k < s.rows.size(); ++k) {
+    const IkResult& r = s.rows[k];
+    json j = {{"line", static_cast<long long>(k)},
+              {"q", io::toVector(r.q)},
+              {"status", ikStatusName(r.status)},
+              {"iterations", r.iterations},
+              {"position_error", r.position_error},
+              {"rotation_error", r.rotation_error},
+              {"rank", r.rank},
+              {"sigma_min", finiteOrNull(r.sigma_min)},
+              {"reason", r.reason}};
+    if (s.with_seed) j["seed"] = s.seeds[k] < 0 ? json("file") : json(s.seeds[k]);
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
+json ikCountsJson(const std::vector<IkResult>& rows) {
+  std::array<long long, 5> count{};
+  for (const IkResult& r : rows) ++count[static_cast<size_t>(r.status)];
+  json j = json::object();
+  for (size_t k = 0; k < count.size(); ++k) j[ikStatusName(static_cast<IkStatus>(k))] = count[k];
+  return j;
+}
+
+// The better of two attempts at one row (the CLI's rule): ok first, then converged (singular), then the smaller
+// error (position in L plus rotation).
+bool betterAttempt(const IkResult& a, const IkResult& b, double L) {
+  auto rank = [](const IkResult& r) { return r.status == IkStatus::Ok ? 0 : r.status == IkStatus::Singular ? 1 : 2; };
+  if (rank(a) != rank(b)) return rank(a) < rank(b);
+  return a.position_error / L + a.rotation_error < b.position_error / L + b.rotation_error;
+}
+
+// The targets of ik: (N, 4, 4) homogeneous transforms, or (N, 3) positions, made poses by rotations (N, 4) qw..qz
+// (the targets CSV's columns, converted as its reader converts them).
+std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>& rotations, bool& pose) {
+  std::vector<Pose> out;
+  if (targets.ndim() == 3 && targets.shape(1) == 4 && targets.shape(2) == 4) {
+    if (rotations) throw UsageError("rotations", "the targets are 4 x 4 transforms: they hold their rotations");
+    pose = true;
+    auto t = targets.unchecked<3>();
+    for (py::ssize_t k = 0; k < t.shape(0); ++k) {
+      Pose T;
+      for (int a = 0; a < 3; ++a) {
+        for (int c = 0; c < 3; ++c) T.R(a, c) = t(k, a, c);
+        T.p(a) = t(k, a, 3);
+      }
+      if (!(t(k, 3, 0) == 0.0 && t(k, 3, 1) == 0.0 && t(k, 3, 2) == 0.0 && t(k, 3, 3) == 1.0)) {
+        throw UsageError("targets", "[" + std::to_string(k) + "]: the last row of a transform must be [0, 0, 0, 1]");
+      }
+      out.push_back(T);
+    }
+  } else if (targets.ndim() == 2 && targets.shape(1) == 3) {
+    pose = rotations.has_value();
+    if (rotations && (rotations->ndim() != 2 || rotations->shape(0) != targets.shape(0) || rotations->shape(1) != 4)) {
+      throw UsageError("rotations", "expected shape (" + std::to_string(targets.shape(0)) +
+                                        ", 4) (unit quaternions qw, qx, qy, qz), got shape " + shapeText(*rotations));
+    }
+    auto t = targets.unchecked<2>();
+    for (py::ssize_t k = 0; k < t.shape(0); ++k) {
+      Pose T;
+      T.p = Vec3(t(k, 0), t(k, 1), t(k, 2));
+      if (rotations) {
+        auto w = rotations->unchecked<2>();
+        T.R = quaternionRotation(w(k, 0), w(k, 1), w(k, 2), w(k, 3), "rotations", k);
+      }
+      out.push_back(T);
+    }
+  } else {
+    throw UsageError("targets", "expected shape (N, 4, 4) (transforms) or (N, 3) (positions), got shape " +
+                                    shapeText(targets));
+  }
+  for (size_t k = 0; k < out.size(); ++k) {
+    if (!out[k].p.allFinite() || !out[k].R.allFinite()) {
+      throw UsageError("targets", "[" + std::to_string(k) + "]: not finite");
+    }
+  }
+  return out;
+}
+
+// Per-row seeds: None, (n,) for every row, or (N, n).
+std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, size_t rows) {
+  if (!q0) return std::nullopt;
+  if (q0->ndim() == 1) {
+    const VecX x = jointVector(*q0, r.dof(), r.subject(), "q0");
+    return MatX(x.transpose().replicate(static_cast<Eigen::Index>(rows), 1));
+  }
+  MatX Q = jointMatrix(*q0, r.dof(), r.subject(), "q0");
+  if (Q.rows() != static_cast<Eigen::Index>(rows)) {
+    throw UsageError("q0", "expected shape (" + std::to_string(rows) + ", " + std::to_string(r.dof()) + ") or (" +
+                               std::to_string(r.dof()) + ",), got shape " + shapeText(*q0));
+  }
+  return Q;
+}
+
+// `lowpair ik`: one problem per target, from q0 (the CSV's q columns) or from up to `seeds` random seeds (sample
+// k * seeds + s of the stream `seed`, the sampling convention), the first ok kept, else the best attempt.
+IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<InArray>& rotations,
+               const std::optional<InArray>& q0, int seeds, long long seed) {
+  if (seeds < 1 || seeds > 1000) throw UsageError("seeds", "must be in [1, 1000], got " + std::to_string(seeds));
+  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+  bool pose = false;
+  const std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
+  const std::optional<MatX> given = seedRows(r, q0, targets.size());
+  const PoeModel& model = r.poe;
+  IkOptions options;
+  options.measure = pose ? Measure::Pose : Measure::Position;
+  IkSolutions s;
+  s.rows.reserve(targets.size());
+  {
+    py::gil_scoped_release release;
+    const std::vector<validation::Range> ranges = validation::samplingRanges(model);
+    Data data(model);
+    IkWorkspace work(model);
+    VecX x(model.dof());
+    for (size_t k = 0; k < targets.size(); ++k) {
+      try {
+        if (given) {
+          s.rows.push_back(inverseKinematics(model, data, targets[k], given->row(static_cast<Eigen::Index>(k)).transpose(),
+                                             options, work));
+          s.seeds.push_back(-1);
+          continue;
+        }
+        std::optional<IkResult> best;
+        int best_seed = 0;
+        for (int t = 0; t < seeds; ++t) {
+          validation::randomSample(static_cast<unsigned long long>(seed),
+                                   k * static_cast<unsigned long long>(seeds) + static_cast<unsigned long long>(t), ranges, x);
+          const IkResult& attempt = inverseKinematics(model, data, targets[k], x, options, work);
+          if (!best || betterAttempt(attempt, *best, model.lengthScale())) best = attempt, best_seed = t;
+          if (attempt.status == IkStatus::Ok) break;
+        }
+        s.rows.push_back(std::move(*best));
+        s.seeds.push_back(best_seed);
+      } catch (const std::invalid_argument& e) {
+        throw UsageError("targets", "[" + std::to_string(k) + "]: " + e.what());
+      }
+    }
+  }
+  s.j = {{"name", r.file.name},
+         {"source", r.file.path},
+         {"poses", "<arrays>"},
+         {"length_unit", r.file.length_unit},
+         {"task", pose ? "pose" : "position"},
+         {"seeds", given ? json("file") : json(seeds)},
+         {"seed", seed},
+         {"notes", json::array()},
+         {"counts", ikCountsJson(s.rows)}};
+  s.j["rows"] = ikRowsJson(s);
+  return s;
+}
+
+// `lowpair compensate`: the joint values of `calibrated` that put the tool where `nominal` puts it at each q.
+IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const InArray& q_arg,
+                           const std::string& measure) {
+  if (measure != "pose" && measure != "position") {
+    throw UsageError("measure", "expected 'pose' or 'position', got '" + measure + "'");
+  }
+  if (nominal.dof() != calibrated.dof()) {
+    throw UsageError(calibrated.subject(), "has " + std::to_string(calibrated.dof()) + " joints but nominal " +
+                                               nominal.subject() + " has " + std::to_string(nominal.dof()));
+  }
+  if (nominal.file.length_unit != calibrated.file.length_unit) {
+    auto unit = [](const Robot& r) { return r.file.length_unit.empty() ? std::string("no stated unit") : r.file.length_unit; };
+    throw UsageError(calibrated.subject(), "lengths in " + unit(calibrated) + " but nominal " + nominal.subject() +
+                                               " in " + unit(nominal) + ": compensation needs one unit");
+  }
+  const MatX Q = q_arg.ndim() == 1 ? MatX(jointVector(q_arg, calibrated.dof(), calibrated.subject()).transpose())
+                                   : jointMatrix(q_arg, calibrated.dof(), calibrated.subject());
+  IkOptions options;
+  options.measure = measure == "pose" ? Measure::Pose : Measure::Position;
+  IkSolutions s;
+  s.with_seed = false;
+  {
+    py::gil_scoped_release release;
+    Data data(calibrated.poe);
+    IkWorkspace work(calibrated.poe);
+    for (Eigen::Index k = 0; k < Q.rows(); ++k) {
+      s.rows.push_back(compensate(nominal.poe, calibrated.poe, data, Q.row(k).transpose(), options, work));
+      s.seeds.push_back(-1);
+    }
+  }
+  s.j = {{"name", calibrated.file.name},
+         {"source", calibrated.file.path},
+         {"nominal", nominal.file.path},
+         {"q_file", "<arrays>"},
+         {"length_unit", calibrated.file.length_unit},
+         {"measure", measure},
+         {"counts", ikCountsJson(s.rows)}};
+  s.j["rows"] = ikRowsJson(s);
+  return s;
+}
+
+// ----- plan (lowpair/plan.hpp; `lowpair plan`, cli/plan_command.cpp) ---------------------------------------
+
+// The CLI's bounds and defaults of `plan`: poses, candidates, the numbers of their blocks; the random sets a plan
+// is compared with; the noise assumed when none is stated (1e-5 L, 1e-5 rad).
+constexpr int kMaxPlanPoses = 1000;
+constexpr int kMaxPlanCandidates = 100000;
+constexpr double kMaxPlanEntries = 1e7;
+constexpr int kRandomSets = 100;
+constexpr double kDefaultRelativeNoise = 1e-5;
+
+struct PlanOutcome {
+  PlanResult plan;
+  std::vector<VecX> q;  // the planned joint vectors, in index order
+  std::optional<ExpectedUncertainty> expected;
+  json j;
+};
+
+// A value over the random sets: median and best.
+json spreadJson(std::vector<double> x) {
+  std::sort(x.begin(), x.end());
+  const size_t n = x.size();
+  const double median = n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+  return json{{"median", finiteOrNull(median)}, {"best", finiteOrNull(x.back())}};
+}
+
+PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::string& measure_text,
+                 const std::string& criterion_text, long long seed, std::optional<double> noise_position,
+                 std::optional<double> noise_rotation, bool free_pitch) {
+  if (poses < 1 || poses > kMaxPlanPoses) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(kMaxPlanPoses) + "], got " + std::to_string(poses));
+  }
+  if (candidate_count < 1 || candidate_count > kMaxPlanCandidates) {
+    throw UsageError("candidates", "must be in [1, " + std::to_string(kMaxPlanCandidates) + "], got " +
+                                       std::to_string(candidate_count));
+  }
+  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+  if (criterion_text != "D" && criterion_text != "O1") {
+    throw UsageError("criterion", "expected 'D' or 'O1', got '" + criterion_text + "'");
+  }
+  const Measure measure = parseMeasure(measure_text);
+  const PoeModel& model = r.poe;
+  PlanOptions options;
+  options.measure = measure;
+  options.free_pitch = free_pitch;
+  options.criterion = criterion_text == "O1" ? PlanCriterion::O1 : PlanCriterion::D;
+  if (measure == Measure::Targets) {
+    options.targets = fileTargets(r.file);
+    for (const Target& t : r.file.targets) options.target_names.push_back(t.name);
+  }
+  if (poses > candidate_count) {
+    throw UsageError("poses", std::to_string(poses) + " poses cannot be chosen from " + std::to_string(candidate_count) +
+                                  " candidates (candidates)");
+  }
+  for (const auto& [value, flag, limit] : {std::tuple{noise_position, "noise_position", kMaxMagnitude},
+                                           std::tuple{noise_rotation, "noise_rotation", M_PI}}) {
+    if (value && !(*value > 0.0 && *value <= limit)) {
+      throw UsageError(flag, "must be a positive number up to " + io::shortest(limit) + ", got " + io::shortest(*value));
+    }
+  }
+  if (noise_rotation && measure != Measure::Pose) {
+    throw UsageError("noise_rotation", std::string(measureName(measure)) + " measurements have no rotation to weigh");
+  }
+  ErrorModelSpec spec;
+  spec.free_pitch = free_pitch;
+  spec.targets = options.targets;
+  const double columns = ErrorModel(model, spec).size();
+  const double rows = measure == Measure::Pose ? 6.0 : 3.0 * std::max<size_t>(1, options.targets.size());
+  if (static_cast<double>(candidate_count) * rows * columns > kMaxPlanEntries) {
+    const bool robot = rows * columns > kMaxPlanEntries;
+    throw UsageError(robot ? r.file.path : std::string("candidates"),
+                     std::to_string(candidate_count) + " candidates of " + io::shortest(rows) + " rows and " +
+                         io::shortest(columns) + " parameters exceed the identification size limit (" +
+                         io::shortest(kMaxPlanEntries) + " numbers, held about four times): fewer candidates");
+  }
+  // the noise of the standard deviations: as stated (the other derived as calibrate does), else the default
+  std::optional<double> sigma_position = noise_position, sigma_rotation = noise_rotation;
+  std::string noise_source;
+  if (!sigma_position && !sigma_rotation) {
+    sigma_position = kDefaultRelativeNoise * model.lengthScale();
+    if (measure == Measure::Pose) sigma_rotation = kDefaultRelativeNoise;
+    noise_source = "default: 1e-5 L" + std::string(measure == Measure::Pose ? " and 1e-5 rad" : "") +
+                   "; state --noise-position/--noise-rotation";
+  } else if (measure != Measure::Pose || (sigma_position && sigma_rotation)) {
+    noise_source = "stated";
+  } else {
+    noise_source = sigma_position ? "position stated, rotation derived: position / L"
+                                  : "rotation stated, position derived: rotation x L";
+  }
+  PlanOutcome o;
+  std::vector<std::string> names;
+  std::vector<double> log_det, o1;
+  double seconds_plan = 0.0, seconds_random = 0.0, seconds_uncertainty = 0.0;
+  {
+    py::gil_scoped_release release;
+    // candidates: the sampling convention, stream `seed`, samples 0..M-1
+    const auto ranges = validation::samplingRanges(model);
+    std::vector<VecX> candidates(static_cast<size_t>(candidate_count), VecX(model.dof()));
+    for (int i = 0; i < candidate_count; ++i) {
+      validation::randomSample(static_cast<unsigned long long>(seed), static_cast<unsigned long long>(i), ranges,
+                               candidates[static_cast<size_t>(i)]);
+    }
+    auto clock = [] { return std::chrono::steady_clock::now(); };
+    auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+    const auto t0 = clock();
+    const PlanCandidates c = planCandidates(model, candidates, options);
+    o.plan = planPoses(c, poses, options);
+    for (const Parameter& x : c.parameters) names.push_back(x.name);
+    const auto t1 = clock();
+    for (const auto& set : randomPoseSets(c.count(), poses, kRandomSets, static_cast<unsigned long long>(seed))) {
+      const PlanValue v = evaluatePlan(c, set);
+      log_det.push_back(v.log_det);
+      o1.push_back(v.o1);
+    }
+    const auto t2 = clock();
+    for (const int i : o.plan.indices) o.q.push_back(candidates[static_cast<size_t>(i)]);
+    o.expected.emplace(expectedUncertainty(model, o.q, options, sigma_position, sigma_rotation));
+    seconds_plan = seconds(t0, t1), seconds_random = seconds(t1, t2), seconds_uncertainty = seconds(t2, clock());
+  }
+  // the JSON of `plan --json` (cli/plan_command.cpp planJson)
+  const PlanResult& p = o.plan;
+  const PlanCriterion criterion = options.criterion;
+  json undetermined = json::array();
+  for (const auto& direction : p.rank.undetermined) {
+    json terms = json::array();
+    for (const auto& [column, coefficient] : direction) {
+      terms.push_back({{"parameter", names[static_cast<size_t>(column)]}, {"coefficient", coefficient}});
+    }
+    undetermined.push_back(terms);
+  }
+  auto value = [&](const PlanValue& v) {
+    return json{{"log_det", finiteOrNull(v.log_det)}, {"O1", v.o1}, {"rank", v.rank},
+                {"criterion", finiteOrNull(v.criterion(criterion))}};
+  };
+  const CalibrationResult& c = o.expected->calibration;
+  json parameters = json::array();
+  for (size_t k = 0; k < names.size(); ++k) {
+    const Parameter& x = c.error_model.parameters()[k];
+    parameters.push_back({{"name", x.name}, {"unit", x.unit},
+                          {"sd", finiteOrNull(c.standard_deviation[static_cast<Eigen::Index>(k)])}});
+  }
+  json q = json::array();
+  for (const VecX& x : o.q) q.push_back(io::toVector(x));
+  json& j = o.j;
+  j["name"] = io::robotLabel(r.file);
+  j["source"] = r.file.path;
+  j["length_unit"] = r.file.length_unit.empty() ? json(nullptr) : json(r.file.length_unit);
+  j["measure"] = measureName(measure);
+  j["free_pitch"] = c.error_model.freePitch();
+  if (measure == Measure::Targets) {
+    json targets = json::array();
+    for (const Target& t : r.file.targets) targets.push_back({{"name", t.name}, {"point", io::toVector(*t.point_tool)}});
+    j["targets"] = targets;
+  }
+  j["criterion"] = planCriterionName(criterion);
+  j["poses"] = static_cast<int>(p.indices.size());
+  j["candidates"] = candidate_count;
+  j["seed"] = seed;
+  j["length_scale"] = model.lengthScale();
+  j["planned"] = value(p.value);
+  j["greedy"] = value(p.start);
+  j["swaps"] = p.swaps;
+  j["passes"] = p.passes;
+  j["random"] = {{"sets", kRandomSets},
+                 {"log_det", spreadJson(log_det)},
+                 {"O1", spreadJson(o1)},
+                 {"criterion", spreadJson(criterion == PlanCriterion::D ? log_det : o1)}};
+  j["expected"] = p.expected.total();
+  j["joints"] = {{"revolute", p.expected.revolute}, {"prismatic", p.expected.prismatic}, {"helical", p.expected.helical},
+                 {"scales", p.expected.scales}, {"tool", p.expected.tool}};
+  j["rank"] = p.rank.rank;
+  j["candidate_rank"] = p.candidate_rank;
+  j["parameters"] = names;
+  j["singular_values"] = io::toVector(p.rank.singular_values);
+  j["condition"] = finiteOrNull(p.rank.condition);
+  j["undetermined"] = undetermined;
+  j["indices"] = p.indices;
+  j["q"] = q;
+  j["noise"] = {{"position", c.sigma_position},
+                {"rotation", measure == Measure::Pose ? json(c.sigma_rotation) : json(nullptr)},
+                {"source", noise_source}};
+  j["standard_deviations"] = {{"parameters", parameters}, {"dh", validation::dhUncertaintyJson(o.expected->dh)}};
+  j["out"] = nullptr;
+  j["seconds"] = {{"plan", seconds_plan}, {"random", seconds_random}, {"uncertainty", seconds_uncertainty}};
+  return o;
+}
+
+// ----- simulate (validation/sampling.hpp; `lowpair simulate` of a robot file, cli/simulate_command.cpp) ----
+
+struct Simulation {
+  Measure measure = Measure::Pose;
+  std::vector<Measurement> measurements;
+  std::vector<std::string> target_names;  // Targets: the names measurement.target indexes
+  std::vector<size_t> blunders;           // the rows moved, increasing
+  std::vector<std::string> comments;      // for save(): where the file came from
+};
+
+void checkNoiseLevel(const char* name, double sd, double limit) {
+  if (!std::isfinite(sd) || sd < 0) throw UsageError(name, "expected a finite number >= 0, got " + io::shortest(sd));
+  if (sd > limit) throw UsageError(name, io::shortest(sd) + " is above " + io::shortest(limit));
+}
+
+// The targets measured: the robot file's (all, or those named, in the order named).
+std::vector<std::string> simulatedTargets(const Robot& r, const std::optional<std::vector<std::string>>& names,
+                                          std::vector<Vec3>& points) {
+  if (r.file.targets.empty()) {
+    throw UsageError(r.subject(), "measure='targets': the robot file lists no targets (a 'targets:' list of {name, point})");
+  }
+  std::vector<std::string> out;
+  if (!names) {
+    for (const Target& t : r.file.targets) out.push_back(t.name);
+  } else {
+    for (const std::string& name : *names) {
+      const std::string problem = io::targetNameProblem(name);
+      if (!problem.empty()) {
+        throw UsageError("targets", io::quotedFileText(name) + " " + problem + " (" + io::kTargetNameRule + ")");
+      }
+      if (std::find(out.begin(), out.end(), name) != out.end()) {
+        throw UsageError("targets", io::quotedFileText(name) + " is given twice");
+      }
+      out.push_back(name);
+    }
+  }
+  for (const std::string& name : out) {
+    const auto it = std::find_if(r.file.targets.begin(), r.file.targets.end(), [&](const Target& t) { return t.name == name; });
+    if (it == r.file.targets.end()) {
+      std::string known;
+      for (const Target& t : r.file.targets) known += (known.empty() ? "" : ", ") + t.name;
+      throw UsageError("targets", io::quotedFileText(name) + " is not a target of " + r.subject() + " (its targets: " +
+                                      known + ")");
+    }
+    points.push_back(*it->point_tool);
+  }
+  return out;
+}
+
+// Measurements of the robot's tool by the library's POE FK (the truth `lowpair simulate` uses for a robot file):
+// at `poses` random joint vectors (sample k of the stream `seed`) or at the rows of q; in a measurement frame;
+// with the seeded noise and blunders of validation/sampling.hpp, so the same arguments give the CLI's numbers.
+Simulation simulate(const Robot& r, std::optional<int> poses, const std::optional<InArray>& q_arg, long long seed,
+                    const std::string& measure_text, const std::optional<std::vector<std::string>>& targets,
+                    const std::optional<std::vector<double>>& frame, double noise_position, double noise_rotation,
+                    const std::optional<std::tuple<double, double>>& blunders) {
+  if (poses.has_value() == q_arg.has_value()) throw UsageError("poses", "give poses=N or q=(N, n) joint values, one of them");
+  if (poses && (*poses < 1 || *poses > 1000000)) {
+    throw UsageError("poses", "must be in [1, 1000000], got " + std::to_string(*poses));
+  }
+  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+  const Measure measure = parseMeasure(measure_text);
+  checkNoiseLevel("noise_position", noise_position, kMaxMagnitude);
+  checkNoiseLevel("noise_rotation", noise_rotation, M_PI);
+  if (measure != Measure::Pose && noise_rotation > 0) {
+    throw UsageError("noise_rotation", measure_text + " measurements have no rotation to perturb");
+  }
+  if (targets && measure != Measure::Targets) throw UsageError("targets", "goes with measure='targets'");
+  validation::MeasurementSetup setup;
+  setup.measure = measure;
+  Simulation s;
+  s.measure = measure;
+  if (measure == Measure::Targets) s.target_names = simulatedTargets(r, targets, setup.targets);
+  if (frame) {
+    if (frame->size() != 6) {
+      throw UsageError("frame", "expected 6 numbers rx, ry, rz, x, y, z (rotation vector in rad, translation), got " +
+                                    std::to_string(frame->size()));
+    }
+    for (const double x : *frame) {
+      if (!(std::abs(x) <= kMaxMagnitude)) throw UsageError("frame", "'" + io::shortest(x) + "' is not finite or above 1e100");
+    }
+    const auto& f = *frame;
+    setup.T_frame_base = validation::measurementFrame(Vec3(f[0], f[1], f[2]), Vec3(f[3], f[4], f[5])).inverse();
+  }
+  setup.sd_position = noise_position;
+  setup.sd_rotation = noise_rotation;
+  const PoeModel& model = r.poe;
+  const std::optional<MatX> Q = q_arg ? std::optional<MatX>(jointMatrix(*q_arg, r.dof(), r.subject())) : std::nullopt;
+  const long long count = Q ? static_cast<long long>(Q->rows()) : *poses;
+  if (count == 0) throw UsageError("q", "no joint values");
+  const long long rows = count * validation::rowsPerPose(setup);
+  if (rows > io::kMaxMeasurements) {
+    throw UsageError(Q ? "q" : "poses", std::to_string(count) + " poses x " + std::to_string(validation::rowsPerPose(setup)) +
+                                            " targets = " + std::to_string(rows) + " measurements, more than the " +
+                                            std::to_string(io::kMaxMeasurements) + " a measurement file holds");
+  }
+  long long blunder_count = 0;
+  double blunder_size = 0.0;
+  if (blunders) {
+    const auto [c, size] = *blunders;
+    if (!(c >= 0 && c == std::floor(c) && c <= io::kMaxMeasurements)) {
+      throw UsageError("blunders", "COUNT must be a whole number in [0, " + std::to_string(io::kMaxMeasurements) +
+                                       "], got " + io::shortest(c));
+    }
+    if (!(size > 0 && size <= kMaxMagnitude)) throw UsageError("blunders", "SIZE must be positive, got " + io::shortest(size));
+    blunder_count = static_cast<long long>(c), blunder_size = size;
+    if (blunder_count > rows) {
+      throw UsageError("blunders", "COUNT " + std::to_string(blunder_count) + " is more than the " + std::to_string(rows) +
+                                       " measurements");
+    }
+  }
+  const std::vector<validation::Range> ranges = validation::samplingRanges(model);
+  for (const auto& range : ranges) {
+    if (!Q && !(std::max(std::abs(range[0]), std::abs(range[1])) <= kMaxMagnitude)) {
+      throw UsageError(r.subject(), "a joint range reaches " + io::shortest(std::max(std::abs(range[0]), std::abs(range[1]))) +
+                                        ", above the 1e100 the measurement reader takes");
+    }
+  }
+  const auto beyond = [](const Measurement& m) { return !(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
+  const auto tooLarge = [](const std::string& subject, size_t k) {
+    return UsageError(subject, "measurement " + std::to_string(k + 1) +
+                                   " has a coordinate above 1e100 in magnitude, which no reader takes");
+  };
+  {
+    py::gil_scoped_release release;
+    Data data(model);
+    VecX q(model.dof());
+    s.measurements.reserve(static_cast<size_t>(rows));
+    for (size_t k = 0; k < static_cast<size_t>(count); ++k) {
+      if (Q) {
+        q = Q->row(static_cast<Eigen::Index>(k)).transpose();
+      } else {
+        validation::randomSample(static_cast<unsigned long long>(seed), k, ranges, q);
+      }
+      forwardKinematics(model, data, q);
+      if (!(data.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
+        throw UsageError(Q ? "q" : r.subject(), Q ? "row " + std::to_string(k) + ": the tool at this row's q has a coordinate "
+                                                    "above 1e100 in magnitude, which no reader takes"
+                                                  : "measurement " + std::to_string(k * validation::rowsPerPose(setup) + 1) +
+                                                        " has a coordinate above 1e100 in magnitude, which no reader takes");
+      }
+      const size_t first = s.measurements.size();
+      validation::appendMeasurements(setup, static_cast<unsigned long long>(seed), k, q, data.T_base_tool, s.measurements);
+      for (size_t row = first; row < s.measurements.size(); ++row) {
+        if (beyond(s.measurements[row])) throw tooLarge(frame ? "frame" : "noise_position", row);
+      }
+    }
+    if (blunders) {
+      s.blunders = validation::addBlunders(static_cast<unsigned long long>(seed), blunder_count, blunder_size, s.measurements);
+      for (const size_t row : s.blunders) {
+        if (beyond(s.measurements[row])) throw tooLarge("blunders", row);
+      }
+    }
+  }
+  const std::string unit = r.file.length_unit.empty() ? "length" : r.file.length_unit;
+  s.comments.push_back("made by lowpair.simulate (Python): " + std::to_string(s.measurements.size()) + " " + measure_text +
+                       " measurements of " + r.subject() + " (the library's POE forward kinematics), seed " +
+                       std::to_string(seed) + ", noise position " + io::shortest(noise_position) + " " + unit +
+                       (measure == Measure::Pose ? ", rotation " + io::shortest(noise_rotation) + " rad" : std::string()) +
+                       (frame ? ", in a measurement frame" : "") +
+                       (blunders ? ", " + std::to_string(s.blunders.size()) + " blunders" : std::string()));
+  if (io::isUnitLabel(r.file.length_unit)) s.comments.push_back("length_unit: " + r.file.length_unit);
+  return s;
+}
+
+// The quaternion qw, qx, qy, qz of a rotation as the measurement CSV writer prints it (normalized, qw >= 0).
+Eigen::Vector4d csvQuaternion(const Mat3& R) {
+  Eigen::Quaterniond quaternion(R);
+  quaternion.normalize();
+  if (quaternion.w() < 0) quaternion.coeffs() *= -1.0;
+  return {quaternion.w(), quaternion.x(), quaternion.y(), quaternion.z()};
 }
 
 // ----- save, export --------------------------------------------------------------------------------------
@@ -651,8 +1488,12 @@ py::dict statisticsDict(const ResidualStatistics& s) {
   return d;
 }
 
-// A timing helper for python/bench_fk.py: `repeats` batched FK calls of Q (N, n) in C++, no Python in the loop,
-// into one reused buffer; returns the seconds per pose of the fastest repeat.
+// ----- the benchmark's reference (python/bench_fk.py, docs/python.md "Speed") ----------------------------
+
+const KinematicChain& fileChain(const Robot& r) { return r.ownDh() ? r.dhModel().chain() : r.poe.chain(); }
+
+// `repeats` batched FK calls of Q (N, n) in C++, no Python in the loop, into one reused buffer: the seconds per
+// pose of the fastest.
 double timeBatchFk(const Robot& r, const InArray& q, int repeats) {
   const MatX Q = jointMatrix(q, r.dof(), r.subject());
   MatX poses(Q.rows(), 12);
@@ -668,6 +1509,45 @@ double timeBatchFk(const Robot& r, const InArray& q, int repeats) {
     best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   return best / static_cast<double>(std::max<Eigen::Index>(1, Q.rows()));
+}
+
+// The rows of Q (N, n) through forwardKinematics one at a time in C++ (the kinematics of one robot.fk(q) call),
+// `repeats` times: the seconds per call of the fastest pass.
+double timeSingleFk(const Robot& r, const InArray& q, int repeats) {
+  const MatX Q = jointMatrix(q, r.dof(), r.subject());
+  const MatX Qt = Q.transpose();  // one configuration per column, contiguous
+  py::gil_scoped_release release;
+  Data data(fileChain(r));
+  double best = 1e300, sink = 0.0;
+  for (int k = 0; k < std::max(1, repeats); ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    for (Eigen::Index c = 0; c < Qt.cols(); ++c) {
+      if (r.ownDh()) {
+        forwardKinematics(r.dhModel(), data, Qt.col(c));
+      } else {
+        forwardKinematics(r.poe, data, Qt.col(c));
+      }
+      sink += data.T_base_tool.p(0);
+    }
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  volatile double keep = sink;  // the loop's results are used
+  (void)keep;
+  return best / static_cast<double>(std::max<Eigen::Index>(1, Q.rows()));
+}
+
+// One forwardKinematicsBatch call over all of Q (N, n): the (N, 12) poses (rotation row-major, then position), for
+// the test that robot.fk(Q) repacks the library's numbers bit for bit.
+py::array_t<double> batchFkReference(const Robot& r, const InArray& q, const std::optional<std::string>& model) {
+  const std::string kind = kindOf(r, model);
+  const MatX Q = jointMatrix(q, r.dof(), r.subject());
+  MatX poses(Q.rows(), 12);
+  if (kind == "poe") {
+    forwardKinematicsBatch(r.poe, Q, poses);
+  } else {
+    forwardKinematicsBatch(r.dhModel(), Q, poses);
+  }
+  return matrixArray(poses);
 }
 
 }  // namespace
@@ -738,8 +1618,8 @@ PYBIND11_MODULE(_lowpair, m) {
           },
           "list[str]: 'revolute', 'prismatic' or 'helical' per joint.")
       .def_property_readonly("ranges", &rangesArray,
-                             "(n, 2) float64 array [lo, hi] of each joint variable q (rad, or length for prismatic "
-                             "joints); NaN in both columns for a joint without a range.")
+                             "(n, 2) float64 array [lo, hi] of each joint variable q (rad, or length_unit for "
+                             "prismatic joints); NaN in both columns for a joint without a range.")
       .def_property_readonly(
           "targets",
           [](const Robot& r) {
@@ -754,13 +1634,14 @@ PYBIND11_MODULE(_lowpair, m) {
            "fk(q, model=None, out=None) -> numpy.ndarray\n\n"
            "Forward kinematics T_base_tool(q).\n\n"
            "q: (n,) joint values -> (4, 4) homogeneous transform; or (N, n), one configuration per row -> (N, 4, 4),\n"
-           "evaluated by one batched C++ call (forwardKinematicsBatch, SIMD) with the GIL released.\n"
+           "evaluated by batched C++ calls (forwardKinematicsBatch, SIMD) with the GIL released.\n"
            "Units: q in rad (revolute, helical) or length_unit (prismatic), the robot file's joint variable;\n"
            "the translation column in length_unit. model: None (the file's own description, as `lowpair fk`),\n"
-           "'poe' or 'dh'. A single q equals `lowpair fk --json` bit for bit; the batched form agrees with it to\n"
-           "rounding (a few eps; docs/api.md). out: an optional preallocated C-contiguous float64 array of the result's\n"
-           "shape, filled and returned (saves the fresh pages of a new result in loops over large batches).\n"
-           "Raises lowpair.Error for a wrong shape or a non-finite value.")
+           "'poe' or 'dh'. A single q equals `lowpair fk --json` bit for bit; the batched form holds the numbers of\n"
+           "forwardKinematicsBatch bit for bit, which agree with the single form to rounding (a few eps;\n"
+           "docs/python.md). out: an optional preallocated C-contiguous float64 array of the result's shape,\n"
+           "filled and returned. Cost (docs/python.md, \"Speed\"): ~0.4 us per call for one q, ~25 ns per pose\n"
+           "for a large batch. Raises lowpair.Error for a wrong shape or a non-finite value.")
       .def("jacobian", &jacobian, py::arg("q"), py::arg("frame") = "spatial",
            "jacobian(q, frame='spatial') -> numpy.ndarray (6, n)\n\n"
            "The manipulator Jacobian at q (n,), as `lowpair jacobian --frame`:\n"
@@ -816,7 +1697,8 @@ PYBIND11_MODULE(_lowpair, m) {
                              "dict: the POE vs D-H FK deviation over 65 configurations.")
       .def_property_readonly("warnings", [](const DhTable& t) { return toPython(t.j["warnings"]); },
                              "list[str]: the conditioning warnings in sentences.")
-      .def_property_readonly("size", [](const DhTable& t) { return t.conversion.size; }, "The robot size L.")
+      .def_property_readonly("size", [](const DhTable& t) { return t.conversion.size; },
+                             "The robot size L (length_unit).")
       .def("__repr__", [](const DhTable& t) {
         return "<lowpair.DhTable " + t.j["convention"].get<std::string>() + ", " +
                std::to_string(t.conversion.model.dof()) + " rows>";
@@ -833,13 +1715,17 @@ PYBIND11_MODULE(_lowpair, m) {
                              "Smallest singular value of the dimensionless Jacobian.")
       .def_property_readonly("singular_values", [](const Singularity& s) { return vectorArray(s.report.singular_values); },
                              "(min(6, n),) descending singular values of the dimensionless Jacobian.")
-      .def_property_readonly("manipulability", [](const Singularity& s) { return s.report.manipulability; }, "")
+      .def_property_readonly("manipulability", [](const Singularity& s) { return s.report.manipulability; },
+                             "Yoshikawa's sqrt(det(J J^T)) of the dimensionless Jacobian: the product of its singular "
+                             "values (0 at a singularity).")
       .def_property_readonly("condition", [](const Singularity& s) { return s.report.condition; },
                              "sigma_max / sigma_min (inf when singular to zero).")
       .def_property_readonly("tolerance", [](const Singularity& s) { return s.report.tolerance; }, "The rank threshold.")
       .def_property_readonly("size", [](const Singularity& s) { return s.report.size; }, "The robot size L.")
-      .def_property_readonly("rank_linear", [](const Singularity& s) { return s.report.rank_linear; }, "")
-      .def_property_readonly("rank_angular", [](const Singularity& s) { return s.report.rank_angular; }, "")
+      .def_property_readonly("rank_linear", [](const Singularity& s) { return s.report.rank_linear; },
+                             "Rank of the three linear-velocity rows (the tool origin's motion), int.")
+      .def_property_readonly("rank_angular", [](const Singularity& s) { return s.report.rank_angular; },
+                             "Rank of the three angular-velocity rows, int.")
       .def_property_readonly("classes", [](const Singularity& s) { return toPython(s.j["classes"]); },
                              "list[dict]: class ('C1'..'C7', 'other'), joints (1-based), description.")
       .def_property_readonly("decoupled", [](const Singularity& s) { return toPython(s.j["decoupled"]); },
@@ -867,18 +1753,26 @@ PYBIND11_MODULE(_lowpair, m) {
                              "Rank of the identification Jacobian (minimal POE parameters).")
       .def_property_readonly("expected", [](const IdentifiabilityResult& i) { return i.id.expected.total(); },
                              "The count 5h + 4r + 2t + n + 6 (or + 3 / + 3k).")
-      .def_property_readonly("columns", [](const IdentifiabilityResult& i) { return i.id.poe.columns; }, "")
+      .def_property_readonly("columns", [](const IdentifiabilityResult& i) { return i.id.poe.columns; },
+                             "Columns of the identification Jacobian: the minimal POE parameters (int).")
       .def_property_readonly("condition", [](const IdentifiabilityResult& i) { return i.id.poe.condition; },
                              "sigma_1 / sigma_min of the scaled Jacobian (inf when rank deficient).")
-      .def_property_readonly("singular_values", [](const IdentifiabilityResult& i) { return vectorArray(i.id.poe.singular_values); }, "")
+      .def_property_readonly("singular_values", [](const IdentifiabilityResult& i) { return vectorArray(i.id.poe.singular_values); },
+                             "(columns,) descending singular values of the scaled identification Jacobian (position "
+                             "rows over L, columns of unit norm).")
       .def_property_readonly("observability",
                              [](const IdentifiabilityResult& i) {
                                return std::vector<double>(i.id.poe.observability.begin(), i.id.poe.observability.end());
                              },
                              "[O1, O2, O3, O4, O5] (Sun & Hollerbach).")
-      .def_property_readonly("full_model_rank", [](const IdentifiabilityResult& i) { return i.id.full_model_rank; }, "")
-      .def_property_readonly("dh_rank", [](const IdentifiabilityResult& i) { return i.id.dh.rank; }, "")
-      .def_property_readonly("dh_columns", [](const IdentifiabilityResult& i) { return i.id.dh.columns; }, "")
+      .def_property_readonly("full_model_rank", [](const IdentifiabilityResult& i) { return i.id.full_model_rank; },
+                             "Rank of the redundant error model (6 per joint, pitch, scale, offset, 6 for the tool): "
+                             "the paper's 'at most', equal to `expected`.")
+      .def_property_readonly("dh_rank", [](const IdentifiabilityResult& i) { return i.id.dh.rank; },
+                             "Rank of the D-H parameterization of the same robot (poeToDh).")
+      .def_property_readonly("dh_columns", [](const IdentifiabilityResult& i) { return i.id.dh.columns; },
+                             "Columns of the D-H parameterization: base theta, d, alpha, a; per joint theta, d, "
+                             "alpha, a (+ pitch) + scale; tool theta, d.")
       .def_property_readonly(
           "parameters",
           [](const IdentifiabilityResult& i) {
@@ -894,20 +1788,30 @@ PYBIND11_MODULE(_lowpair, m) {
 
   py::class_<Calibration>(m, "Calibration", "lowpair.calibrate(...): the result of `lowpair calibrate`.")
       .def("to_dict", [](const Calibration& c) { return toPython(c.j); },
-           "to_dict() -> dict: the content of `lowpair calibrate --json` (measurements.path '<arrays>', lines are "
-           "0-based row indices).")
+           "to_dict() -> dict: the content of `lowpair calibrate --json` (measurements.path '<arrays>', validation.path\n"
+           "'<validation arrays>'; every `line` is the 0-based row of the arrays).")
       .def_property_readonly("robot", [](const Calibration& c) { return c.robot; },
                              "The calibrated Robot (in the measurement frame); save() writes what `calibrate --out` "
                              "writes. Present even when not accepted: check `accepted`.")
-      .def_property_readonly("rank", [](const Calibration& c) { return c.report.result.rank.rank; }, "")
-      .def_property_readonly("expected", [](const Calibration& c) { return c.report.result.expected.total(); }, "")
-      .def_property_readonly("iterations", [](const Calibration& c) { return c.report.result.iterations; }, "")
-      .def_property_readonly("converged", [](const Calibration& c) { return c.report.result.converged; }, "")
+      .def_property_readonly("measure", [](const Calibration& c) { return measureName(c.report.result.measure); },
+                             "'pose', 'position' or 'targets': what the arrays held.")
+      .def_property_readonly("rank", [](const Calibration& c) { return c.report.result.rank.rank; },
+                             "Rank of the weighted identification Jacobian at the nominal (int).")
+      .def_property_readonly("expected", [](const Calibration& c) { return c.report.result.expected.total(); },
+                             "The count 5h + 4r + 2t + n + 6 (+ 3 for positions, + 3k for k targets).")
+      .def_property_readonly("iterations", [](const Calibration& c) { return c.report.result.iterations; },
+                             "Levenberg-Marquardt iterations (int).")
+      .def_property_readonly("converged", [](const Calibration& c) { return c.report.result.converged; },
+                             "Whether the iteration converged (bool).")
       .def_property_readonly("accepted", [](const Calibration& c) { return c.report.result.accepted; },
-                             "The verdict (docs/calibration.md).")
+                             "The verdict (docs/calibration.md): converged and the residuals consistent with the "
+                             "stated noise (or below 1 % of L and 0.01 rad without it). `lowpair calibrate` exits 1 "
+                             "and writes nothing when False.")
       .def_property_readonly("reason", [](const Calibration& c) { return c.report.result.reason; },
                              "Why not accepted ('' when accepted).")
-      .def_property_readonly("variance_factor", [](const Calibration& c) { return c.report.result.variance_factor; }, "")
+      .def_property_readonly("variance_factor", [](const Calibration& c) { return c.report.result.variance_factor; },
+                             "cost / (rows - rank): 1 expected when the stated noise is right (inf or NaN without "
+                             "redundancy; to_dict() has null).")
       .def_property_readonly("before", [](const Calibration& c) { return statisticsDict(c.report.result.before); },
                              "dict count, rms_position, max_position (length_unit), rms_rotation, max_rotation (rad): "
                              "the nominal (registered) against the measurements.")
@@ -922,6 +1826,46 @@ PYBIND11_MODULE(_lowpair, m) {
                                return std::move(d);
                              },
                              "dict before/after on the validation arrays, or None.")
+      .def_property_readonly(
+          "residuals",
+          [](const Calibration& c) {
+            const auto& rows = c.report.result.residuals;
+            const auto N = static_cast<py::ssize_t>(rows.size());
+            py::array_t<double> position(N), rotation(N), normalized(N), weight(N);
+            py::array_t<bool> outlier(N);
+            for (py::ssize_t k = 0; k < N; ++k) {
+              const MeasurementResidual& x = rows[static_cast<size_t>(k)];
+              position.mutable_at(k) = x.position, rotation.mutable_at(k) = x.rotation;
+              normalized.mutable_at(k) = x.normalized, weight.mutable_at(k) = x.weight, outlier.mutable_at(k) = x.outlier;
+            }
+            py::dict d;
+            d["position"] = position, d["rotation"] = rotation, d["normalized"] = normalized, d["weight"] = weight;
+            d["outlier"] = outlier;
+            return d;
+          },
+          "dict of (N,) arrays, one entry per measurement row (after the fit): position (length_unit), rotation (rad; "
+          "NaN for points), normalized (over the noise unit), weight (the robust loss' weight, 1 for squared), "
+          "outlier (bool: normalized > outlier_threshold).")
+      .def_property_readonly("outliers", [](const Calibration& c) { return c.report.result.outliers; },
+                             "Measurements flagged as outliers (int).")
+      .def_property_readonly("loss", [](const Calibration& c) { return toPython(c.j["loss"]); },
+                             "'squared', 'huber' or 'cauchy'.")
+      .def_property_readonly("targets",
+                             [](const Calibration& c) {
+                               py::dict out;
+                               for (size_t t = 0; t < c.report.target_names.size(); ++t) {
+                                 out[py::str(c.report.target_names[t])] = vectorArray(c.report.result.targets[t]);
+                               }
+                               return out;
+                             },
+                             "dict name -> (3,) calibrated point in the tool frame (length_unit), for target "
+                             "measurements; empty otherwise.")
+      .def_property_readonly("cross_validation",
+                             [](const Calibration& c) -> py::object {
+                               if (!c.j.contains("cross_validation")) return py::none();
+                               return toPython(c.j["cross_validation"]);
+                             },
+                             "dict folds, candidates, chosen (select='cv'), or None.")
       .def_property_readonly("dh", [](const Calibration& c) { return toPython(c.j["dh"]); },
                              "dict: the calibrated D-H table with standard deviations (to_dict()['dh']).")
       .def_property_readonly(
@@ -931,22 +1875,237 @@ PYBIND11_MODULE(_lowpair, m) {
             for (const Parameter& p : c.report.result.error_model.parameters()) names.push_back(p.name);
             return names;
           },
-          "")
+          "list[str]: the identified parameters ('j2.tilt1', 'j3.scale', 'tool.z', 'smr_a.x', ...), the order of "
+          "estimate, standard_deviation and covariance (docs/calibration.md lists their meaning and units).")
       .def_property_readonly("estimate", [](const Calibration& c) { return vectorArray(c.report.result.estimate); },
                              "(p,): every parameter's estimate from the registered nominal, in parameter_names "
                              "order and units (to_dict()['parameters'][k]['value']).")
       .def_property_readonly("standard_deviation",
                              [](const Calibration& c) { return vectorArray(c.report.result.standard_deviation); },
-                             "Per parameter (inf when undetermined).")
-      .def_property_readonly("covariance", [](const Calibration& c) { return matrixArray(c.report.result.covariance); }, "")
+                             "(p,) per parameter, in its unit (inf when undetermined).")
+      .def_property_readonly("covariance", [](const Calibration& c) { return matrixArray(c.report.result.covariance); },
+                             "(p, p) covariance of the parameters (local coordinates at the calibrated model, "
+                             "parameter_names order, their units squared); pseudo-inverse on the determined subspace.")
       .def_property_readonly("measurement_frame",
                              [](const Calibration& c) { return poseArray(c.report.result.registration.T_meas_base); },
                              "(4, 4): the nominal's base in the measurement frame (the registration).")
-      .def_property_readonly("warnings", [](const Calibration& c) { return c.report.warnings; }, "")
+      .def_property_readonly("warnings", [](const Calibration& c) { return c.report.warnings; },
+                             "list[str]: the report's warnings in sentences (rank below the count, no convergence, "
+                             "residuals inconsistent with the noise, the D-H conversion's conditioning).")
       .def("__repr__", [](const Calibration& c) {
         return "<lowpair.Calibration rank " + std::to_string(c.report.result.rank.rank) + " of " +
                std::to_string(c.report.result.expected.total()) + ", " + (c.report.result.accepted ? "accepted" : "rejected") +
                ">";
+      });
+
+  py::class_<IkSolutions>(m, "IkSolutions",
+                          "lowpair.ik(...) / lowpair.compensate(...): one solution per row, as `lowpair ik` / "
+                          "`lowpair compensate` write them.")
+      .def("to_dict", [](const IkSolutions& s) { return toPython(s.j); },
+           "to_dict() -> dict: the content of `lowpair ik --json` (poses '<arrays>') or `lowpair compensate --json`\n"
+           "(q_file '<arrays>'); every row's `line` is its 0-based row.")
+      .def("__len__", [](const IkSolutions& s) { return s.rows.size(); })
+      .def_property_readonly(
+          "q",
+          [](const IkSolutions& s) {
+            const int n = s.rows.empty() ? 0 : static_cast<int>(s.rows.front().q.size());
+            MatX out(static_cast<Eigen::Index>(s.rows.size()), n);
+            for (size_t k = 0; k < s.rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = s.rows[k].q.transpose();
+            return matrixArray(out);
+          },
+          "(N, n): the solutions (or each row's last iterate when not ok), rad / length_unit.")
+      .def_property_readonly(
+          "status",
+          [](const IkSolutions& s) {
+            std::vector<std::string> out;
+            for (const IkResult& r : s.rows) out.push_back(ikStatusName(r.status));
+            return out;
+          },
+          "list[str]: 'ok', 'out_of_range', 'singular', 'unreachable' or 'not_converged' per row (docs/ik.md).")
+      .def_property_readonly(
+          "ok",
+          [](const IkSolutions& s) {
+            py::array_t<bool> out(static_cast<py::ssize_t>(s.rows.size()));
+            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].status == IkStatus::Ok;
+            return out;
+          },
+          "(N,) bool: status == 'ok' (within 1e-10 L and 1e-10 rad, at a regular configuration).")
+      .def_property_readonly(
+          "iterations",
+          [](const IkSolutions& s) {
+            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.rows.size()));
+            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].iterations;
+            return out;
+          },
+          "(N,) int: iterations of the kept attempt.")
+      .def_property_readonly(
+          "position_error",
+          [](const IkSolutions& s) {
+            VecX out(static_cast<Eigen::Index>(s.rows.size()));
+            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].position_error;
+            return vectorArray(out);
+          },
+          "(N,): |p_target - p| at q (length_unit).")
+      .def_property_readonly(
+          "rotation_error",
+          [](const IkSolutions& s) {
+            VecX out(static_cast<Eigen::Index>(s.rows.size()));
+            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].rotation_error;
+            return vectorArray(out);
+          },
+          "(N,): the angle of R^T R_target at q (rad; 0 for positions).")
+      .def_property_readonly(
+          "rank",
+          [](const IkSolutions& s) {
+            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.rows.size()));
+            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].rank;
+            return out;
+          },
+          "(N,) int: rank of the dimensionless task Jacobian at a converged q (-1 when not converged).")
+      .def_property_readonly(
+          "sigma_min",
+          [](const IkSolutions& s) {
+            VecX out(static_cast<Eigen::Index>(s.rows.size()));
+            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].sigma_min;
+            return vectorArray(out);
+          },
+          "(N,): its smallest singular value (NaN when not converged).")
+      .def_property_readonly(
+          "seed",
+          [](const IkSolutions& s) {
+            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.seeds.size()));
+            for (size_t k = 0; k < s.seeds.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.seeds[k];
+            return out;
+          },
+          "(N,) int: the random seed s (0..seeds-1) the kept attempt started from; -1 for q0 (ik) and compensate.")
+      .def_property_readonly(
+          "reason",
+          [](const IkSolutions& s) {
+            std::vector<std::string> out;
+            for (const IkResult& r : s.rows) out.push_back(r.reason);
+            return out;
+          },
+          "list[str]: why a row is not ok, one sentence with the numbers ('' for ok rows).")
+      .def_property_readonly("counts", [](const IkSolutions& s) { return toPython(s.j["counts"]); },
+                             "dict status -> rows.")
+      .def("__repr__", [](const IkSolutions& s) {
+        long long ok = 0;
+        for (const IkResult& r : s.rows) ok += r.status == IkStatus::Ok;
+        return "<lowpair.IkSolutions " + std::to_string(s.rows.size()) + " rows, " + std::to_string(ok) + " ok>";
+      });
+
+  py::class_<PlanOutcome>(m, "Plan", "lowpair.plan(...): the result of `lowpair plan`.")
+      .def("to_dict", [](const PlanOutcome& p) { return toPython(p.j); },
+           "to_dict() -> dict: the content of `lowpair plan --json` (out is None: the planned joint vectors are q).")
+      .def_property_readonly("indices", [](const PlanOutcome& p) { return p.plan.indices; },
+                             "list[int]: the chosen candidates (0-based sample indices of the stream `seed`), "
+                             "increasing.")
+      .def_property_readonly(
+          "q",
+          [](const PlanOutcome& p) {
+            const int n = p.q.empty() ? 0 : static_cast<int>(p.q.front().size());
+            MatX out(static_cast<Eigen::Index>(p.q.size()), n);
+            for (size_t k = 0; k < p.q.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = p.q[k].transpose();
+            return matrixArray(out);
+          },
+          "(N, n): the planned joint vectors in index order (what `plan --out` writes; rad / length_unit).")
+      .def_property_readonly("criterion", [](const PlanOutcome& p) { return planCriterionName(p.plan.criterion); },
+                             "'D' or 'O1'.")
+      .def_property_readonly("log_det", [](const PlanOutcome& p) { return p.plan.value.log_det; },
+                             "log det of the planned set's information (-inf when it does not determine every "
+                             "direction the candidates do).")
+      .def_property_readonly("o1", [](const PlanOutcome& p) { return p.plan.value.o1; },
+                             "Sun & Hollerbach's O1 of the planned set.")
+      .def_property_readonly("greedy", [](const PlanOutcome& p) { return toPython(p.j["greedy"]); },
+                             "dict log_det, O1, rank, criterion of the greedy set before the exchanges.")
+      .def_property_readonly("random", [](const PlanOutcome& p) { return toPython(p.j["random"]); },
+                             "dict: median and best log_det and O1 of 100 random sets of N of the same candidates.")
+      .def_property_readonly("rank", [](const PlanOutcome& p) { return p.plan.rank.rank; },
+                             "Rank of the planned set's identification Jacobian (the rank rule).")
+      .def_property_readonly("expected", [](const PlanOutcome& p) { return p.plan.expected.total(); },
+                             "The count 5h + 4r + 2t + n + 6 (+ 3, + 3k).")
+      .def_property_readonly("candidate_rank", [](const PlanOutcome& p) { return p.plan.candidate_rank; },
+                             "Directions all candidates together determine.")
+      .def_property_readonly("swaps", [](const PlanOutcome& p) { return p.plan.swaps; }, "Exchanges made (int).")
+      .def_property_readonly("parameters", [](const PlanOutcome& p) { return toPython(p.j["parameters"]); },
+                             "list[str]: the parameter names (columns).")
+      .def_property_readonly(
+          "standard_deviation",
+          [](const PlanOutcome& p) { return vectorArray(p.expected->calibration.standard_deviation); },
+          "(p,): each parameter's expected standard deviation after calibrating on the plan with the noise `noise` "
+          "(parameter units; inf when undetermined).")
+      .def_property_readonly("dh", [](const PlanOutcome& p) { return toPython(p.j["standard_deviations"]["dh"]); },
+                             "dict: the nominal's D-H table with its expected standard deviations.")
+      .def_property_readonly("noise", [](const PlanOutcome& p) { return toPython(p.j["noise"]); },
+                             "dict position (length_unit), rotation (rad or None), source: the noise assumed.")
+      .def_property_readonly("undetermined", [](const PlanOutcome& p) { return toPython(p.j["undetermined"]); },
+                             "list of directions the plan does not determine, each a list of {parameter, "
+                             "coefficient}.")
+      .def("__repr__", [](const PlanOutcome& p) {
+        return "<lowpair.Plan " + std::to_string(p.plan.indices.size()) + " poses, rank " +
+               std::to_string(p.plan.rank.rank) + " of " + std::to_string(p.plan.expected.total()) + ", log det " +
+               io::shortest(p.plan.value.log_det) + ">";
+      });
+
+  py::class_<Simulation>(m, "Measurements",
+                         "lowpair.simulate(...): simulated measurements, the columns of the measurement CSV as arrays "
+                         "(pass them to lowpair.calibrate).")
+      .def("__len__", [](const Simulation& s) { return s.measurements.size(); })
+      .def_property_readonly("measure", [](const Simulation& s) { return measureName(s.measure); },
+                             "'pose', 'position' or 'targets'.")
+      .def_property_readonly(
+          "q",
+          [](const Simulation& s) {
+            MatX out(static_cast<Eigen::Index>(s.measurements.size()), s.measurements.front().q.size());
+            for (size_t k = 0; k < s.measurements.size(); ++k) {
+              out.row(static_cast<Eigen::Index>(k)) = s.measurements[k].q.transpose();
+            }
+            return matrixArray(out);
+          },
+          "(M, n): the joint values of each row (targets: a pose's q repeated on each of its targets' rows).")
+      .def_property_readonly(
+          "positions",
+          [](const Simulation& s) {
+            MatX out(static_cast<Eigen::Index>(s.measurements.size()), 3);
+            for (size_t k = 0; k < s.measurements.size(); ++k) {
+              out.row(static_cast<Eigen::Index>(k)) = s.measurements[k].T_base_tool.p.transpose();
+            }
+            return matrixArray(out);
+          },
+          "(M, 3): the measured tool position (targets: the target's point) in the measurement frame (length_unit).")
+      .def_property_readonly(
+          "rotations",
+          [](const Simulation& s) -> py::object {
+            if (s.measure != Measure::Pose) return py::none();
+            MatX out(static_cast<Eigen::Index>(s.measurements.size()), 4);
+            for (size_t k = 0; k < s.measurements.size(); ++k) {
+              out.row(static_cast<Eigen::Index>(k)) = csvQuaternion(s.measurements[k].T_base_tool.R).transpose();
+            }
+            return matrixArray(out);
+          },
+          "(M, 4) unit quaternions qw, qx, qy, qz (qw >= 0, as the CSV writes them) for pose measurements, else None.")
+      .def_property_readonly(
+          "targets",
+          [](const Simulation& s) -> py::object {
+            if (s.measure != Measure::Targets) return py::none();
+            std::vector<std::string> out;
+            for (const Measurement& x : s.measurements) out.push_back(s.target_names[static_cast<size_t>(x.target)]);
+            return py::cast(out);
+          },
+          "list[str]: the target measured in each row (the CSV's target column) for target measurements, else None.")
+      .def_property_readonly("blunders", [](const Simulation& s) { return s.blunders; },
+                             "list[int]: the rows moved by a blunder (0-based, increasing).")
+      .def(
+          "save",
+          [](const Simulation& s, const std::string& path) {
+            io::writeFileAtomically(path, io::formatMeasurements(s.measure, s.measurements, s.comments, s.target_names));
+          },
+          py::arg("path"),
+          "save(path) -> None\n\n"
+          "Writes the measurement CSV (the format `lowpair simulate --out` writes and `lowpair calibrate` reads:\n"
+          "17 significant digits, a `# length_unit` comment when the robot states one), all or nothing.")
+      .def("__repr__", [](const Simulation& s) {
+        return "<lowpair.Measurements " + std::to_string(s.measurements.size()) + " " + measureName(s.measure) + ">";
       });
 
   m.def(
@@ -970,27 +2129,83 @@ PYBIND11_MODULE(_lowpair, m) {
         "`lowpair identifiability`: the rank of the identification Jacobian at `poses` random joint vectors (the\n"
         "CLI's seeded stream: equal numbers for equal seeds) against the count 5h + 4r + 2t + n + 6.\n"
         "measure: 'pose', 'position' or 'targets' (the robot file's targets).");
-  m.def("calibrate", &calibrateArrays, py::arg("robot"), py::arg("q"), py::arg("positions"),
+  m.def("calibrate", &calibrateFromArrays, py::arg("robot"), py::arg("q"), py::arg("positions"),
         py::arg("rotations") = py::none(), py::arg("noise_position") = py::none(),
         py::arg("noise_rotation") = py::none(), py::arg("free_pitch") = false, py::arg("loss") = "squared",
-        py::arg("outlier_threshold") = 5.0, py::arg("parameters") = "full", py::arg("validation_q") = py::none(),
+        py::arg("outlier_threshold") = 5.0, py::arg("parameters") = py::none(), py::arg("validation_q") = py::none(),
         py::arg("validation_positions") = py::none(), py::arg("validation_rotations") = py::none(),
+        py::arg("targets") = py::none(), py::arg("validation_targets") = py::none(), py::arg("select") = py::none(),
+        py::arg("folds") = 5,
         "calibrate(robot, q, positions, rotations=None, noise_position=None, noise_rotation=None, free_pitch=False,\n"
-        "          loss='squared', outlier_threshold=5.0, parameters='full', validation_q=None,\n"
-        "          validation_positions=None, validation_rotations=None) -> Calibration\n\n"
-        "`lowpair calibrate` from arrays (the measurement CSV's columns): q (N, n) joint values (rad / length_unit),\n"
-        "positions (N, 3) measured tool positions (length_unit), rotations (N, 4) unit quaternions qw, qx, qy, qz\n"
-        "(scalar first; norm within 1e-6 of 1) for pose measurements, or None for position measurements.\n"
+        "          loss='squared', outlier_threshold=5.0, parameters=None, validation_q=None,\n"
+        "          validation_positions=None, validation_rotations=None, targets=None, validation_targets=None,\n"
+        "          select=None, folds=5) -> Calibration\n\n"
+        "`lowpair calibrate` from arrays (the measurement CSV's columns): q (N, n) joint values (rad / length_unit);\n"
+        "positions (N, 3) measured tool positions (length_unit, the robot's; any measurement frame: it is\n"
+        "registered); rotations (N, 4) unit quaternions qw, qx, qy, qz (scalar first; norm within 1e-6 of 1) for\n"
+        "pose measurements; or targets, N names (the CSV's target column) for laser-tracker target (SMR)\n"
+        "measurements, positions then being the targets' points (a point the robot file's `targets:` gives is the\n"
+        "start, the others are estimated); neither: position measurements of the tool origin.\n"
         "noise_position (length_unit) and noise_rotation (rad): the measurement noise, standard deviation per\n"
-        "coordinate. loss: 'squared', 'huber' or 'cauchy'. parameters: 'full', 'lines', 'offsets' or names\n"
-        "'j2.offset,base.rz'. validation_*: held-out measurements (residuals before and after). The GIL is\n"
-        "released during the fit.");
+        "coordinate. loss: 'squared', 'huber' or 'cauchy' (robust: blunders weighed down); outlier_threshold:\n"
+        "the normalized residual above which a row is flagged. parameters: None (all), 'full', 'lines',\n"
+        "'offsets' or names 'j2.offset,base.rz'; select='cv' chooses among full/lines/offsets by `folds`-fold\n"
+        "cross-validation. validation_*: held-out measurements of the same kind (residuals before and after).\n"
+        "The GIL is released during the fit. A rejected fit is data (accepted, reason), not an exception.");
+  m.def("ik", &ik, py::arg("robot"), py::arg("targets"), py::arg("rotations") = py::none(), py::arg("q0") = py::none(),
+        py::arg("seeds") = 8, py::arg("seed") = 1,
+        "ik(robot, targets, rotations=None, q0=None, seeds=8, seed=1) -> IkSolutions\n\n"
+        "`lowpair ik`: inverse kinematics, one problem per row. targets: (N, 4, 4) transforms T_base_tool (the tool\n"
+        "frame onto each), or (N, 3) positions (length_unit; the tool origin onto each: a position task), made\n"
+        "poses by rotations (N, 4) unit quaternions qw, qx, qy, qz (the targets CSV's columns). q0: (n,) or (N, n)\n"
+        "seeds (the CSV's q columns); None: up to `seeds` random seeds per row (1..1000), sample k * seeds + s of\n"
+        "the stream `seed` (the sampling convention; the same seed gives the CLI's numbers), the first that ends\n"
+        "ok kept, else the closest attempt. Tolerances 1e-10 L and 1e-10 rad (docs/ik.md). A row that is not\n"
+        "solved is data (status, reason), not an exception. The GIL is released while solving.");
+  m.def("compensate", &compensateRows, py::arg("calibrated"), py::arg("nominal"), py::arg("q"),
+        py::arg("measure") = "pose",
+        "compensate(calibrated, nominal, q, measure='pose') -> IkSolutions\n\n"
+        "`lowpair compensate`: for each row of q (N, n) (or one (n,)), nominal joint values, the joint values of\n"
+        "the calibrated robot that put its tool frame (measure='pose') or tool origin ('position') where the\n"
+        "nominal puts it at q, solved by inverse kinematics seeded at q. Both robots must have the same joint\n"
+        "count and length unit. The GIL is released while solving.");
+  m.def("plan", &plan, py::arg("robot"), py::arg("poses"), py::arg("candidates") = 5000, py::arg("measure") = "pose",
+        py::arg("criterion") = "D", py::arg("seed") = 1, py::arg("noise_position") = py::none(),
+        py::arg("noise_rotation") = py::none(), py::arg("free_pitch") = false,
+        "plan(robot, poses, candidates=5000, measure='pose', criterion='D', seed=1, noise_position=None,\n"
+        "     noise_rotation=None, free_pitch=False) -> Plan\n\n"
+        "`lowpair plan`: choose `poses` (N <= 1000) calibration poses of `candidates` (M <= 100000) random joint\n"
+        "vectors (samples 0..M-1 of the stream `seed`) maximizing log det of the identification information\n"
+        "(greedy, then exchanges; criterion 'D' or 'O1' only changes the number reported), compare with 100\n"
+        "random sets of N, and predict every parameter's and D-H number's standard deviation after calibrating\n"
+        "on the plan with the given noise (length_unit, rad; default 1e-5 L and 1e-5 rad). measure: 'pose',\n"
+        "'position' or 'targets' (the robot file's targets). The GIL is released while planning.");
+  m.def("simulate", &simulate, py::arg("robot"), py::arg("poses") = py::none(), py::arg("q") = py::none(),
+        py::arg("seed") = 1, py::arg("measure") = "pose", py::arg("targets") = py::none(), py::arg("frame") = py::none(),
+        py::arg("noise_position") = 0.0, py::arg("noise_rotation") = 0.0, py::arg("blunders") = py::none(),
+        "simulate(robot, poses=None, q=None, seed=1, measure='pose', targets=None, frame=None, noise_position=0.0,\n"
+        "         noise_rotation=0.0, blunders=None) -> Measurements\n\n"
+        "`lowpair simulate` of a robot file: measurements of the robot's tool by the library's POE forward\n"
+        "kinematics at `poses` random joint vectors (sample k of the stream `seed`, uniform in the joint ranges)\n"
+        "or at the rows of q (N, n); measure 'pose', 'position' or 'targets' (the robot file's targets, all or\n"
+        "the names in `targets`, one row per target per pose); frame: (rx, ry, rz, x, y, z), the measurement\n"
+        "frame's pose in the base (rotation vector rad, translation length_unit); noise_position (length_unit)\n"
+        "and noise_rotation (rad): Gaussian noise per coordinate / axis; blunders: (count, size), rows moved by\n"
+        "`size` in random directions. Same arguments, same numbers as the CLI on the robot file. (A model file's\n"
+        "MuJoCo ground truth with --joint-variables is the CLI's only.)");
   m.def("export", &exportTo, py::arg("robot"), py::arg("path"), py::arg("format"),
         "export(robot, path, format) -> None\n\n"
         "`lowpair export --out path`: the robot as 'urdf', 'mjcf', 'poe' or 'dh' (robot file). A URDF/MJCF of a\n"
         "robot whose joint scale is not 1 or offset not 0 also writes <stem>.joint_variables.yaml beside it.");
   m.def("_time_batch_fk", &timeBatchFk, py::arg("robot"), py::arg("q"), py::arg("repeats") = 5,
-        "_time_batch_fk(robot, q, repeats=5) -> float: seconds per pose of the fastest of `repeats` batched FK calls "
-        "in C++ (forwardKinematicsBatch into a reused buffer, no Python in the loop): the benchmark's reference.");
+        "_time_batch_fk(robot, q, repeats=5) -> float: seconds per pose of the fastest of `repeats` batched FK calls\n"
+        "in C++ (one forwardKinematicsBatch of all of q into a reused buffer, no Python in the loop): the\n"
+        "benchmark's reference.");
+  m.def("_time_single_fk", &timeSingleFk, py::arg("robot"), py::arg("q"), py::arg("repeats") = 5,
+        "_time_single_fk(robot, q, repeats=5) -> float: seconds per call of forwardKinematics over the rows of q in\n"
+        "C++ (the kinematics inside one robot.fk(q)), the fastest of `repeats` passes.");
+  m.def("_batch_fk_reference", &batchFkReference, py::arg("robot"), py::arg("q"), py::arg("model") = py::none(),
+        "_batch_fk_reference(robot, q, model=None) -> (N, 12): one forwardKinematicsBatch call over all of q (rotation\n"
+        "row-major, then position): what robot.fk(q) must repack bit for bit.");
   m.attr("__version__") = "0.2.0";
 }

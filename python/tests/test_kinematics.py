@@ -171,3 +171,91 @@ def test_fk_out_buffer_and_help():
     assert "(N, 4, 4)" in doc and "rad" in doc and "length_unit" in doc
     for name in ("load", "calibrate", "identifiability", "export"):
         assert getattr(lowpair, name).__doc__
+
+
+@pytest.mark.parametrize("count", [1037, 9001])  # 9001 poses = 1.15 MB: the non-temporal stores' path
+def test_batched_fk_repacks_the_library_batch_bit_for_bit(count):
+    robot = lowpair.load("models/puma560_corke.yaml")
+    Q = random_q(robot, count, seed=9)
+    for model in ("poe", "dh"):
+        reference = lowpair._batch_fk_reference(robot, Q, model=model)  # one forwardKinematicsBatch call
+        T = robot.fk(Q, model=model)
+        assert np.array_equal(T[:, :3, :3].reshape(count, 9), reference[:, :9])
+        assert np.array_equal(T[:, :3, 3], reference[:, 9:])
+        assert np.array_equal(T[:, 3, :], np.tile([0.0, 0.0, 0.0, 1.0], (count, 1)))
+        out = np.full((count, 4, 4), np.nan)
+        assert robot.fk(Q, model=model, out=out) is out and np.array_equal(out, T)
+
+
+def test_fk_inputs_read_in_place_or_converted():
+    robot = lowpair.load("models/puma560_corke.yaml")
+    Q = random_q(robot, 40, seed=10)
+    expected = robot.fk(Q)
+    wide = np.zeros((40, 12))
+    wide[:, ::2] = Q
+    for same in (np.asfortranarray(Q), wide[:, ::2], Q.tolist(),
+                 Q.astype(">f8")):
+        assert np.array_equal(robot.fk(same), expected)
+    assert np.array_equal(robot.fk(wide[0, ::2]), robot.fk(Q[0]))  # a strided (n,) view
+    assert np.array_equal(robot.fk([0, 0, 0, 0, 0, 0]), robot.fk(np.zeros(6)))  # integers
+    unaligned = np.frombuffer(b"\0" + np.ascontiguousarray(Q).tobytes(), dtype=np.float64, offset=1).reshape(40, 6)
+    assert np.array_equal(robot.fk(unaligned), expected)
+    with pytest.raises(TypeError, match="q: expected an array of numbers"):
+        robot.fk(["a"] * 6)
+
+
+def _documented(doc, name):
+    """A docstring with text beyond pybind11's signature line `name(...) -> ...`."""
+    if not doc or not doc.strip():
+        return False
+    lines = doc.strip().split("\n", 1)
+    return not lines[0].startswith(name + "(") or (len(lines) > 1 and lines[1].strip() != "")
+
+
+def test_every_public_function_and_property_is_documented():
+    for name in lowpair.__all__:
+        obj = getattr(lowpair, name)
+        assert obj.__doc__, name
+        if not isinstance(obj, type) or issubclass(obj, Exception):
+            assert _documented(obj.__doc__, name), name
+            continue
+        for attr, value in vars(obj).items():
+            if attr.startswith("_"):
+                continue
+            doc = value.__doc__ if isinstance(value, property) else getattr(value, "__doc__", None)
+            assert _documented(doc, attr), f"{name}.{attr}"
+
+
+def test_type_stubs_cover_the_module():
+    """__init__.pyi names every public class, property, method and function with the runtime's parameter names."""
+    import ast
+    import os
+    import re
+    stub = ast.parse(open(os.path.join(os.path.dirname(lowpair.__file__), "__init__.pyi")).read())
+    functions = {n.name: n for n in stub.body if isinstance(n, ast.FunctionDef)}
+    classes = {n.name: {m.name: m for m in n.body if isinstance(m, ast.FunctionDef)} for n in stub.body
+               if isinstance(n, ast.ClassDef)}
+
+    def runtime_parameters(doc):
+        signature = doc.strip().split("\n", 1)[0]
+        inside = signature[signature.index("(") + 1:signature.rindex(") ->")]
+        return [p for p in re.findall(r"(?:^|, )(\w+):", inside) if p != "self"]
+
+    def stub_parameters(node):
+        return [a.arg for a in node.args.args + node.args.kwonlyargs if a.arg != "self"]
+
+    for name in lowpair.__all__ + ["_time_batch_fk", "_time_single_fk", "_batch_fk_reference"]:
+        obj = getattr(lowpair, name)
+        if isinstance(obj, type):
+            assert name in classes, name
+            if issubclass(obj, Exception):
+                continue
+            for attr, value in vars(obj).items():
+                if attr.startswith("_") and attr != "__len__":
+                    continue
+                assert attr in classes[name], f"{name}.{attr} missing from __init__.pyi"
+                if not isinstance(value, property):
+                    assert stub_parameters(classes[name][attr]) == runtime_parameters(value.__doc__), f"{name}.{attr}"
+        else:
+            assert name in functions, name
+            assert stub_parameters(functions[name]) == runtime_parameters(obj.__doc__), name

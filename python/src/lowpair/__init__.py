@@ -1,4 +1,5 @@
-"""lowpair: serial-robot POE/D-H kinematics, Jacobians, singularities, identifiability and calibration.
+"""lowpair: serial-robot POE/D-H kinematics, Jacobians, singularities, identifiability, calibration, inverse
+kinematics, compensation and calibration planning.
 
 The C++ library and the harness behind the ``lowpair`` command line, as a Python module (docs/python.md).
 Arrays are numpy float64; lengths are in the robot's ``length_unit``, angles in rad. Errors raise
@@ -9,15 +10,24 @@ from ._lowpair import (  # noqa: F401
     DhTable,
     Error,
     Identifiability,
+    IkSolutions,
+    Measurements,
+    Plan,
     Robot,
     Singularity,
     __version__,
+    _batch_fk_reference,
     _time_batch_fk,
+    _time_single_fk,
     calibrate,
+    compensate,
     export,
     identifiability,
+    ik,
     load,
+    plan,
+    simulate,
 )
 
-__all__ = ["Calibration", "DhTable", "Error", "Identifiability", "Robot", "Singularity", "calibrate", "export",
-           "identifiability", "load"]
+__all__ = ["Calibration", "DhTable", "Error", "Identifiability", "IkSolutions", "Measurements", "Plan", "Robot",
+           "Singularity", "calibrate", "compensate", "export", "identifiability", "ik", "load", "plan", "simulate"]

@@ -1,0 +1,201 @@
+"""lowpair.simulate and tracker calibration (target measurements, robust loss, cross-validation) against the CLI
+(docs/calibration.md "Tracker data")."""
+import json
+
+import numpy as np
+import pytest
+
+import lowpair
+from conftest import cli_json, run_cli
+
+NOMINAL = "models/puma560_okamura_nominal.yaml"
+ACTUAL = "models/puma560_okamura_actual.yaml"
+SMRS = {"smr_a": [71.0, 2.0, -34.0], "smr_b": [-29.0, 67.0, -44.0], "smr_c": [-34.0, -58.0, -24.0]}  # mm, tool frame
+FRAME = [0.3, -1.2, 2.0, 3000.0, -800.0, 400.0]  # the tracker's pose in the base: rotation vector rad, mm
+
+
+def read_measurements(path):
+    """A measurement CSV as (header, q, target names or None, positions, quaternions or None)."""
+    lines = [l.strip() for l in open(path) if l.strip() and not l.lstrip().startswith("#")]
+    header = lines[0].split(",")
+    rows = [l.split(",") for l in lines[1:]]
+    n = sum(1 for h in header if h.startswith("q") and h[1:].isdigit())
+    targets = [r[n] for r in rows] if "target" in header else None
+    numbers = np.array([[float(x) for i, x in enumerate(r) if header[i] != "target"] for r in rows])
+    rotations = numbers[:, n + 3:n + 7] if "qw" in header else None
+    return header, numbers[:, :n], targets, numbers[:, n:n + 3], rotations
+
+
+@pytest.fixture(scope="module")
+def tracker_robot(tmp_path_factory):
+    """The actual PUMA's robot file with three SMRs on its tool."""
+    path = str(tmp_path_factory.mktemp("tracker") / "actual_smr.yaml")
+    with open(path, "w") as f:
+        f.write(open(ACTUAL).read() + "targets:\n")
+        for name, point in SMRS.items():
+            f.write(f"  - {{name: {name}, point: [{', '.join(map(repr, point))}]}}\n")
+    return path
+
+
+@pytest.mark.parametrize("options,cli_options", [
+    (dict(measure="targets", targets=["smr_b", "smr_a"], frame=FRAME, noise_position=0.01, blunders=(3, 5.0)),
+     ["--measure", "targets", "--targets", "smr_b,smr_a", "--frame", ",".join(map(repr, FRAME)),
+      "--noise-position", "0.01", "--blunders", "3,5"]),
+    (dict(measure="pose", frame=FRAME, noise_position=0.01, noise_rotation=1e-5),
+     ["--frame", ",".join(map(repr, FRAME)), "--noise-position", "0.01", "--noise-rotation", "1e-5"]),
+    (dict(measure="position"), ["--measure", "position"]),
+])
+def test_simulate_equals_cli(tracker_robot, tmp_path, options, cli_options):
+    cli_csv = str(tmp_path / "cli.csv")
+    run_cli("simulate", tracker_robot, "--poses", "20", "--seed", "3", *cli_options, "--out", cli_csv)
+    sim = lowpair.simulate(lowpair.load(tracker_robot), poses=20, seed=3, **options)
+    header, q, targets, positions, rotations = read_measurements(cli_csv)
+    # the CSV holds 17 significant digits: the numbers read back bit for bit
+    assert np.array_equal(sim.q, q) and np.array_equal(sim.positions, positions)
+    assert sim.targets == targets
+    assert (sim.rotations is None) == (rotations is None)
+    if rotations is not None:
+        assert np.array_equal(sim.rotations, rotations)
+    assert len(sim) == len(q) == (40 if options["measure"] == "targets" else 20)
+    # the same joint vectors given as q: the same measurements (the noise of row k depends on (seed, k) only)
+    again = lowpair.simulate(lowpair.load(tracker_robot), q=sim.q[::len(sim) // 20], seed=3, **options)
+    assert np.array_equal(again.positions, sim.positions)
+    # save() writes the CSV the CLI writes, but for the comment lines
+    py_csv = str(tmp_path / "py.csv")
+    sim.save(py_csv)
+    strip = lambda path: [l for l in open(path) if not l.startswith("#")]  # noqa: E731
+    assert strip(py_csv) == strip(cli_csv)
+    assert "# length_unit: mm\n" in open(py_csv).readlines()
+
+
+def test_simulate_blunders_are_the_cli_rows(tracker_robot):
+    sim = lowpair.simulate(lowpair.load(tracker_robot), poses=20, seed=3, measure="targets", noise_position=0.01,
+                           blunders=(3, 5.0))
+    clean = lowpair.simulate(lowpair.load(tracker_robot), poses=20, seed=3, measure="targets", noise_position=0.01)
+    moved = np.linalg.norm(sim.positions - clean.positions, axis=1)
+    assert sim.blunders == sorted(np.nonzero(moved)[0].tolist()) and len(sim.blunders) == 3
+    assert np.allclose(moved[sim.blunders], 5.0, rtol=1e-12)  # each moved by exactly the size
+
+
+@pytest.fixture(scope="module")
+def tracker_data(tracker_robot, tmp_path_factory):
+    """Tracker data of the actual robot (3 SMRs, a far frame, 0.01 mm noise, 4 blunders of 5 mm), as arrays and
+    as the CSVs the CLI reads."""
+    tmp = tmp_path_factory.mktemp("tracker_data")
+    actual = lowpair.load(tracker_robot)
+    fit = lowpair.simulate(actual, poses=50, seed=3, measure="targets", frame=FRAME, noise_position=0.01,
+                           blunders=(4, 5.0))
+    held_out = lowpair.simulate(actual, poses=60, seed=4, measure="targets", frame=FRAME)
+    fit_csv, held_out_csv = str(tmp / "fit.csv"), str(tmp / "held_out.csv")
+    fit.save(fit_csv)
+    held_out.save(held_out_csv)
+    return fit, held_out, fit_csv, held_out_csv
+
+
+def comparable(report):
+    """A calibrate report but for what names the input (paths, lines) and the time."""
+    report = json.loads(json.dumps(report))
+    report.pop("measurements"), report.pop("seconds", None)
+    if report.get("validation"):
+        report["validation"].pop("path")
+    for r in report["residuals"]:
+        r.pop("line")
+    return report
+
+
+def test_tracker_calibration_equals_cli(tracker_data):
+    fit, held_out, fit_csv, held_out_csv = tracker_data
+    nominal = lowpair.load(NOMINAL)  # lists no targets: the three points are estimated
+    status, out, _ = run_cli("calibrate", NOMINAL, "--measurements", fit_csv, "--validation", held_out_csv,
+                             "--noise-position", "0.01", "--free-pitch", "--loss", "huber", "--json", check=False)
+    expected = json.loads(out)
+    cal = lowpair.calibrate(nominal, fit.q, fit.positions, targets=fit.targets, noise_position=0.01, free_pitch=True,
+                            loss="huber", validation_q=held_out.q, validation_positions=held_out.positions,
+                            validation_targets=held_out.targets)
+    assert status == (0 if cal.accepted else 1)
+    assert comparable(cal.to_dict()) == comparable(expected)
+    assert cal.measure == "targets" and cal.loss == "huber"
+    # 45 = 5 x 6 helical (free pitch) + 6 scales + 3 x 3 target coordinates
+    assert cal.rank == cal.expected == 45 and cal.accepted
+    # the blunders, 500 noise units each, are exactly the flagged rows; the others are within the threshold
+    assert np.nonzero(cal.residuals["outlier"])[0].tolist() == fit.blunders and cal.outliers == 4
+    assert np.all(cal.residuals["normalized"][fit.blunders] > 100)
+    assert np.all(np.isnan(cal.residuals["rotation"]))  # points have no rotation
+    # held-out prediction: the fitted parameters' error carried to a point is about sigma sqrt(p / rows) =
+    # 0.01 sqrt(45 / 150) = 0.0055 mm RMS; the noise itself (0.01 mm per coordinate) bounds it
+    assert cal.validation["after"]["rms_position"] < 0.01
+    assert sorted(cal.targets) == sorted(SMRS) and all(v.shape == (3,) for v in cal.targets.values())
+    # the frame registered: the nominal's base seen from the tracker is ~3.2 m away (the frame's translation)
+    assert np.linalg.norm(cal.measurement_frame[:3, 3]) == pytest.approx(np.linalg.norm(FRAME[3:]), rel=0.01)
+    # the calibrated robot predicts the held-out points in the tracker frame
+    robot = cal.robot
+    assert sorted(robot.targets) == sorted(SMRS)
+    T = robot.fk(held_out.q, model="poe")
+    points = np.array([T[k, :3, :3] @ robot.targets[name] + T[k, :3, 3] for k, name in enumerate(held_out.targets)])
+    rms = np.sqrt(np.mean(np.sum((points - held_out.positions) ** 2, axis=1)))
+    assert rms == pytest.approx(cal.validation["after"]["rms_position"], rel=1e-6)
+
+
+def test_cross_validation_equals_cli(tmp_path):
+    m = str(tmp_path / "m.csv")
+    run_cli("simulate", ACTUAL, "--poses", "40", "--seed", "6", "--noise-position", "0.01", "--noise-rotation", "1e-5",
+            "--out", m)
+    _, q, _, positions, rotations = read_measurements(m)
+    status, out, _ = run_cli("calibrate", NOMINAL, "--measurements", m, "--noise-position", "0.01", "--noise-rotation",
+                             "1e-5", "--free-pitch", "--select", "cv", "--folds", "4", "--json", check=False)
+    expected = json.loads(out)
+    cal = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations, noise_position=0.01, noise_rotation=1e-5,
+                            free_pitch=True, select="cv", folds=4)
+    assert comparable(cal.to_dict()) == comparable(expected)
+    assert cal.cross_validation["folds"] == 4 and cal.cross_validation["chosen"] in ("full", "lines", "offsets")
+    named = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations, noise_position=0.01, noise_rotation=1e-5,
+                              free_pitch=True, parameters="offsets")
+    assert named.to_dict()["parameter_set"] == "offsets" and named.cross_validation is None
+
+
+def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
+    fit, held_out, _, _ = tracker_data
+    nominal = lowpair.load(NOMINAL)
+    actual = lowpair.load(tracker_robot)
+    puma = lowpair.load("models/puma560_corke.yaml")  # has joint ranges
+    W = np.tile([1.0, 0, 0, 0], (len(fit), 1))
+    names = list(fit.targets)
+    cases = [
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names[:-1]), "targets: expected 150 target names"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=["bad name"] + names[1:]),
+         r"targets: \[0\]: .*target name"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, W, targets=names), "give rotations or targets, not both"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names, validation_q=held_out.q,
+                                   validation_positions=held_out.positions), "validation_targets: the fit has target"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names, validation_q=held_out.q,
+                                   validation_positions=held_out.positions,
+                                   validation_targets=["smr_x"] * len(held_out)), "target smr_x is not measured"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names, noise_rotation=1e-5),
+         "no rotation to weigh"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="aic"), "select: expected 'cv'"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", parameters="full"), "not both"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", folds=1), "folds: must be in"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, parameters="j1.offset,,j2.offset"), "an empty name"),
+        (lambda: lowpair.calibrate(puma, np.where(np.eye(4, 6) > 0, 100.0, 0.0), np.zeros((4, 3))),
+         r"q: \[0, 0\] = 100 is outside joint 1's range .* by more than 10 times its width"),
+        (lambda: lowpair.simulate(actual), "poses: give poses=N or q="),
+        (lambda: lowpair.simulate(actual, poses=3, q=fit.q), "poses: give poses=N or q="),
+        (lambda: lowpair.simulate(actual, poses=0), "poses: must be in"),
+        (lambda: lowpair.simulate(actual, poses=3, noise_position=-1.0), "noise_position: expected a finite number"),
+        (lambda: lowpair.simulate(actual, poses=3, noise_rotation=4.0), "noise_rotation: 4 is above"),
+        (lambda: lowpair.simulate(actual, poses=3, measure="position", noise_rotation=1e-5), "no rotation to perturb"),
+        (lambda: lowpair.simulate(actual, poses=3, targets=["smr_a"]), "targets: goes with measure='targets'"),
+        (lambda: lowpair.simulate(actual, poses=3, measure="targets", targets=["smr_z"]), "is not a target of"),
+        (lambda: lowpair.simulate(actual, poses=3, measure="targets", targets=["smr_a", "smr_a"]), "given twice"),
+        (lambda: lowpair.simulate(nominal, poses=3, measure="targets"), "lists no targets"),
+        (lambda: lowpair.simulate(actual, poses=3, frame=[0.0] * 5), "frame: expected 6 numbers"),
+        (lambda: lowpair.simulate(actual, poses=3, blunders=(4, 1.0)), "COUNT 4 is more than the 3 measurements"),
+        (lambda: lowpair.simulate(actual, poses=3, blunders=(1.5, 1.0)), "COUNT must be a whole number"),
+        (lambda: lowpair.simulate(actual, poses=3, blunders=(1, 0.0)), "SIZE must be positive"),
+        (lambda: lowpair.simulate(actual, q=np.zeros((2, 5))), r"q: expected shape \(N, 6\)"),
+        (lambda: lowpair.simulate(actual, poses=3, measure="angles"), "measure: expected"),
+    ]
+    for call, message in cases:
+        with pytest.raises(lowpair.Error, match=message):
+            call()
+            pytest.fail(f"no lowpair.Error matching {message!r}")
