@@ -3,8 +3,9 @@
 // measurements, calibration from arrays (poses, positions, tracker targets), inverse kinematics, compensation,
 // calibration planning, save and export. Every call computes what the CLI computes, with the same library and
 // harness functions, so the numbers are the CLI's (python/tests/ compares each result with the CLI's --json);
-// errors are lowpair.Error with the CLI's one-line message. Where a command's glue lives in cli/ (the ik seed
-// loop, plan's random sets and JSON, simulate's checks), this file mirrors it and the tests pin it to the CLI.
+// errors are lowpair.Error with the CLI's one-line message. A command's logic beyond its argument parsing lives
+// in the validation room (plan_report, ik_rows, simulation, calibration_inputs), which the CLI calls too; this
+// file converts arrays and arguments and calls it.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -19,7 +20,6 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -49,7 +49,12 @@
 #include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
 #include "mujoco/mujoco_robot.hpp"
+#include "validation/arguments.hpp"
+#include "validation/calibration_inputs.hpp"
 #include "validation/calibration_output.hpp"
+#include "validation/ik_rows.hpp"
+#include "validation/plan_report.hpp"
+#include "validation/simulation.hpp"
 #include "validation/sampling.hpp"
 
 namespace py = pybind11;
@@ -64,6 +69,12 @@ struct UsageError : std::invalid_argument {
   UsageError(const std::string& subject, const std::string& message)
       : std::invalid_argument(subject.empty() ? message : subject + ": " + message) {}
 };
+
+// Python's spelling of an argument in the validation room's shared checks: "noise_position", "measure='targets'".
+validation::ArgumentSpelling pythonSpelling() {
+  return {[](const std::string& name) { return name; },
+          [](const std::string& name, const std::string& value) { return name + "='" + value + "'"; }};
+}
 
 // The CLI's one error line: every control character folded into one space (cli/main.cpp reportError).
 std::string oneLine(const std::string& message) {
@@ -700,39 +711,15 @@ io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const In
 // never fitted silently (as `lowpair calibrate` rejects it; the CLI's warnings for values just outside are not
 // repeated here).
 void checkFarOutsideRanges(const Robot& r, const io::MeasurementFile& m, const std::string& prefix) {
-  constexpr double kFarOutsideRange = 10.0;
-  for (size_t k = 0; k < m.measurements.size(); ++k) {
-    for (int i = 0; i < r.dof(); ++i) {
-      const auto& range = r.poe.joint(i).range;
-      const double q = m.measurements[k].q[i];
-      if (!range || (q >= (*range)[0] && q <= (*range)[1])) continue;
-      const double width = (*range)[1] - (*range)[0];
-      const double beyond = q < (*range)[0] ? (*range)[0] - q : q - (*range)[1];
-      if (beyond > kFarOutsideRange * width) {
-        throw UsageError(prefix + "q", "[" + std::to_string(k) + ", " + std::to_string(i) + "] = " + io::shortest(q) +
-                                           " is outside joint " + std::to_string(i + 1) + "'s range [" +
-                                           io::shortest((*range)[0]) + ", " + io::shortest((*range)[1]) + "] of " +
-                                           r.subject() + " by more than " + io::shortest(kFarOutsideRange) +
-                                           " times its width: a wrong column or unit?");
-      }
-    }
+  for (const validation::OutsideRange& x : validation::jointValuesOutsideRanges(r.poe, m.measurements)) {
+    if (!x.far) continue;
+    throw UsageError(prefix + "q", "[" + std::to_string(x.row) + ", " + std::to_string(x.joint) + "] = " +
+                                       io::shortest(x.q) + " is outside joint " + std::to_string(x.joint + 1) +
+                                       "'s range [" + io::shortest(x.range[0]) + ", " + io::shortest(x.range[1]) +
+                                       "] of " + r.subject() + " by more than " +
+                                       io::shortest(validation::kFarOutsideRange) +
+                                       " times its width: a wrong column or unit?");
   }
-}
-
-// parameters=: a level, or a comma list of names (the CLI's --parameters).
-void parseParameters(const std::string& text, CalibrationOptions& options) {
-  if (text == "full" || text == "lines" || text == "offsets") {
-    options.parameters = text == "full" ? ParameterSet::Full : text == "lines" ? ParameterSet::Lines : ParameterSet::Offsets;
-    return;
-  }
-  options.parameters = ParameterSet::Named;
-  std::stringstream in(text);
-  for (std::string name; std::getline(in, name, ',');) {
-    const auto b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
-    if (b == std::string::npos) throw UsageError("parameters", "an empty name in '" + text + "'");
-    options.parameter_names.push_back(name.substr(b, e - b + 1));
-  }
-  if (options.parameter_names.empty()) throw UsageError("parameters", "expected full, lines, offsets or names");
 }
 
 struct CalibrateArguments {
@@ -759,23 +746,11 @@ Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::option
   if (held_out) {
     checkFarOutsideRanges(r, *held_out, "validation_");
     // targets by name: the validation rows' indices mapped to the fit's
-    for (Measurement& m : held_out->measurements) {
-      if (m.target < 0) continue;
-      const std::string& name = held_out->target_names[static_cast<size_t>(m.target)];
-      const auto it = std::find(fit.target_names.begin(), fit.target_names.end(), name);
-      if (it == fit.target_names.end()) {
-        throw UsageError("validation_targets", "target " + name + " is not measured in the fit (targets)");
-      }
-      m.target = static_cast<int>(it - fit.target_names.begin());
-    }
-    held_out->target_names = fit.target_names;
-  }
-  for (const auto& [value, flag, limit] : {std::tuple{a.noise_position, "noise_position", kMaxMagnitude},
-                                           std::tuple{a.noise_rotation, "noise_rotation", M_PI}}) {
-    if (value && !(*value > 0.0 && *value <= limit)) {
-      throw UsageError(flag, "must be a positive number up to " + io::shortest(limit) + ", got " + io::shortest(*value));
+    if (const auto unknown = validation::mapValidationTargets(*held_out, fit.target_names)) {
+      throw UsageError("validation_targets", "target " + *unknown + " is not measured in the fit (targets)");
     }
   }
+  validation::checkStatedNoise(a.noise_position, a.noise_rotation, pythonSpelling());
   if (a.noise_rotation && fit.measure != Measure::Pose) {
     throw UsageError("noise_rotation", std::string(measureName(fit.measure)) +
                                            " measurements (rotations=None): there is no rotation to weigh");
@@ -797,14 +772,10 @@ Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::option
   if (!(a.folds >= 2 && a.folds <= 20)) throw UsageError("folds", "must be in [2, 20], got " + std::to_string(a.folds));
   if (a.parameters) {
     if (a.select) throw UsageError("select", "choose the parameters by parameters= or by select=, not both");
-    parseParameters(*a.parameters, options);
+    validation::parseParameters(*a.parameters, options, pythonSpelling());
   }
   // targets: a point from the nominal's targets: list of the same name, else estimated
-  for (const std::string& name : fit.target_names) {
-    const auto it = std::find_if(r.file.targets.begin(), r.file.targets.end(),
-                                 [&](const Target& t) { return t.name == name; });
-    options.targets.push_back(it != r.file.targets.end() ? *it : Target{name, std::nullopt});
-  }
+  options.targets = validation::nominalTargets(r.file, fit.target_names);
   std::optional<CrossValidation> cv;
   std::optional<CalibrationResult> result;
   std::optional<DhUncertainty> dh;
@@ -879,51 +850,11 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
 
 // ----- inverse kinematics, compensation (lowpair/ik.hpp; `lowpair ik`, `lowpair compensate`) ------------
 
-json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
-// The rows of `ik` or `compensate`: each target's IkResult and the seed it was solved from.
+// The rows of `ik` or `compensate` and the JSON of the CLI's --json (cli/ik_commands.cpp) without its files.
 struct IkSolutions {
-  std::vector<IkResult> rows;
-  std::vector<int> seeds;  // ik: the random seed's index s (0..K-1); -1: q0 (the CSV's q columns)
-  bool with_seed = true;   // ik (compensate has no seed column)
+  std::vector<validation::IkRow> rows;  // line: the 0-based row
   json j;
 };
-
-// The CLI's `rows` and `counts` (cli/ik_commands.cpp); `line` is the 0-based row.
-json ikRowsJson(const IkSolutions& s) {
-  json out = json::array();
-  for (size_t k = 0; k < s.rows.size(); ++k) {
-    const IkResult& r = s.rows[k];
-    json j = {{"line", static_cast<long long>(k)},
-              {"q", io::toVector(r.q)},
-              {"status", ikStatusName(r.status)},
-              {"iterations", r.iterations},
-              {"position_error", r.position_error},
-              {"rotation_error", r.rotation_error},
-              {"rank", r.rank},
-              {"sigma_min", finiteOrNull(r.sigma_min)},
-              {"reason", r.reason}};
-    if (s.with_seed) j["seed"] = s.seeds[k] < 0 ? json("file") : json(s.seeds[k]);
-    out.push_back(std::move(j));
-  }
-  return out;
-}
-
-json ikCountsJson(const std::vector<IkResult>& rows) {
-  std::array<long long, 5> count{};
-  for (const IkResult& r : rows) ++count[static_cast<size_t>(r.status)];
-  json j = json::object();
-  for (size_t k = 0; k < count.size(); ++k) j[ikStatusName(static_cast<IkStatus>(k))] = count[k];
-  return j;
-}
-
-// The better of two attempts at one row (the CLI's rule): ok first, then converged (singular), then the smaller
-// error (position in L plus rotation).
-bool betterAttempt(const IkResult& a, const IkResult& b, double L) {
-  auto rank = [](const IkResult& r) { return r.status == IkStatus::Ok ? 0 : r.status == IkStatus::Singular ? 1 : 2; };
-  if (rank(a) != rank(b)) return rank(a) < rank(b);
-  return a.position_error / L + a.rotation_error < b.position_error / L + b.rotation_error;
-}
 
 // The targets of ik: (N, 4, 4) homogeneous transforms, or (N, 3) positions, made poses by rotations (N, 4) qw..qz
 // (the targets CSV's columns, converted as its reader converts them).
@@ -1006,26 +937,18 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
     const std::vector<validation::Range> ranges = validation::samplingRanges(model);
     Data data(model);
     IkWorkspace work(model);
-    VecX x(model.dof());
     for (size_t k = 0; k < targets.size(); ++k) {
+      const auto line = static_cast<long long>(k);
       try {
         if (given) {
-          s.rows.push_back(inverseKinematics(model, data, targets[k], given->row(static_cast<Eigen::Index>(k)).transpose(),
-                                             options, work));
-          s.seeds.push_back(-1);
-          continue;
+          s.rows.push_back({inverseKinematics(model, data, targets[k], given->row(static_cast<Eigen::Index>(k)).transpose(),
+                                              options, work),
+                            -1, line});
+        } else {
+          s.rows.push_back(validation::solveFromRandomSeeds(model, data, targets[k], k, seeds,
+                                                            static_cast<unsigned long long>(seed), ranges, options, work,
+                                                            line));
         }
-        std::optional<IkResult> best;
-        int best_seed = 0;
-        for (int t = 0; t < seeds; ++t) {
-          validation::randomSample(static_cast<unsigned long long>(seed),
-                                   k * static_cast<unsigned long long>(seeds) + static_cast<unsigned long long>(t), ranges, x);
-          const IkResult& attempt = inverseKinematics(model, data, targets[k], x, options, work);
-          if (!best || betterAttempt(attempt, *best, model.lengthScale())) best = attempt, best_seed = t;
-          if (attempt.status == IkStatus::Ok) break;
-        }
-        s.rows.push_back(std::move(*best));
-        s.seeds.push_back(best_seed);
       } catch (const std::invalid_argument& e) {
         throw UsageError("targets", "[" + std::to_string(k) + "]: " + e.what());
       }
@@ -1039,8 +962,8 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
          {"seeds", given ? json("file") : json(seeds)},
          {"seed", seed},
          {"notes", json::array()},
-         {"counts", ikCountsJson(s.rows)}};
-  s.j["rows"] = ikRowsJson(s);
+         {"counts", validation::ikCountsJson(s.rows)}};
+  s.j["rows"] = validation::ikRowsJson(s.rows, true);
   return s;
 }
 
@@ -1064,15 +987,11 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
   IkOptions options;
   options.measure = measure == "pose" ? Measure::Pose : Measure::Position;
   IkSolutions s;
-  s.with_seed = false;
   {
     py::gil_scoped_release release;
-    Data data(calibrated.poe);
-    IkWorkspace work(calibrated.poe);
-    for (Eigen::Index k = 0; k < Q.rows(); ++k) {
-      s.rows.push_back(compensate(nominal.poe, calibrated.poe, data, Q.row(k).transpose(), options, work));
-      s.seeds.push_back(-1);
-    }
+    std::vector<long long> lines(static_cast<size_t>(Q.rows()));
+    for (size_t k = 0; k < lines.size(); ++k) lines[k] = static_cast<long long>(k);
+    s.rows = validation::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options);
   }
   s.j = {{"name", calibrated.file.name},
          {"source", calibrated.file.path},
@@ -1080,194 +999,50 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
          {"q_file", "<arrays>"},
          {"length_unit", calibrated.file.length_unit},
          {"measure", measure},
-         {"counts", ikCountsJson(s.rows)}};
-  s.j["rows"] = ikRowsJson(s);
+         {"counts", validation::ikCountsJson(s.rows)}};
+  s.j["rows"] = validation::ikRowsJson(s.rows, false);
   return s;
 }
 
 // ----- plan (lowpair/plan.hpp; `lowpair plan`, cli/plan_command.cpp) ---------------------------------------
 
-// The CLI's bounds and defaults of `plan`: poses, candidates, the numbers of their blocks; the random sets a plan
-// is compared with; the noise assumed when none is stated (1e-5 L, 1e-5 rad).
-constexpr int kMaxPlanPoses = 1000;
-constexpr int kMaxPlanCandidates = 100000;
-constexpr double kMaxPlanEntries = 1e7;
-constexpr int kRandomSets = 100;
-constexpr double kDefaultRelativeNoise = 1e-5;
-
+// The JSON of `plan --json` without --out (the planned joint vectors are q), kept beside the report.
 struct PlanOutcome {
-  PlanResult plan;
-  std::vector<VecX> q;  // the planned joint vectors, in index order
-  std::optional<ExpectedUncertainty> expected;
+  validation::PlanReport report;
   json j;
 };
-
-// A value over the random sets: median and best.
-json spreadJson(std::vector<double> x) {
-  std::sort(x.begin(), x.end());
-  const size_t n = x.size();
-  const double median = n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
-  return json{{"median", finiteOrNull(median)}, {"best", finiteOrNull(x.back())}};
-}
 
 PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::string& measure_text,
                  const std::string& criterion_text, long long seed, std::optional<double> noise_position,
                  std::optional<double> noise_rotation, bool free_pitch) {
-  if (poses < 1 || poses > kMaxPlanPoses) {
-    throw UsageError("poses", "must be in [1, " + std::to_string(kMaxPlanPoses) + "], got " + std::to_string(poses));
+  // the checks the CLI's parser makes (CLI::Range, CLI::IsMember); the rest are the report's
+  if (poses < 1 || poses > validation::kMaxPlanPoses) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxPlanPoses) + "], got " +
+                                  std::to_string(poses));
   }
-  if (candidate_count < 1 || candidate_count > kMaxPlanCandidates) {
-    throw UsageError("candidates", "must be in [1, " + std::to_string(kMaxPlanCandidates) + "], got " +
+  if (candidate_count < 1 || candidate_count > validation::kMaxPlanCandidates) {
+    throw UsageError("candidates", "must be in [1, " + std::to_string(validation::kMaxPlanCandidates) + "], got " +
                                        std::to_string(candidate_count));
   }
   if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
   if (criterion_text != "D" && criterion_text != "O1") {
     throw UsageError("criterion", "expected 'D' or 'O1', got '" + criterion_text + "'");
   }
-  const Measure measure = parseMeasure(measure_text);
-  const PoeModel& model = r.poe;
-  PlanOptions options;
-  options.measure = measure;
-  options.free_pitch = free_pitch;
-  options.criterion = criterion_text == "O1" ? PlanCriterion::O1 : PlanCriterion::D;
-  if (measure == Measure::Targets) {
-    options.targets = fileTargets(r.file);
-    for (const Target& t : r.file.targets) options.target_names.push_back(t.name);
-  }
-  if (poses > candidate_count) {
-    throw UsageError("poses", std::to_string(poses) + " poses cannot be chosen from " + std::to_string(candidate_count) +
-                                  " candidates (candidates)");
-  }
-  for (const auto& [value, flag, limit] : {std::tuple{noise_position, "noise_position", kMaxMagnitude},
-                                           std::tuple{noise_rotation, "noise_rotation", M_PI}}) {
-    if (value && !(*value > 0.0 && *value <= limit)) {
-      throw UsageError(flag, "must be a positive number up to " + io::shortest(limit) + ", got " + io::shortest(*value));
-    }
-  }
-  if (noise_rotation && measure != Measure::Pose) {
-    throw UsageError("noise_rotation", std::string(measureName(measure)) + " measurements have no rotation to weigh");
-  }
-  ErrorModelSpec spec;
-  spec.free_pitch = free_pitch;
-  spec.targets = options.targets;
-  const double columns = ErrorModel(model, spec).size();
-  const double rows = measure == Measure::Pose ? 6.0 : 3.0 * std::max<size_t>(1, options.targets.size());
-  if (static_cast<double>(candidate_count) * rows * columns > kMaxPlanEntries) {
-    const bool robot = rows * columns > kMaxPlanEntries;
-    throw UsageError(robot ? r.file.path : std::string("candidates"),
-                     std::to_string(candidate_count) + " candidates of " + io::shortest(rows) + " rows and " +
-                         io::shortest(columns) + " parameters exceed the identification size limit (" +
-                         io::shortest(kMaxPlanEntries) + " numbers, held about four times): fewer candidates");
-  }
-  // the noise of the standard deviations: as stated (the other derived as calibrate does), else the default
-  std::optional<double> sigma_position = noise_position, sigma_rotation = noise_rotation;
-  std::string noise_source;
-  if (!sigma_position && !sigma_rotation) {
-    sigma_position = kDefaultRelativeNoise * model.lengthScale();
-    if (measure == Measure::Pose) sigma_rotation = kDefaultRelativeNoise;
-    noise_source = "default: 1e-5 L" + std::string(measure == Measure::Pose ? " and 1e-5 rad" : "") +
-                   "; state --noise-position/--noise-rotation";
-  } else if (measure != Measure::Pose || (sigma_position && sigma_rotation)) {
-    noise_source = "stated";
-  } else {
-    noise_source = sigma_position ? "position stated, rotation derived: position / L"
-                                  : "rotation stated, position derived: rotation x L";
-  }
+  validation::PlanRequest request;
+  request.measure = parseMeasure(measure_text);
+  request.criterion = criterion_text == "O1" ? PlanCriterion::O1 : PlanCriterion::D;
+  request.poses = poses;
+  request.candidates = candidate_count;
+  request.seed = seed;
+  request.free_pitch = free_pitch;
+  request.noise_position = noise_position;
+  request.noise_rotation = noise_rotation;
   PlanOutcome o;
-  std::vector<std::string> names;
-  std::vector<double> log_det, o1;
-  double seconds_plan = 0.0, seconds_random = 0.0, seconds_uncertainty = 0.0;
   {
     py::gil_scoped_release release;
-    // candidates: the sampling convention, stream `seed`, samples 0..M-1
-    const auto ranges = validation::samplingRanges(model);
-    std::vector<VecX> candidates(static_cast<size_t>(candidate_count), VecX(model.dof()));
-    for (int i = 0; i < candidate_count; ++i) {
-      validation::randomSample(static_cast<unsigned long long>(seed), static_cast<unsigned long long>(i), ranges,
-                               candidates[static_cast<size_t>(i)]);
-    }
-    auto clock = [] { return std::chrono::steady_clock::now(); };
-    auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
-    const auto t0 = clock();
-    const PlanCandidates c = planCandidates(model, candidates, options);
-    o.plan = planPoses(c, poses, options);
-    for (const Parameter& x : c.parameters) names.push_back(x.name);
-    const auto t1 = clock();
-    for (const auto& set : randomPoseSets(c.count(), poses, kRandomSets, static_cast<unsigned long long>(seed))) {
-      const PlanValue v = evaluatePlan(c, set);
-      log_det.push_back(v.log_det);
-      o1.push_back(v.o1);
-    }
-    const auto t2 = clock();
-    for (const int i : o.plan.indices) o.q.push_back(candidates[static_cast<size_t>(i)]);
-    o.expected.emplace(expectedUncertainty(model, o.q, options, sigma_position, sigma_rotation));
-    seconds_plan = seconds(t0, t1), seconds_random = seconds(t1, t2), seconds_uncertainty = seconds(t2, clock());
+    o.report = validation::makePlanReport(r.file, request, pythonSpelling());
   }
-  // the JSON of `plan --json` (cli/plan_command.cpp planJson)
-  const PlanResult& p = o.plan;
-  const PlanCriterion criterion = options.criterion;
-  json undetermined = json::array();
-  for (const auto& direction : p.rank.undetermined) {
-    json terms = json::array();
-    for (const auto& [column, coefficient] : direction) {
-      terms.push_back({{"parameter", names[static_cast<size_t>(column)]}, {"coefficient", coefficient}});
-    }
-    undetermined.push_back(terms);
-  }
-  auto value = [&](const PlanValue& v) {
-    return json{{"log_det", finiteOrNull(v.log_det)}, {"O1", v.o1}, {"rank", v.rank},
-                {"criterion", finiteOrNull(v.criterion(criterion))}};
-  };
-  const CalibrationResult& c = o.expected->calibration;
-  json parameters = json::array();
-  for (size_t k = 0; k < names.size(); ++k) {
-    const Parameter& x = c.error_model.parameters()[k];
-    parameters.push_back({{"name", x.name}, {"unit", x.unit},
-                          {"sd", finiteOrNull(c.standard_deviation[static_cast<Eigen::Index>(k)])}});
-  }
-  json q = json::array();
-  for (const VecX& x : o.q) q.push_back(io::toVector(x));
-  json& j = o.j;
-  j["name"] = io::robotLabel(r.file);
-  j["source"] = r.file.path;
-  j["length_unit"] = r.file.length_unit.empty() ? json(nullptr) : json(r.file.length_unit);
-  j["measure"] = measureName(measure);
-  j["free_pitch"] = c.error_model.freePitch();
-  if (measure == Measure::Targets) {
-    json targets = json::array();
-    for (const Target& t : r.file.targets) targets.push_back({{"name", t.name}, {"point", io::toVector(*t.point_tool)}});
-    j["targets"] = targets;
-  }
-  j["criterion"] = planCriterionName(criterion);
-  j["poses"] = static_cast<int>(p.indices.size());
-  j["candidates"] = candidate_count;
-  j["seed"] = seed;
-  j["length_scale"] = model.lengthScale();
-  j["planned"] = value(p.value);
-  j["greedy"] = value(p.start);
-  j["swaps"] = p.swaps;
-  j["passes"] = p.passes;
-  j["random"] = {{"sets", kRandomSets},
-                 {"log_det", spreadJson(log_det)},
-                 {"O1", spreadJson(o1)},
-                 {"criterion", spreadJson(criterion == PlanCriterion::D ? log_det : o1)}};
-  j["expected"] = p.expected.total();
-  j["joints"] = {{"revolute", p.expected.revolute}, {"prismatic", p.expected.prismatic}, {"helical", p.expected.helical},
-                 {"scales", p.expected.scales}, {"tool", p.expected.tool}};
-  j["rank"] = p.rank.rank;
-  j["candidate_rank"] = p.candidate_rank;
-  j["parameters"] = names;
-  j["singular_values"] = io::toVector(p.rank.singular_values);
-  j["condition"] = finiteOrNull(p.rank.condition);
-  j["undetermined"] = undetermined;
-  j["indices"] = p.indices;
-  j["q"] = q;
-  j["noise"] = {{"position", c.sigma_position},
-                {"rotation", measure == Measure::Pose ? json(c.sigma_rotation) : json(nullptr)},
-                {"source", noise_source}};
-  j["standard_deviations"] = {{"parameters", parameters}, {"dh", validation::dhUncertaintyJson(o.expected->dh)}};
-  j["out"] = nullptr;
-  j["seconds"] = {{"plan", seconds_plan}, {"random", seconds_random}, {"uncertainty", seconds_uncertainty}};
+  o.j = validation::planJson(o.report, "");
   return o;
 }
 
@@ -1280,11 +1055,6 @@ struct Simulation {
   std::vector<size_t> blunders;           // the rows moved, increasing
   std::vector<std::string> comments;      // for save(): where the file came from
 };
-
-void checkNoiseLevel(const char* name, double sd, double limit) {
-  if (!std::isfinite(sd) || sd < 0) throw UsageError(name, "expected a finite number >= 0, got " + io::shortest(sd));
-  if (sd > limit) throw UsageError(name, io::shortest(sd) + " is above " + io::shortest(limit));
-}
 
 // The targets measured: the robot file's (all, or those named, in the order named).
 std::vector<std::string> simulatedTargets(const Robot& r, const std::optional<std::vector<std::string>>& names,
@@ -1333,12 +1103,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   }
   if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
   const Measure measure = parseMeasure(measure_text);
-  checkNoiseLevel("noise_position", noise_position, kMaxMagnitude);
-  checkNoiseLevel("noise_rotation", noise_rotation, M_PI);
-  if (measure != Measure::Pose && noise_rotation > 0) {
-    throw UsageError("noise_rotation", measure_text + " measurements have no rotation to perturb");
-  }
-  if (targets && measure != Measure::Targets) throw UsageError("targets", "goes with measure='targets'");
+  validation::checkSimulationArguments(measure, noise_position, noise_rotation, targets.has_value(), pythonSpelling());
   validation::MeasurementSetup setup;
   setup.measure = measure;
   Simulation s;
@@ -1361,69 +1126,33 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   const std::optional<MatX> Q = q_arg ? std::optional<MatX>(jointMatrix(*q_arg, r.dof(), r.subject())) : std::nullopt;
   const long long count = Q ? static_cast<long long>(Q->rows()) : *poses;
   if (count == 0) throw UsageError("q", "no joint values");
-  const long long rows = count * validation::rowsPerPose(setup);
-  if (rows > io::kMaxMeasurements) {
-    throw UsageError(Q ? "q" : "poses", std::to_string(count) + " poses x " + std::to_string(validation::rowsPerPose(setup)) +
-                                            " targets = " + std::to_string(rows) + " measurements, more than the " +
-                                            std::to_string(io::kMaxMeasurements) + " a measurement file holds");
-  }
-  long long blunder_count = 0;
-  double blunder_size = 0.0;
+  const long long rows = validation::simulationRows(count, setup, Q ? "q" : "poses");
+  std::optional<validation::Blunders> blunder_set;
   if (blunders) {
-    const auto [c, size] = *blunders;
-    if (!(c >= 0 && c == std::floor(c) && c <= io::kMaxMeasurements)) {
-      throw UsageError("blunders", "COUNT must be a whole number in [0, " + std::to_string(io::kMaxMeasurements) +
-                                       "], got " + io::shortest(c));
-    }
-    if (!(size > 0 && size <= kMaxMagnitude)) throw UsageError("blunders", "SIZE must be positive, got " + io::shortest(size));
-    blunder_count = static_cast<long long>(c), blunder_size = size;
-    if (blunder_count > rows) {
-      throw UsageError("blunders", "COUNT " + std::to_string(blunder_count) + " is more than the " + std::to_string(rows) +
-                                       " measurements");
-    }
+    blunder_set = validation::checkBlunders(std::get<0>(*blunders), std::get<1>(*blunders), pythonSpelling());
+    validation::checkBlunderCount(*blunder_set, rows, pythonSpelling());
   }
-  const std::vector<validation::Range> ranges = validation::samplingRanges(model);
-  for (const auto& range : ranges) {
-    if (!Q && !(std::max(std::abs(range[0]), std::abs(range[1])) <= kMaxMagnitude)) {
-      throw UsageError(r.subject(), "a joint range reaches " + io::shortest(std::max(std::abs(range[0]), std::abs(range[1]))) +
-                                        ", above the 1e100 the measurement reader takes");
-    }
-  }
-  const auto beyond = [](const Measurement& m) { return !(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
-  const auto tooLarge = [](const std::string& subject, size_t k) {
-    return UsageError(subject, "measurement " + std::to_string(k + 1) +
-                                   " has a coordinate above 1e100 in magnitude, which no reader takes");
+  validation::SimulationPoses sampled;
+  sampled.count = count;
+  sampled.ranges = validation::samplingRanges(model);
+  sampled.q_rows = Q ? &*Q : nullptr;
+  sampled.given_row_beyond_reach = [](size_t k) {
+    throw UsageError("q", "row " + std::to_string(k) + ": the tool at this row's q has a coordinate above 1e100 in "
+                          "magnitude, which no reader takes");
   };
   {
     py::gil_scoped_release release;
     Data data(model);
-    VecX q(model.dof());
-    s.measurements.reserve(static_cast<size_t>(rows));
-    for (size_t k = 0; k < static_cast<size_t>(count); ++k) {
-      if (Q) {
-        q = Q->row(static_cast<Eigen::Index>(k)).transpose();
-      } else {
-        validation::randomSample(static_cast<unsigned long long>(seed), k, ranges, q);
-      }
+    // the truth of a robot file, as `lowpair simulate` measures it: the library's POE forward kinematics
+    const validation::TipPose tip_pose = [&](const VecX& q) {
       forwardKinematics(model, data, q);
-      if (!(data.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
-        throw UsageError(Q ? "q" : r.subject(), Q ? "row " + std::to_string(k) + ": the tool at this row's q has a coordinate "
-                                                    "above 1e100 in magnitude, which no reader takes"
-                                                  : "measurement " + std::to_string(k * validation::rowsPerPose(setup) + 1) +
-                                                        " has a coordinate above 1e100 in magnitude, which no reader takes");
-      }
-      const size_t first = s.measurements.size();
-      validation::appendMeasurements(setup, static_cast<unsigned long long>(seed), k, q, data.T_base_tool, s.measurements);
-      for (size_t row = first; row < s.measurements.size(); ++row) {
-        if (beyond(s.measurements[row])) throw tooLarge(frame ? "frame" : "noise_position", row);
-      }
-    }
-    if (blunders) {
-      s.blunders = validation::addBlunders(static_cast<unsigned long long>(seed), blunder_count, blunder_size, s.measurements);
-      for (const size_t row : s.blunders) {
-        if (beyond(s.measurements[row])) throw tooLarge("blunders", row);
-      }
-    }
+      return data.T_base_tool;
+    };
+    validation::SimulatedMeasurements m = validation::simulateMeasurements(
+        tip_pose, setup, static_cast<unsigned long long>(seed), sampled, blunder_set, frame.has_value(), r.subject(),
+        pythonSpelling());
+    s.measurements = std::move(m.measurements);
+    s.blunders = std::move(m.blunders);
   }
   const std::string unit = r.file.length_unit.empty() ? "length" : r.file.length_unit;
   s.comments.push_back("made by lowpair.simulate (Python): " + std::to_string(s.measurements.size()) + " " + measure_text +
@@ -1573,6 +1302,8 @@ PYBIND11_MODULE(_lowpair, m) {
       throw;
     } catch (const py::builtin_exception&) {
       throw;
+    } catch (const validation::UsageError& e) {  // a shared check's: "SUBJECT: message", as the CLI prints it
+      PyErr_SetString(error.ptr(), oneLine(e.subject() + ": " + e.what()).c_str());
     } catch (const std::invalid_argument& e) {
       PyErr_SetString(error.ptr(), oneLine(e.what()).c_str());
     } catch (const std::domain_error& e) {
@@ -1908,9 +1639,9 @@ PYBIND11_MODULE(_lowpair, m) {
       .def_property_readonly(
           "q",
           [](const IkSolutions& s) {
-            const int n = s.rows.empty() ? 0 : static_cast<int>(s.rows.front().q.size());
+            const int n = s.rows.empty() ? 0 : static_cast<int>(s.rows.front().result.q.size());
             MatX out(static_cast<Eigen::Index>(s.rows.size()), n);
-            for (size_t k = 0; k < s.rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = s.rows[k].q.transpose();
+            for (size_t k = 0; k < s.rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = s.rows[k].result.q.transpose();
             return matrixArray(out);
           },
           "(N, n): the solutions (or each row's last iterate when not ok), rad / length_unit.")
@@ -1918,7 +1649,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "status",
           [](const IkSolutions& s) {
             std::vector<std::string> out;
-            for (const IkResult& r : s.rows) out.push_back(ikStatusName(r.status));
+            for (const validation::IkRow& row : s.rows) out.push_back(ikStatusName(row.result.status));
             return out;
           },
           "list[str]: 'ok', 'out_of_range', 'singular', 'unreachable' or 'not_converged' per row (docs/ik.md).")
@@ -1926,7 +1657,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "ok",
           [](const IkSolutions& s) {
             py::array_t<bool> out(static_cast<py::ssize_t>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].status == IkStatus::Ok;
+            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].result.status == IkStatus::Ok;
             return out;
           },
           "(N,) bool: status == 'ok' (within 1e-10 L and 1e-10 rad, at a regular configuration).")
@@ -1934,7 +1665,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "iterations",
           [](const IkSolutions& s) {
             py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].iterations;
+            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].result.iterations;
             return out;
           },
           "(N,) int: iterations of the kept attempt.")
@@ -1942,7 +1673,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "position_error",
           [](const IkSolutions& s) {
             VecX out(static_cast<Eigen::Index>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].position_error;
+            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].result.position_error;
             return vectorArray(out);
           },
           "(N,): |p_target - p| at q (length_unit).")
@@ -1950,7 +1681,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "rotation_error",
           [](const IkSolutions& s) {
             VecX out(static_cast<Eigen::Index>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].rotation_error;
+            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].result.rotation_error;
             return vectorArray(out);
           },
           "(N,): the angle of R^T R_target at q (rad; 0 for positions).")
@@ -1958,7 +1689,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "rank",
           [](const IkSolutions& s) {
             py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].rank;
+            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].result.rank;
             return out;
           },
           "(N,) int: rank of the dimensionless task Jacobian at a converged q (-1 when not converged).")
@@ -1966,15 +1697,15 @@ PYBIND11_MODULE(_lowpair, m) {
           "sigma_min",
           [](const IkSolutions& s) {
             VecX out(static_cast<Eigen::Index>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].sigma_min;
+            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].result.sigma_min;
             return vectorArray(out);
           },
           "(N,): its smallest singular value (NaN when not converged).")
       .def_property_readonly(
           "seed",
           [](const IkSolutions& s) {
-            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.seeds.size()));
-            for (size_t k = 0; k < s.seeds.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.seeds[k];
+            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.rows.size()));
+            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].seed;
             return out;
           },
           "(N,) int: the random seed s (0..seeds-1) the kept attempt started from; -1 for q0 (ik) and compensate.")
@@ -1982,7 +1713,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "reason",
           [](const IkSolutions& s) {
             std::vector<std::string> out;
-            for (const IkResult& r : s.rows) out.push_back(r.reason);
+            for (const validation::IkRow& row : s.rows) out.push_back(row.result.reason);
             return out;
           },
           "list[str]: why a row is not ok, one sentence with the numbers ('' for ok rows).")
@@ -1990,48 +1721,49 @@ PYBIND11_MODULE(_lowpair, m) {
                              "dict status -> rows.")
       .def("__repr__", [](const IkSolutions& s) {
         long long ok = 0;
-        for (const IkResult& r : s.rows) ok += r.status == IkStatus::Ok;
+        for (const validation::IkRow& row : s.rows) ok += row.result.status == IkStatus::Ok;
         return "<lowpair.IkSolutions " + std::to_string(s.rows.size()) + " rows, " + std::to_string(ok) + " ok>";
       });
 
   py::class_<PlanOutcome>(m, "Plan", "lowpair.plan(...): the result of `lowpair plan`.")
       .def("to_dict", [](const PlanOutcome& p) { return toPython(p.j); },
            "to_dict() -> dict: the content of `lowpair plan --json` (out is None: the planned joint vectors are q).")
-      .def_property_readonly("indices", [](const PlanOutcome& p) { return p.plan.indices; },
+      .def_property_readonly("indices", [](const PlanOutcome& p) { return p.report.plan.indices; },
                              "list[int]: the chosen candidates (0-based sample indices of the stream `seed`), "
                              "increasing.")
       .def_property_readonly(
           "q",
           [](const PlanOutcome& p) {
-            const int n = p.q.empty() ? 0 : static_cast<int>(p.q.front().size());
-            MatX out(static_cast<Eigen::Index>(p.q.size()), n);
-            for (size_t k = 0; k < p.q.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = p.q[k].transpose();
+            const std::vector<VecX>& q = p.report.q;
+            const int n = q.empty() ? 0 : static_cast<int>(q.front().size());
+            MatX out(static_cast<Eigen::Index>(q.size()), n);
+            for (size_t k = 0; k < q.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = q[k].transpose();
             return matrixArray(out);
           },
           "(N, n): the planned joint vectors in index order (what `plan --out` writes; rad / length_unit).")
-      .def_property_readonly("criterion", [](const PlanOutcome& p) { return planCriterionName(p.plan.criterion); },
+      .def_property_readonly("criterion", [](const PlanOutcome& p) { return planCriterionName(p.report.plan.criterion); },
                              "'D' or 'O1'.")
-      .def_property_readonly("log_det", [](const PlanOutcome& p) { return p.plan.value.log_det; },
+      .def_property_readonly("log_det", [](const PlanOutcome& p) { return p.report.plan.value.log_det; },
                              "log det of the planned set's information (-inf when it does not determine every "
                              "direction the candidates do).")
-      .def_property_readonly("o1", [](const PlanOutcome& p) { return p.plan.value.o1; },
+      .def_property_readonly("o1", [](const PlanOutcome& p) { return p.report.plan.value.o1; },
                              "Sun & Hollerbach's O1 of the planned set.")
       .def_property_readonly("greedy", [](const PlanOutcome& p) { return toPython(p.j["greedy"]); },
                              "dict log_det, O1, rank, criterion of the greedy set before the exchanges.")
       .def_property_readonly("random", [](const PlanOutcome& p) { return toPython(p.j["random"]); },
                              "dict: median and best log_det and O1 of 100 random sets of N of the same candidates.")
-      .def_property_readonly("rank", [](const PlanOutcome& p) { return p.plan.rank.rank; },
+      .def_property_readonly("rank", [](const PlanOutcome& p) { return p.report.plan.rank.rank; },
                              "Rank of the planned set's identification Jacobian (the rank rule).")
-      .def_property_readonly("expected", [](const PlanOutcome& p) { return p.plan.expected.total(); },
+      .def_property_readonly("expected", [](const PlanOutcome& p) { return p.report.plan.expected.total(); },
                              "The count 5h + 4r + 2t + n + 6 (+ 3, + 3k).")
-      .def_property_readonly("candidate_rank", [](const PlanOutcome& p) { return p.plan.candidate_rank; },
+      .def_property_readonly("candidate_rank", [](const PlanOutcome& p) { return p.report.plan.candidate_rank; },
                              "Directions all candidates together determine.")
-      .def_property_readonly("swaps", [](const PlanOutcome& p) { return p.plan.swaps; }, "Exchanges made (int).")
+      .def_property_readonly("swaps", [](const PlanOutcome& p) { return p.report.plan.swaps; }, "Exchanges made (int).")
       .def_property_readonly("parameters", [](const PlanOutcome& p) { return toPython(p.j["parameters"]); },
                              "list[str]: the parameter names (columns).")
       .def_property_readonly(
           "standard_deviation",
-          [](const PlanOutcome& p) { return vectorArray(p.expected->calibration.standard_deviation); },
+          [](const PlanOutcome& p) { return vectorArray(p.report.expected->calibration.standard_deviation); },
           "(p,): each parameter's expected standard deviation after calibrating on the plan with the noise `noise` "
           "(parameter units; inf when undetermined).")
       .def_property_readonly("dh", [](const PlanOutcome& p) { return toPython(p.j["standard_deviations"]["dh"]); },
@@ -2042,9 +1774,9 @@ PYBIND11_MODULE(_lowpair, m) {
                              "list of directions the plan does not determine, each a list of {parameter, "
                              "coefficient}.")
       .def("__repr__", [](const PlanOutcome& p) {
-        return "<lowpair.Plan " + std::to_string(p.plan.indices.size()) + " poses, rank " +
-               std::to_string(p.plan.rank.rank) + " of " + std::to_string(p.plan.expected.total()) + ", log det " +
-               io::shortest(p.plan.value.log_det) + ">";
+        return "<lowpair.Plan " + std::to_string(p.report.plan.indices.size()) + " poses, rank " +
+               std::to_string(p.report.plan.rank.rank) + " of " + std::to_string(p.report.plan.expected.total()) + ", log det " +
+               io::shortest(p.report.plan.value.log_det) + ">";
       });
 
   py::class_<Simulation>(m, "Measurements",

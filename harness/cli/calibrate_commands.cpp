@@ -8,10 +8,9 @@
 #include <iostream>
 #include <limits>
 #include <memory>
-#include <sstream>
-#include <tuple>
 
 #include "io/atomic_file.hpp"
+#include "validation/calibration_inputs.hpp"
 #include "validation/calibration_output.hpp"
 #include "lowpair/tolerances.hpp"
 #include "cli/commands.hpp"
@@ -44,22 +43,6 @@ std::vector<Vec3> fileTargets(const RobotFile& file) {
   std::vector<Vec3> points;
   for (const Target& t : file.targets) points.push_back(*t.point_tool);
   return points;
-}
-
-// --parameters: a level, or a comma list of parameter names.
-void parseParameters(const std::string& text, CalibrationOptions& options) {
-  if (text == "full" || text == "lines" || text == "offsets") {
-    options.parameters = text == "full" ? ParameterSet::Full : text == "lines" ? ParameterSet::Lines : ParameterSet::Offsets;
-    return;
-  }
-  options.parameters = ParameterSet::Named;
-  std::stringstream in(text);
-  for (std::string name; std::getline(in, name, ',');) {
-    const auto b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
-    if (b == std::string::npos) throw UsageError("--parameters", "an empty name in '" + text + "'");
-    options.parameter_names.push_back(name.substr(b, e - b + 1));
-  }
-  if (options.parameter_names.empty()) throw UsageError("--parameters", "expected full, lines, offsets or names");
 }
 
 }  // namespace
@@ -173,26 +156,17 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     // joint values outside the nominal's ranges: a warning each (the first few), an error beyond
     // kFarOutsideRange range widths (a wrong column or unit, never fitted silently)
     auto check_ranges = [&](const MeasurementFile& m) {
-      constexpr double kFarOutsideRange = 10.0;
       constexpr int kMaxRangeWarnings = 5;
       int warnings = 0;
-      for (size_t k = 0; k < m.measurements.size(); ++k) {
-        for (int i = 0; i < nominal.dof(); ++i) {
-          const auto& range = nominal.joint(i).range;
-          const double q = m.measurements[k].q[i];
-          if (!range || (q >= (*range)[0] && q <= (*range)[1])) continue;
-          const double width = (*range)[1] - (*range)[0];
-          const double beyond = q < (*range)[0] ? (*range)[0] - q : q - (*range)[1];
-          const std::string where = m.path + ":" + std::to_string(m.lines[k]) + ": q" + std::to_string(i + 1) +
-                                    " = " + shortest(q) + " is outside joint " + std::to_string(i + 1) +
-                                    "'s range [" + shortest((*range)[0]) + ", " + shortest((*range)[1]) + "] of " +
-                                    file.path;
-          if (beyond > kFarOutsideRange * width) {
-            throw RobotFileError(where + " by more than " + shortest(kFarOutsideRange) +
-                                 " times its width: a wrong column or unit?");
-          }
-          if (warnings++ < kMaxRangeWarnings) std::cerr << "warning: " << where << "\n";
+      for (const OutsideRange& x : jointValuesOutsideRanges(nominal, m.measurements)) {
+        const std::string where = m.path + ":" + std::to_string(m.lines[x.row]) + ": q" + std::to_string(x.joint + 1) +
+                                  " = " + shortest(x.q) + " is outside joint " + std::to_string(x.joint + 1) +
+                                  "'s range [" + shortest(x.range[0]) + ", " + shortest(x.range[1]) + "] of " + file.path;
+        if (x.far) {
+          throw RobotFileError(where + " by more than " + shortest(kFarOutsideRange) +
+                               " times its width: a wrong column or unit?");
         }
+        if (warnings++ < kMaxRangeWarnings) std::cerr << "warning: " << where << "\n";
       }
       if (warnings > kMaxRangeWarnings) {
         std::cerr << "warning: " << m.path << ": " << warnings << " joint values outside the ranges in all\n";
@@ -222,23 +196,11 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
                              fit.path + " holds " + measureName(fit.measure) + " measurements");
       }
       // targets by name: the validation file's indices mapped to the fitting file's
-      for (Measurement& m : validation->measurements) {
-        if (m.target < 0) continue;
-        const std::string& name = validation->target_names[static_cast<size_t>(m.target)];
-        const auto it = std::find(fit.target_names.begin(), fit.target_names.end(), name);
-        if (it == fit.target_names.end()) {
-          throw RobotFileError(validation->path + ": target " + name + " is not measured in " + fit.path);
-        }
-        m.target = static_cast<int>(it - fit.target_names.begin());
-      }
-      validation->target_names = fit.target_names;
-    }
-    for (const auto& [value, flag, limit] : {std::tuple{o->noise_position, "--noise-position", kMaxMagnitude},
-                                             std::tuple{o->noise_rotation, "--noise-rotation", M_PI}}) {
-      if (value && !(*value > 0.0 && *value <= limit)) {
-        throw UsageError(flag, "must be a positive number up to " + shortest(limit) + ", got " + shortest(*value));
+      if (const auto unknown = mapValidationTargets(*validation, fit.target_names)) {
+        throw RobotFileError(validation->path + ": target " + *unknown + " is not measured in " + fit.path);
       }
     }
+    checkStatedNoise(o->noise_position, o->noise_rotation, cliSpelling());
     if (o->noise_rotation && fit.measure != Measure::Pose) {
       throw UsageError("--noise-rotation", fit.path + " holds " + measureName(fit.measure) +
                                                " measurements: there is no rotation to weigh");
@@ -252,13 +214,10 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     options.outlier_threshold = o->outlier_threshold;
     if (!o->parameters.empty()) {
       if (!o->select.empty()) throw UsageError("--select", "choose the parameters by --parameters or by --select, not both");
-      parseParameters(o->parameters, options);
+      parseParameters(o->parameters, options, cliSpelling());
     }
     // targets: the CSV's names; a point from the nominal file's targets: list of the same name, else estimated
-    for (const std::string& name : fit.target_names) {
-      const auto it = std::find_if(file.targets.begin(), file.targets.end(), [&](const Target& t) { return t.name == name; });
-      options.targets.push_back(it != file.targets.end() ? *it : Target{name, std::nullopt});
-    }
+    options.targets = nominalTargets(file, fit.target_names);
     const auto start = std::chrono::steady_clock::now();
     std::optional<CrossValidation> cv;
     if (o->select == "cv") {

@@ -6,9 +6,9 @@
 /// io::RobotFileError / UsageError / std::invalid_argument for bad input.
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <charconv>
 #include <functional>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,21 +16,26 @@
 #include "lowpair/types.hpp"
 #include "io/output.hpp"
 #include "io/robot_file.hpp"
+#include "validation/arguments.hpp"
 
 namespace lowpair::cli {
 
 using Runner = std::function<int()>;
 using Commands = std::vector<std::pair<CLI::App*, Runner>>;
 
-/// A usage error about an argument (not a file): printed as "error: SUBJECT: message".
-struct UsageError : std::runtime_error {
-  UsageError(std::string subject, const std::string& message)
-      : std::runtime_error(message), subject_(std::move(subject)) {}
-  const std::string& subject() const { return subject_; }
+/// A usage error about an argument (not a file): printed as "error: SUBJECT: message". Shared with the
+/// checks of the validation room, which the CLI and the Python module both call.
+using UsageError = validation::UsageError;
 
- private:
-  std::string subject_;
-};
+/// The CLI's spelling of an argument in the shared checks' messages: "--noise-position", "--measure targets".
+inline validation::ArgumentSpelling cliSpelling() {
+  auto option = [](const std::string& name) {
+    std::string flag = "--" + name;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    return flag;
+  };
+  return {option, [option](const std::string& name, const std::string& value) { return option(name) + " " + value; }};
+}
 
 /// Parses "Q1,Q2,..." into `dof` finite numbers. @throws UsageError (subject: `subject`)
 VecX parseJointVector(const std::string& text, int dof, const std::string& subject);

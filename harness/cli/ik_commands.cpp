@@ -12,7 +12,6 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -27,6 +26,7 @@
 #include "lowpair/ik.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/tolerances.hpp"
+#include "validation/ik_rows.hpp"
 #include "validation/sampling.hpp"
 
 namespace lowpair::cli {
@@ -40,22 +40,6 @@ namespace {
 
 // ---- solutions: the output CSV, the text summary, JSON ---------------------------------------------------------------
 
-struct Solution {
-  VecX q;
-  IkStatus status = IkStatus::NotConverged;
-  int iterations = 0;
-  double position_error = 0.0, rotation_error = 0.0;
-  int rank = -1;
-  double sigma_min = std::numeric_limits<double>::quiet_NaN();
-  int seed = -1;  ///< ik: the random seed's index k (0..K-1); -1: the row's own seed (or compensate's q)
-  std::string reason;
-  long long line = 0;
-};
-
-Solution solutionOf(const IkResult& r, int seed, long long line) {
-  return {r.q, r.status, r.iterations, r.position_error, r.rotation_error, r.rank, r.sigma_min, seed, r.reason, line};
-}
-
 // The shortest text that reads back bit for bit.
 void appendNumber(std::string& out, double x) {
   char buffer[32];
@@ -66,12 +50,13 @@ void appendNumber(std::string& out, double x) {
 std::string unitName(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
 
 // The CSV: comments, `q1..qn,residual,status`, one row per solution in input order.
-std::string solutionsCsv(const std::vector<std::string>& comments, int dof, const std::vector<Solution>& rows) {
+std::string solutionsCsv(const std::vector<std::string>& comments, int dof, const std::vector<IkRow>& rows) {
   std::string out;
   for (const std::string& c : comments) out += "# " + c + "\n";
   for (int i = 0; i < dof; ++i) out += "q" + std::to_string(i + 1) + ",";
   out += "residual,status\n";
-  for (const Solution& s : rows) {
+  for (const IkRow& row : rows) {
+    const IkResult& s = row.result;
     for (int i = 0; i < dof; ++i) {
       appendNumber(out, s.q[i]);
       out += ',';
@@ -91,14 +76,15 @@ struct Summary {
   bool all_ok() const { return count[1] + count[2] + count[3] + count[4] == 0; }
 };
 
-Summary summarize(const std::vector<Solution>& rows) {
+Summary summarize(const std::vector<IkRow>& rows) {
   Summary s;
-  for (const Solution& r : rows) {
+  for (const IkRow& row : rows) {
+    const IkResult& r = row.result;
     ++s.count[static_cast<size_t>(r.status)];
     if (r.status != IkStatus::Ok) continue;
     if (r.position_error >= s.worst_position) {
       s.worst_position = r.position_error;
-      s.worst_line = r.line;
+      s.worst_line = row.line;
     }
     s.worst_rotation = std::max(s.worst_rotation, r.rotation_error);
   }
@@ -121,7 +107,7 @@ std::string sci(double x) {
 }
 
 // Comment lines every output states: what the rows are and how they came out.
-std::vector<std::string> summaryComments(const Summary& s, const std::vector<Solution>& rows, const RobotFile& file,
+std::vector<std::string> summaryComments(const Summary& s, const std::vector<IkRow>& rows, const RobotFile& file,
                                          bool pose) {
   std::vector<std::string> c{std::to_string(rows.size()) + (rows.size() == 1 ? " row: " : " rows: ") + countsText(s)};
   if (s.count[0] > 0) {
@@ -132,7 +118,7 @@ std::vector<std::string> summaryComments(const Summary& s, const std::vector<Sol
 }
 
 // The text output: counts, worst residual, the failed rows with their reasons (the first kListedFailures).
-void printSummary(std::ostream& out, const std::string& what, const Summary& s, const std::vector<Solution>& rows,
+void printSummary(std::ostream& out, const std::string& what, const Summary& s, const std::vector<IkRow>& rows,
                   const std::string& input, const RobotFile& file, bool pose) {
   constexpr size_t kListedFailures = 20;
   out << what << "\n";
@@ -143,41 +129,16 @@ void printSummary(std::ostream& out, const std::string& what, const Summary& s, 
     out << " (" << input << ":" << s.worst_line << ")\n";
   }
   size_t listed = 0, failed = 0;
-  for (const Solution& r : rows) {
+  for (const IkRow& row : rows) {
+    const IkResult& r = row.result;
     if (r.status == IkStatus::Ok) continue;
     if (listed++ < kListedFailures) {
-      out << "  " << input << ":" << r.line << ": " << ikStatusName(r.status) << ": " << r.reason << " (lengths in "
+      out << "  " << input << ":" << row.line << ": " << ikStatusName(r.status) << ": " << r.reason << " (lengths in "
           << unitName(file) << ")\n";
     }
     ++failed;
   }
   if (failed > kListedFailures) out << "  ... " << failed - kListedFailures << " more rows not ok (the status column lists every one)\n";
-}
-
-json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
-json rowsJson(const std::vector<Solution>& rows, bool with_seed) {
-  json out = json::array();
-  for (const Solution& r : rows) {
-    json j = {{"line", r.line},
-              {"q", toVector(r.q)},
-              {"status", ikStatusName(r.status)},
-              {"iterations", r.iterations},
-              {"position_error", r.position_error},
-              {"rotation_error", r.rotation_error},
-              {"rank", r.rank},
-              {"sigma_min", number(r.sigma_min)},
-              {"reason", r.reason}};
-    if (with_seed) j["seed"] = r.seed < 0 ? json("file") : json(r.seed);
-    out.push_back(std::move(j));
-  }
-  return out;
-}
-
-json countsJson(const Summary& s) {
-  json j = json::object();
-  for (size_t k = 0; k < s.count.size(); ++k) j[ikStatusName(static_cast<IkStatus>(k))] = s.count[k];
-  return j;
 }
 
 // Writes the CSV to --out (all or nothing) and the text or JSON to stdout, or the CSV to stdout.
@@ -193,16 +154,6 @@ int emit(const std::string& out_path, bool as_json, const std::string& csv, cons
     std::cout << csv;
   }
   return s.all_ok() ? 0 : 1;
-}
-
-// The better of two attempts at one row: ok first, then converged (singular, or out of range in Report), then
-// the smaller error (position in L plus rotation).
-bool better(const IkResult& a, const Solution& b, double L) {
-  auto rank = [](IkStatus s, bool converged) { return s == IkStatus::Ok ? 0 : converged ? 1 : 2; };
-  const int ra = rank(a.status, a.converged);
-  const int rb = rank(b.status, b.status == IkStatus::Singular);
-  if (ra != rb) return ra < rb;
-  return a.position_error / L + a.rotation_error < b.position_error / L + b.rotation_error;
 }
 
 // A known unit other than the robot's: the factor to the robot's; throws for units lowpair does not convert.
@@ -247,30 +198,16 @@ int runIk(const IkCommandOptions& o) {
   const std::vector<Range> ranges = samplingRanges(model);
   Data data(model);
   IkWorkspace work(model);
-  VecX seed(n);
-  const double L = model.lengthScale();
-  std::vector<Solution> rows;
+  std::vector<IkRow> rows;
   rows.reserve(table.rows());
   for (size_t k = 0; k < table.rows(); ++k) {
     const Pose& target = table.targets[k];
     if (table.dof > 0) {
-      rows.push_back(solutionOf(inverseKinematics(model, data, target, table.row(k), options, work), -1, table.lines[k]));
-      continue;
+      rows.push_back({inverseKinematics(model, data, target, table.row(k), options, work), -1, table.lines[k]});
+    } else {
+      rows.push_back(solveFromRandomSeeds(model, data, target, k, o.seeds, static_cast<unsigned long long>(o.seed), ranges,
+                                          options, work, table.lines[k]));
     }
-    Solution best;
-    bool have = false;
-    for (int s = 0; s < o.seeds; ++s) {
-      // the sampling convention: sample k * K + s of the stream --seed (sampling.hpp)
-      randomSample(static_cast<unsigned long long>(o.seed), k * static_cast<unsigned long long>(o.seeds) + static_cast<unsigned long long>(s),
-                   ranges, seed);
-      const IkResult& r = inverseKinematics(model, data, target, seed, options, work);
-      if (!have || better(r, best, L)) {
-        best = solutionOf(r, s, table.lines[k]);
-        have = true;
-      }
-      if (r.status == IkStatus::Ok) break;
-    }
-    rows.push_back(std::move(best));
   }
 
   const Summary s = summarize(rows);
@@ -302,8 +239,8 @@ int runIk(const IkCommandOptions& o) {
             {"seeds", table.dof > 0 ? json("file") : json(o.seeds)},
             {"seed", o.seed},
             {"notes", notes},
-            {"counts", countsJson(s)},
-            {"rows", rowsJson(rows, true)}};
+            {"counts", ikCountsJson(rows)},
+            {"rows", ikRowsJson(rows, true)}};
   auto text = [&](std::ostream& out) {
     for (const std::string& note : notes) out << "note: " << note << "\n";
     printSummary(out, "ik: " + std::to_string(rows.size()) + " " + task + " targets of " + robotLabel(file) + ", " + seeding,
@@ -345,13 +282,10 @@ int runCompensate(const CompensateOptions& o) {
   const JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path);
   IkOptions options;
   options.measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
-  Data data(calibrated);
-  IkWorkspace work(calibrated);
-  std::vector<Solution> rows;
-  rows.reserve(table.rows());
-  for (size_t k = 0; k < table.rows(); ++k) {
-    rows.push_back(solutionOf(compensate(nominal, calibrated, data, table.row(k), options, work), -1, table.lines[k]));
-  }
+  // the table's rows, row-major, as the matrix of joint vectors the shared loop takes
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> q_nominal(
+      table.q.data(), static_cast<Eigen::Index>(table.rows()), n);
+  const std::vector<IkRow> rows = compensateJointRows(nominal, calibrated, q_nominal, table.lines, options);
   const Summary s = summarize(rows);
   const bool pose = options.measure == Measure::Pose;
   const std::string command = "lowpair compensate " + o.calibrated.path +
@@ -373,8 +307,8 @@ int runCompensate(const CompensateOptions& o) {
             {"q_file", o.q_file},
             {"length_unit", calibrated_file.length_unit},
             {"measure", o.measure},
-            {"counts", countsJson(s)},
-            {"rows", rowsJson(rows, false)}};
+            {"counts", ikCountsJson(rows)},
+            {"rows", ikRowsJson(rows, false)}};
   auto text = [&](std::ostream& out) {
     printSummary(out, "compensate: " + std::to_string(rows.size()) + " joint vectors of " + o.q_file + " (" + o.measure +
                           "), " + robotLabel(nominal_file) + " -> " + robotLabel(calibrated_file),

@@ -26,6 +26,7 @@
 #include "io/measurements.hpp"
 #include "mujoco/mujoco_robot.hpp"
 #include "io/output.hpp"
+#include "validation/simulation.hpp"
 #include "validation/validate.hpp"
 
 namespace lowpair::cli {
@@ -108,11 +109,6 @@ Truth modelTruth(const SimulateOptions& o) {
   return truth;
 }
 
-void checkNoise(const char* option, double sd, double limit) {
-  if (!std::isfinite(sd) || sd < 0) throw UsageError(option, "expected a finite number >= 0, got " + shortest(sd));
-  if (sd > limit) throw UsageError(option, shortest(sd) + " is above " + shortest(limit));
-}
-
 // "A,B,C" split at commas, each item trimmed of spaces and tabs.
 std::vector<std::string> items(const std::string& text) {
   std::vector<std::string> out;
@@ -150,19 +146,9 @@ Pose frameOption(const std::string& text) {
   return measurementFrame(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5])).inverse();
 }
 
-struct Blunders {
-  long long count = 0;
-  double size = 0.0;
-};
-
 Blunders blundersOption(const std::string& text) {
   const std::vector<double> v = numbers("--blunders", text, 2, "COUNT,SIZE (how many, and their size in the length unit)");
-  if (v[0] < 0 || v[0] != std::floor(v[0]) || v[0] > kMaxMeasurements) {
-    throw UsageError("--blunders", "COUNT must be a whole number in [0, " + std::to_string(kMaxMeasurements) +
-                                       "], got " + shortest(v[0]));
-  }
-  if (!(v[1] > 0)) throw UsageError("--blunders", "SIZE must be positive, got " + shortest(v[1]));
-  return {static_cast<long long>(v[0]), v[1]};
+  return checkBlunders(v[0], v[1], cliSpelling());
 }
 
 // --targets NAME,...: distinct target names
@@ -310,16 +296,10 @@ long long commentLines(const std::vector<std::string>& comments) {
 
 int simulate(const SimulateOptions& given) {
   SimulateOptions o = given;  // with --q-file, poses becomes its row count
-  // a rotation noise above pi rad is a uniformly random rotation; a position noise up to 1e100 keeps every
-  // coordinate within what the measurement reader takes (checked per measurement below)
-  checkNoise("--noise-position", o.noise_position, kMaxMagnitude);
-  checkNoise("--noise-rotation", o.noise_rotation, M_PI);
-  if (o.measure != "pose" && o.noise_rotation > 0) {  // as calibrate rejects it
-    throw UsageError("--noise-rotation", o.measure + " measurements have no rotation to perturb");
-  }
-  if (o.targets && o.measure != "targets") throw UsageError("--targets", "goes with --measure targets");
+  const Measure measure = o.measure == "pose" ? Measure::Pose : o.measure == "position" ? Measure::Position : Measure::Targets;
+  checkSimulationArguments(measure, o.noise_position, o.noise_rotation, o.targets.has_value(), cliSpelling());
   const Pose T_frame_base = o.frame ? frameOption(*o.frame) : Pose();
-  const Blunders blunders = o.blunders ? blundersOption(*o.blunders) : Blunders{};
+  const std::optional<Blunders> blunders = o.blunders ? std::optional(blundersOption(*o.blunders)) : std::nullopt;
   const std::string ext = fs::path(o.robot.path).extension().string();
   const bool model_file = ext == ".xml" || ext == ".urdf";
   if (!model_file && !o.joint_variables.empty()) {
@@ -327,7 +307,7 @@ int simulate(const SimulateOptions& given) {
   }
   const Truth truth = model_file ? modelTruth(o) : robotFileTruth(o);
   MeasurementSetup setup;
-  setup.measure = o.measure == "pose" ? Measure::Pose : o.measure == "position" ? Measure::Position : Measure::Targets;
+  setup.measure = measure;
   MeasuredTargets targets;
   if (setup.measure == Measure::Targets) {
     targets = measuredTargets(o, truth);
@@ -341,70 +321,25 @@ int simulate(const SimulateOptions& given) {
   std::vector<long long> q_lines;
   const MatX Q = o.q_file.empty() ? MatX() : readJointValues(o.q_file, static_cast<int>(joints), o.robot.path, q_lines);
   if (!o.q_file.empty()) o.poses = static_cast<int>(Q.rows());
-  const long long rows = static_cast<long long>(o.poses) * rowsPerPose(setup);
-  if (rows > kMaxMeasurements) {
-    throw UsageError(o.q_file.empty() ? "--poses" : o.q_file,
-                     std::to_string(o.poses) + " poses x " + std::to_string(rowsPerPose(setup)) + " targets = " +
-                         std::to_string(rows) + " measurements, more than the " + std::to_string(kMaxMeasurements) +
-                         " a measurement file holds");
-  }
-  if (blunders.count > rows) {
-    throw UsageError("--blunders", "COUNT " + std::to_string(blunders.count) + " is more than the " +
-                                       std::to_string(rows) + " measurements");
-  }
-  // every number written must be one the measurement reader takes (|x| <= 1e100): the joint values (within
-  // the ranges, or read from --q-file under the same bound), the robot's reach, then what the frame, the noise
-  // and the blunders add
-  for (const auto& r : truth.ranges) {
-    if (o.q_file.empty() && !(std::max(std::abs(r[0]), std::abs(r[1])) <= kMaxMagnitude)) {
-      throw UsageError(o.robot.path, "a joint range reaches " + shortest(std::max(std::abs(r[0]), std::abs(r[1]))) +
-                                         ", above the 1e100 the measurement reader takes");
-    }
-  }
-  const auto seed = static_cast<unsigned long long>(o.seed);
-  const auto beyond = [](const Measurement& m) { return !(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
-  const auto tooLarge = [](const std::string& subject, size_t k) {
-    return UsageError(subject, "measurement " + std::to_string(k + 1) +
-                                   " has a coordinate above 1e100 in magnitude, which no reader takes");
+  const long long rows = simulationRows(o.poses, setup, o.q_file.empty() ? "--poses" : o.q_file);
+  if (blunders) checkBlunderCount(*blunders, rows, cliSpelling());
+  SimulationPoses poses;
+  poses.count = o.poses;
+  poses.ranges = truth.ranges;
+  poses.q_rows = o.q_file.empty() ? nullptr : &Q;
+  poses.given_row_beyond_reach = [&](size_t k) {
+    throw RobotFileError(o.q_file + ":" + std::to_string(q_lines[k]) + ": the tool at this row's q has a coordinate "
+                         "above 1e100 in magnitude, which no reader takes");
   };
-
-  std::vector<Measurement> measurements;
-  measurements.reserve(static_cast<size_t>(rows));
-  VecX q(joints);
-  for (size_t k = 0; k < static_cast<size_t>(o.poses); ++k) {
-    if (o.q_file.empty()) {
-      randomSample(seed, k, truth.ranges, q);
-    } else {
-      q = Q.row(static_cast<Eigen::Index>(k)).transpose();
-    }
-    const Pose T_base_tool = truth.tipPose(q);
-    if (!(T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
-      // a joint value from the file is the cause: name its line
-      if (!o.q_file.empty()) {
-        throw RobotFileError(o.q_file + ":" + std::to_string(q_lines[k]) + ": the tool at this row's q has a coordinate "
-                             "above 1e100 in magnitude, which no reader takes");
-      }
-      throw tooLarge(o.robot.path, k * static_cast<size_t>(rowsPerPose(setup)));
-    }
-    const size_t first = measurements.size();
-    appendMeasurements(setup, seed, k, q, T_base_tool, measurements);
-    for (size_t r = first; r < measurements.size(); ++r) {
-      if (beyond(measurements[r])) throw tooLarge(o.frame ? "--frame" : "--noise-position", r);
-    }
-  }
-  std::vector<size_t> blundered;
-  if (o.blunders) {
-    blundered = addBlunders(seed, blunders.count, blunders.size, measurements);
-    for (const size_t r : blundered) {
-      if (beyond(measurements[r])) throw tooLarge("--blunders", r);
-    }
-  }
+  const SimulatedMeasurements s = simulateMeasurements(truth.tipPose, setup, static_cast<unsigned long long>(o.seed), poses,
+                                                       blunders, o.frame.has_value(), o.robot.path, cliSpelling());
+  const std::vector<Measurement>& measurements = s.measurements;
   std::vector<std::string> comments = describe(o, truth, targets, static_cast<int>(rows));
   if (o.blunders) {
     // the file line of data row r: the comments (these included), the header, then the rows
     const std::string unit = truth.length_unit.empty() ? "length" : truth.length_unit;
-    const long long before = commentLines(comments) + commentLines(blunderComments(blunders, blundered, 0, unit));
-    for (const std::string& line : blunderComments(blunders, blundered, before + 2, unit)) comments.push_back(line);
+    const long long before = commentLines(comments) + commentLines(blunderComments(*blunders, s.blunders, 0, unit));
+    for (const std::string& line : blunderComments(*blunders, s.blunders, before + 2, unit)) comments.push_back(line);
   }
   const std::string text =
       formatMeasurements(setup.measure, measurements, comments, setup.measure == Measure::Targets ? targets.names

@@ -1,0 +1,52 @@
+#pragma once
+/// @file calibration_inputs.hpp
+/// What `lowpair calibrate` checks and derives from its inputs before fitting, shared by the CLI and the
+/// Python module's lowpair.calibrate: joint values outside the nominal's ranges, the stated noise, the
+/// parameters to fit, the validation set's targets mapped to the fit's, and the nominal's target points.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/measurements.hpp"
+#include "io/robot_file.hpp"
+#include "lowpair/calibration.hpp"
+#include "validation/arguments.hpp"
+
+namespace lowpair::validation {
+
+/// A joint value beyond this many range widths outside the nominal's range is a wrong column or unit: never
+/// fitted silently.
+constexpr double kFarOutsideRange = 10.0;
+
+/// A measurement's joint value outside the nominal's range of that joint.
+struct OutsideRange {
+  size_t row = 0;  ///< index into the measurements
+  int joint = 0;   ///< 0-based
+  double q = 0.0;
+  std::array<double, 2> range{};
+  bool far = false;  ///< more than kFarOutsideRange range widths outside
+};
+
+/// Every joint value of `measurements` outside the nominal's ranges, row by row, joint by joint.
+std::vector<OutsideRange> jointValuesOutsideRanges(const PoeModel& nominal, const std::vector<Measurement>& measurements);
+
+/// The stated measurement noise: each in (0, limit] (position 1e100 length, rotation pi rad).
+/// @throws UsageError naming noise_position or noise_rotation as `spelling` spells it
+void checkStatedNoise(const std::optional<double>& noise_position, const std::optional<double>& noise_rotation,
+                      const ArgumentSpelling& spelling);
+
+/// The parameters to fit: full, lines, offsets, or a comma list of parameter names (spaces and tabs around
+/// each trimmed). @throws UsageError naming parameters as `spelling` spells it
+void parseParameters(const std::string& text, CalibrationOptions& options, const ArgumentSpelling& spelling);
+
+/// Maps the validation set's target indices to the fit's by name and gives it the fit's names.
+/// @return the first target the fit does not measure (then nothing is to be used), or nothing
+std::optional<std::string> mapValidationTargets(io::MeasurementFile& validation, const std::vector<std::string>& fit_names);
+
+/// The fit's targets: each name with the point of the nominal's `targets:` entry of that name, else none
+/// (the fit estimates it).
+std::vector<Target> nominalTargets(const io::RobotFile& nominal, const std::vector<std::string>& names);
+
+}  // namespace lowpair::validation

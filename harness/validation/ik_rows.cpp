@@ -1,0 +1,80 @@
+// The rows of `ik` and `compensate` for the CLI and the Python module (ik_rows.hpp).
+#include "validation/ik_rows.hpp"
+
+#include <array>
+#include <cmath>
+
+#include "io/output.hpp"
+
+namespace lowpair::validation {
+
+using nlohmann::json;
+
+bool betterIkAttempt(const IkResult& a, const IkResult& b, double L) {
+  auto rank = [](const IkResult& r) { return r.status == IkStatus::Ok ? 0 : r.converged ? 1 : 2; };
+  if (rank(a) != rank(b)) return rank(a) < rank(b);
+  return a.position_error / L + a.rotation_error < b.position_error / L + b.rotation_error;
+}
+
+IkRow solveFromRandomSeeds(const PoeModel& model, Data& data, const Pose& target, size_t row, int seeds,
+                           unsigned long long seed, const std::vector<Range>& ranges, const IkOptions& options,
+                           IkWorkspace& work, long long line) {
+  IkRow best;
+  best.line = line;
+  bool have = false;
+  VecX q_seed(model.dof());
+  for (int s = 0; s < seeds; ++s) {
+    randomSample(seed, row * static_cast<unsigned long long>(seeds) + static_cast<unsigned long long>(s), ranges, q_seed);
+    const IkResult& attempt = inverseKinematics(model, data, target, q_seed, options, work);
+    if (!have || betterIkAttempt(attempt, best.result, model.lengthScale())) {
+      best.result = attempt;
+      best.seed = s;
+      have = true;
+    }
+    if (attempt.status == IkStatus::Ok) break;
+  }
+  return best;
+}
+
+std::vector<IkRow> compensateJointRows(const PoeModel& nominal, const PoeModel& calibrated,
+                                       const Eigen::Ref<const MatX>& q_nominal, const std::vector<long long>& lines,
+                                       const IkOptions& options) {
+  Data data(calibrated);
+  IkWorkspace work(calibrated);
+  std::vector<IkRow> rows;
+  rows.reserve(static_cast<size_t>(q_nominal.rows()));
+  for (Eigen::Index k = 0; k < q_nominal.rows(); ++k) {
+    rows.push_back({compensate(nominal, calibrated, data, q_nominal.row(k).transpose(), options, work), -1,
+                    lines[static_cast<size_t>(k)]});
+  }
+  return rows;
+}
+
+json ikRowsJson(const std::vector<IkRow>& rows, bool with_seed) {
+  json out = json::array();
+  for (const IkRow& row : rows) {
+    const IkResult& r = row.result;
+    json j = {{"line", row.line},
+              {"q", io::toVector(r.q)},
+              {"status", ikStatusName(r.status)},
+              {"iterations", r.iterations},
+              {"position_error", r.position_error},
+              {"rotation_error", r.rotation_error},
+              {"rank", r.rank},
+              {"sigma_min", std::isfinite(r.sigma_min) ? json(r.sigma_min) : json(nullptr)},
+              {"reason", r.reason}};
+    if (with_seed) j["seed"] = row.seed < 0 ? json("file") : json(row.seed);
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
+json ikCountsJson(const std::vector<IkRow>& rows) {
+  std::array<long long, 5> count{};
+  for (const IkRow& row : rows) ++count[static_cast<size_t>(row.result.status)];
+  json j = json::object();
+  for (size_t k = 0; k < count.size(); ++k) j[ikStatusName(static_cast<IkStatus>(k))] = count[k];
+  return j;
+}
+
+}  // namespace lowpair::validation

@@ -1,0 +1,194 @@
+// The report of `lowpair plan` for the CLI and the Python module (plan_report.hpp).
+#include "validation/plan_report.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "io/output.hpp"
+#include "lowpair/tolerances.hpp"
+#include "validation/calibration_inputs.hpp"
+#include "validation/calibration_output.hpp"
+#include "validation/sampling.hpp"
+
+namespace lowpair::validation {
+
+using nlohmann::json;
+
+namespace {
+
+/// The noise assumed when none is stated: position 1e-5 L per coordinate, rotation 1e-5 rad per axis.
+constexpr double kDefaultRelativeNoise = 1e-5;
+
+Spread spread(std::vector<double> x) {
+  std::sort(x.begin(), x.end());
+  const size_t n = x.size();
+  return {n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]), x.back()};
+}
+
+json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+}  // namespace
+
+PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request, const ArgumentSpelling& spelling) {
+  PlanReport r;
+  r.file = file;
+  const PoeModel model = r.file.poeModel();
+  r.measure = request.measure;
+  r.criterion = request.criterion;
+  r.candidates = request.candidates;
+  r.seed = request.seed;
+  PlanOptions options;
+  options.measure = r.measure;
+  options.free_pitch = request.free_pitch;
+  options.criterion = r.criterion;
+  if (r.measure == Measure::Targets) {
+    if (r.file.targets.empty()) {
+      throw UsageError(r.file.path, spelling.setting("measure", "targets") +
+                                        " needs a `targets:` list in the robot file (docs/file_formats.md)");
+    }
+    for (const Target& t : r.file.targets) {
+      options.targets.push_back(*t.point_tool);
+      options.target_names.push_back(t.name);
+    }
+  }
+  if (request.poses > request.candidates) {
+    throw UsageError(spelling.name("poses"), std::to_string(request.poses) + " poses cannot be chosen from " +
+                                                 std::to_string(request.candidates) + " candidates (" +
+                                                 spelling.name("candidates") + ")");
+  }
+  checkStatedNoise(request.noise_position, request.noise_rotation, spelling);
+  if (request.noise_rotation && r.measure != Measure::Pose) {
+    throw UsageError(spelling.name("noise_rotation"),
+                     std::string(measureName(r.measure)) + " measurements have no rotation to weigh");
+  }
+  // the candidates' blocks: rows x columns numbers each
+  ErrorModelSpec spec;
+  spec.free_pitch = request.free_pitch;
+  spec.targets = options.targets;
+  const double columns = ErrorModel(model, spec).size();
+  const double rows = r.measure == Measure::Pose ? 6.0 : 3.0 * std::max<size_t>(1, options.targets.size());
+  if (static_cast<double>(request.candidates) * rows * columns > kMaxPlanEntries) {
+    const bool robot = rows * columns > kMaxPlanEntries;
+    throw UsageError(robot ? r.file.path : spelling.name("candidates"),
+                     std::to_string(request.candidates) + " candidates of " + io::shortest(rows) + " rows and " +
+                         io::shortest(columns) + " parameters exceed the identification size limit (" +
+                         io::shortest(kMaxPlanEntries) + " numbers, held about four times): fewer candidates");
+  }
+
+  // candidates: the sampling convention (validation/sampling.hpp), stream `seed`, samples 0..M-1
+  const auto ranges = samplingRanges(model);
+  std::vector<VecX> candidates(static_cast<size_t>(request.candidates), VecX(model.dof()));
+  for (int i = 0; i < request.candidates; ++i) {
+    randomSample(static_cast<unsigned long long>(request.seed), static_cast<unsigned long long>(i), ranges,
+                 candidates[static_cast<size_t>(i)]);
+  }
+  auto clock = [] { return std::chrono::steady_clock::now(); };
+  auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+  auto t0 = clock();
+  const PlanCandidates c = planCandidates(model, candidates, options);
+  r.plan = planPoses(c, request.poses, options);
+  for (const Parameter& x : c.parameters) r.parameters.push_back(x.name);
+  auto t1 = clock();
+  r.seconds_plan = seconds(t0, t1);
+  std::vector<double> log_det, o1;
+  for (const auto& set :
+       randomPoseSets(c.count(), request.poses, kPlanRandomSets, static_cast<unsigned long long>(request.seed))) {
+    const PlanValue v = evaluatePlan(c, set);
+    log_det.push_back(v.log_det);
+    o1.push_back(v.o1);
+  }
+  r.random_log_det = spread(log_det);
+  r.random_o1 = spread(o1);
+  auto t2 = clock();
+  r.seconds_random = seconds(t1, t2);
+  for (const int i : r.plan.indices) r.q.push_back(candidates[static_cast<size_t>(i)]);
+
+  // the noise of the standard deviations: as stated (the other derived as calibrate does), else the default
+  std::optional<double> sigma_position = request.noise_position, sigma_rotation = request.noise_rotation;
+  if (!sigma_position && !sigma_rotation) {
+    sigma_position = kDefaultRelativeNoise * model.lengthScale();
+    if (r.measure == Measure::Pose) sigma_rotation = kDefaultRelativeNoise;
+    // the CLI's option names in both front ends: the text is part of the JSON the Python tests compare
+    r.noise_source = "default: 1e-5 L" + std::string(r.measure == Measure::Pose ? " and 1e-5 rad" : "") +
+                     "; state --noise-position/--noise-rotation";
+  } else if (r.measure != Measure::Pose || (sigma_position && sigma_rotation)) {
+    r.noise_source = "stated";
+  } else {
+    r.noise_source = sigma_position ? "position stated, rotation derived: position / L"
+                                    : "rotation stated, position derived: rotation x L";
+  }
+  r.expected = expectedUncertainty(model, r.q, options, sigma_position, sigma_rotation);
+  r.seconds_uncertainty = seconds(t2, clock());
+  return r;
+}
+
+json planJson(const PlanReport& r, const std::string& out_path) {
+  const PlanResult& p = r.plan;
+  const std::vector<std::string>& names = r.parameters;
+  json undetermined = json::array();
+  for (const auto& direction : p.rank.undetermined) {
+    json terms = json::array();
+    for (const auto& [column, coefficient] : direction) {
+      terms.push_back({{"parameter", names[static_cast<size_t>(column)]}, {"coefficient", coefficient}});
+    }
+    undetermined.push_back(terms);
+  }
+  auto value = [&](const PlanValue& v) {
+    return json{{"log_det", finiteOrNull(v.log_det)}, {"O1", v.o1}, {"rank", v.rank},
+                {"criterion", finiteOrNull(v.criterion(r.criterion))}};
+  };
+  auto spreadJson = [](const Spread& s) { return json{{"median", finiteOrNull(s.median)}, {"best", finiteOrNull(s.best)}}; };
+  const CalibrationResult& c = r.expected->calibration;
+  json parameters = json::array();
+  for (size_t k = 0; k < names.size(); ++k) {
+    const Parameter& x = c.error_model.parameters()[k];
+    parameters.push_back({{"name", x.name}, {"unit", x.unit}, {"sd", finiteOrNull(c.standard_deviation[static_cast<Eigen::Index>(k)])}});
+  }
+  json q = json::array();
+  for (const VecX& x : r.q) q.push_back(io::toVector(x));
+  json o;
+  o["name"] = io::robotLabel(r.file);
+  o["source"] = r.file.path;
+  o["length_unit"] = r.file.length_unit.empty() ? json(nullptr) : json(r.file.length_unit);
+  o["measure"] = measureName(r.measure);
+  o["free_pitch"] = c.error_model.freePitch();
+  if (r.measure == Measure::Targets) {
+    json targets = json::array();
+    for (const Target& t : r.file.targets) targets.push_back({{"name", t.name}, {"point", io::toVector(*t.point_tool)}});
+    o["targets"] = targets;
+  }
+  o["criterion"] = planCriterionName(r.criterion);
+  o["poses"] = static_cast<int>(p.indices.size());
+  o["candidates"] = r.candidates;
+  o["seed"] = r.seed;
+  o["length_scale"] = r.file.poeModel().lengthScale();
+  o["planned"] = value(p.value);
+  o["greedy"] = value(p.start);
+  o["swaps"] = p.swaps;
+  o["passes"] = p.passes;
+  o["random"] = {{"sets", kPlanRandomSets},
+                 {"log_det", spreadJson(r.random_log_det)},
+                 {"O1", spreadJson(r.random_o1)},
+                 {"criterion", spreadJson(r.criterion == PlanCriterion::D ? r.random_log_det : r.random_o1)}};
+  o["expected"] = p.expected.total();
+  o["joints"] = {{"revolute", p.expected.revolute}, {"prismatic", p.expected.prismatic}, {"helical", p.expected.helical},
+                 {"scales", p.expected.scales}, {"tool", p.expected.tool}};
+  o["rank"] = p.rank.rank;
+  o["candidate_rank"] = p.candidate_rank;
+  o["parameters"] = names;
+  o["singular_values"] = io::toVector(p.rank.singular_values);
+  o["condition"] = finiteOrNull(p.rank.condition);
+  o["undetermined"] = undetermined;
+  o["indices"] = p.indices;
+  o["q"] = q;
+  o["noise"] = {{"position", c.sigma_position},
+                {"rotation", r.measure == Measure::Pose ? json(c.sigma_rotation) : json(nullptr)},
+                {"source", r.noise_source}};
+  o["standard_deviations"] = {{"parameters", parameters}, {"dh", dhUncertaintyJson(r.expected->dh)}};
+  o["out"] = out_path.empty() ? json(nullptr) : json(out_path);
+  o["seconds"] = {{"plan", r.seconds_plan}, {"random", r.seconds_random}, {"uncertainty", r.seconds_uncertainty}};
+  return o;
+}
+
+}  // namespace lowpair::validation

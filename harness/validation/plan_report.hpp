@@ -1,0 +1,68 @@
+#pragma once
+/// @file plan_report.hpp
+/// The report of `lowpair plan` (docs/plan.md), shared by the CLI and the Python module's lowpair.plan: the
+/// checks of the request, the candidates (the sampling convention), the plan, its comparison with random sets
+/// of the same size, the expected standard deviations at the stated or default noise, and its JSON.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/robot_file.hpp"
+#include "lowpair/calibration.hpp"
+#include "lowpair/plan.hpp"
+#include "validation/arguments.hpp"
+
+namespace lowpair::validation {
+
+/// Upper bounds of `plan`: the poses chosen, the candidates, and the numbers of their blocks (candidates x
+/// rows x parameters): the blocks are held about four times (scaled, the SVD's copy, in the determined
+/// directions, the search's working copy), so 1e7 numbers is about 320 MB.
+constexpr int kMaxPlanPoses = 1000;
+constexpr int kMaxPlanCandidates = 100000;
+constexpr double kMaxPlanEntries = 1e7;
+/// The random sets of N the plan is compared with.
+constexpr int kPlanRandomSets = 100;
+
+/// What is asked of `plan`. Preconditions (the front end's own checks): poses in [1, kMaxPlanPoses],
+/// candidates in [1, kMaxPlanCandidates], seed in [0, kMaxSeed].
+struct PlanRequest {
+  Measure measure = Measure::Pose;
+  PlanCriterion criterion = PlanCriterion::D;
+  int poses = 0, candidates = 5000;
+  long long seed = 1;
+  bool free_pitch = false;
+  std::optional<double> noise_position, noise_rotation;  ///< length per coordinate, rad per axis
+};
+
+/// A value over the random sets: the median and the best (largest).
+struct Spread {
+  double median = 0.0, best = 0.0;
+};
+
+/// Everything `plan` reports, computed once (renderers only format it).
+struct PlanReport {
+  io::RobotFile file;
+  Measure measure = Measure::Pose;
+  PlanCriterion criterion = PlanCriterion::D;
+  int candidates = 0;
+  long long seed = 0;
+  PlanResult plan;
+  std::vector<std::string> parameters;  ///< the columns' names
+  std::vector<VecX> q;                  ///< the planned joint vectors, in index order
+  Spread random_log_det, random_o1;
+  std::optional<ExpectedUncertainty> expected;
+  std::string noise_source;  ///< stated, derived or the default, in words
+  double seconds_plan = 0.0, seconds_random = 0.0, seconds_uncertainty = 0.0;
+};
+
+/// Checks the request against the robot (targets to measure, poses <= candidates, the noise, the size limit),
+/// then plans: candidates are samples 0..M-1 of the stream `seed` (validation/sampling.hpp), the random sets
+/// come from the same seed. @throws UsageError naming the argument as `spelling` spells it, or the robot file
+PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request, const ArgumentSpelling& spelling);
+
+/// The JSON of `plan --json`; `out_path`: where the planned joint vectors were written ("" for none: null).
+nlohmann::json planJson(const PlanReport& report, const std::string& out_path);
+
+}  // namespace lowpair::validation

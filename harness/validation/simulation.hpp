@@ -1,0 +1,67 @@
+#pragma once
+/// @file simulation.hpp
+/// The measurements of `lowpair simulate`, shared by the CLI and the Python module's lowpair.simulate: the
+/// checks of the arguments and the measurement loop over a ground truth given as a function (the library's
+/// FK of a robot file, or MuJoCo's tip pose), with the seeded noise and blunders of sampling.hpp.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "io/measurements.hpp"
+#include "validation/arguments.hpp"
+#include "validation/sampling.hpp"
+
+namespace lowpair::validation {
+
+/// Checks the noise levels (each finite and in [0, limit]: 1e100 length, pi rad), that rotation noise goes
+/// with pose measurements only, and that a target list (`targets_given`) goes with target measurements.
+/// @throws UsageError naming the argument as `spelling` spells it
+void checkSimulationArguments(Measure measure, double noise_position, double noise_rotation, bool targets_given,
+                              const ArgumentSpelling& spelling);
+
+/// Blunders: `count` measurements moved by `size` (length) in random directions.
+struct Blunders {
+  long long count = 0;
+  double size = 0.0;
+};
+
+/// Checks a blunders argument: count a whole number in [0, io::kMaxMeasurements], size in (0, 1e100].
+/// @throws UsageError naming blunders as `spelling` spells it
+Blunders checkBlunders(double count, double size, const ArgumentSpelling& spelling);
+
+/// The rows `poses` poses measure, at most io::kMaxMeasurements (what a measurement file holds).
+/// @throws UsageError with subject `poses_subject` (the argument or file that sets the poses)
+long long simulationRows(long long poses, const MeasurementSetup& setup, const std::string& poses_subject);
+
+/// Checks that the blunders are no more than the rows. @throws UsageError naming blunders
+void checkBlunderCount(const Blunders& blunders, long long rows, const ArgumentSpelling& spelling);
+
+/// The tool pose of the ground truth at joint variable q.
+using TipPose = std::function<Pose(const VecX& q)>;
+
+/// Where the poses come from: sample k of the stream `seed` within `ranges` (q_rows null), or row k of q_rows.
+struct SimulationPoses {
+  long long count = 0;
+  std::vector<Range> ranges;        ///< per joint, in q
+  const MatX* q_rows = nullptr;     ///< given joint vectors, one per row (count rows)
+  /// Called (and must throw) when the tool at given row k has a coordinate above 1e100: the caller names the row.
+  std::function<void(size_t k)> given_row_beyond_reach;
+};
+
+struct SimulatedMeasurements {
+  std::vector<Measurement> measurements;
+  std::vector<size_t> blunders;  ///< the rows moved, increasing
+};
+
+/// Measures every pose (appendMeasurements: the frame, then the noise of row r from (seed, r)), then moves
+/// the blunders. Every number is one the measurement reader takes (|x| <= 1e100): sampled ranges within it,
+/// then each tool position, then what the frame (`in_frame`), the noise and the blunders add.
+/// @param robot_subject the robot's file, the subject of a range or a tool beyond 1e100
+/// @throws UsageError naming the robot, frame, noise_position or blunders (as `spelling` spells them)
+SimulatedMeasurements simulateMeasurements(const TipPose& tip_pose, const MeasurementSetup& setup,
+                                           unsigned long long seed, const SimulationPoses& poses,
+                                           const std::optional<Blunders>& blunders, bool in_frame,
+                                           const std::string& robot_subject, const ArgumentSpelling& spelling);
+
+}  // namespace lowpair::validation
