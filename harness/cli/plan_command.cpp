@@ -163,7 +163,8 @@ void addPlanCommand(CLI::App& app, Commands& commands) {
       ->required()
       ->check(CLI::Range(1, kMaxPlanPoses));
   sub->add_option("--candidates", o->candidates,
-                  "random candidate joint vectors, M (default 5000, at most " + std::to_string(kMaxPlanCandidates) + ")")
+                  "random candidate joint vectors, M (default " + std::to_string(kDefaultPlanCandidates) + ", at most " +
+                      std::to_string(kMaxPlanCandidates) + ")")
       ->check(CLI::Range(1, kMaxPlanCandidates));
   sub->add_option("--measure", o->measure,
                   "pose (default) or position measurements of the tool, or targets (the robot file's targets: points)")

@@ -20,6 +20,7 @@ namespace lowpair::validation {
 /// rows x parameters): the blocks are held about four times (scaled, the SVD's copy, in the determined
 /// directions, the search's working copy), so 1e7 numbers is about 320 MB.
 constexpr int kMaxPlanPoses = 1000;
+constexpr int kDefaultPlanCandidates = 5000;
 constexpr int kMaxPlanCandidates = 100000;
 constexpr double kMaxPlanEntries = 1e7;
 /// The random sets of N the plan is compared with.
@@ -30,7 +31,7 @@ constexpr int kPlanRandomSets = 100;
 struct PlanRequest {
   Measure measure = Measure::Pose;
   PlanCriterion criterion = PlanCriterion::D;
-  int poses = 0, candidates = 5000;
+  int poses = 0, candidates = kDefaultPlanCandidates;
   long long seed = 1;
   bool free_pitch = false;
   std::optional<double> noise_position, noise_rotation;  ///< length per coordinate, rad per axis

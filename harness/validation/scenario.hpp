@@ -10,6 +10,7 @@
 
 #include "lowpair/calibration.hpp"
 #include "lowpair/plan.hpp"
+#include "validation/plan_report.hpp"  // a case's plan: the limits of `lowpair plan` (kMaxPlanCandidates, ...)
 #include "validation/sampling.hpp"
 
 namespace lowpair::validation {
@@ -29,12 +30,6 @@ struct SingularPose {
 /// Upper bound on `samples` (a scenario or --samples).
 constexpr int kMaxSamples = 100000000;
 
-/// Default and upper bound of a case's `plan: {candidates: M}` (as `lowpair plan --candidates`).
-constexpr int kDefaultPlanCandidates = 5000;
-constexpr int kMaxPlanCandidates = 100000;
-/// Upper bound on the numbers of a plan's candidate blocks (candidates x rows per pose x parameters), as
-/// `lowpair plan`'s: they are held about four times, 1e7 numbers is about 320 MB.
-constexpr double kMaxPlanEntries = 1e7;
 
 /// `plan: {criterion: D|O1, candidates: M}` (or `plan: D`): the fitting poses are chosen by planPoses on the
 /// nominal from the candidates, samples 0 .. M-1 of the case's stream (the candidates `lowpair plan --seed
