@@ -799,3 +799,32 @@ TEST(DhUncertainty, LargeForDOfNearlyParallelAxes) {
   EXPECT_FALSE(std::isnan(b.links[1].d));
   EXPECT_LT(std::max(a.links[3].d / b.links[3].d, b.links[3].d / a.links[3].d), 10.0);
 }
+
+// The entries the D-H convention sets: a row placed by a prismatic axis has a = 0 always, and d = 0 unless an
+// offset of the joint before it slides the row (a prismatic joint with a nonzero offset: d += scale * offset).
+// Joint 2 (prismatic, after a revolute) places link_1: a and d fixed; joint 3 (prismatic, after joint 2 with
+// offset 0.1) places link_2: a fixed, d not.
+TEST(DhUncertainty, FixedByConventionOnlyWhereNothingMovesIt) {
+  JointSpec j1, j2, j3;
+  j1.twist << 0, 0, 1, 0, 0, 0;
+  j2.twist << 0, 0, 0, 1, 0, 0;
+  j2.offset = 0.1;
+  j3.twist << 0, 0, 0, 0, 1, 0;
+  Pose tool;
+  tool.p << 0.2, 0.1, 0.3;
+  const PoeModel model({j1, j2, j3}, tool, "rpp");
+  std::mt19937_64 rng(3);
+  const std::vector<Measurement> ms = measure(model, uniformPoses(model, 20, rng));
+  CalibrationOptions options;
+  options.sigma_position = 1e-4;
+  options.sigma_rotation = 1e-4;
+  const CalibrationResult result = calibrate(model, ms, options);
+  const DhUncertainty dh = dhUncertainty(result);
+  EXPECT_FALSE(dh.base_fixed.a || dh.base_fixed.d);  // placed by joint 1, revolute
+  EXPECT_TRUE(dh.links_fixed[0].a && dh.links_fixed[0].d);
+  EXPECT_EQ(dh.links[0].a, 0.0);
+  EXPECT_EQ(dh.links[0].d, 0.0);
+  EXPECT_TRUE(dh.links_fixed[1].a);
+  EXPECT_FALSE(dh.links_fixed[1].d);
+  EXPECT_FALSE(dh.links_fixed[2].a || dh.links_fixed[2].d);  // the last row: the tool's
+}

@@ -457,8 +457,7 @@ json calibrationJson(const CalibrationReport& r) {
   o["accepted"] = c.accepted;
   o["verdict"] = c.accepted ? json("accepted") : json(c.reason);
   o["measurement_frame"] = matrixJson(c.registration.T_meas_base);
-  o["registration"] = {{"iterations", c.registration.iterations}, {"determined", c.registration.determined},
-                       {"applied", c.registration.applied}, {"rms_ratio", c.registration.rms_ratio}};
+  o["registration"] = {{"iterations", c.registration.iterations}, {"determined", c.registration.determined}};
   o["loss"] = lossName(c.loss);
   o["robust_scale"] = {{"value", c.robust_scale}, {"source", c.noise_stated ? "stated noise" : "median residual"}};
   o["outlier_threshold"] = c.outlier_threshold;
@@ -575,17 +574,7 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
     }
     out << " chosen: " << parameterSetName(r.cross_validation->chosen) << "\n";
   }
-  if (!c.registration.applied) {
-    out << "measurement frame: the nominal's base as it stands (";
-    if (c.registration.rms_ratio > 0.0) {
-      out << "registration would leave " << fixed(100.0 * c.registration.rms_ratio, 1)
-          << " % of the RMS residual, not below " << fixed(100.0 * kRegistrationGain, 0)
-          << " %: the robot's own errors dominate, and the fit moves its base";
-    } else {
-      out << "not registered";
-    }
-    out << ")\n";
-  } else {
+  {
     const Pose& F = c.registration.T_meas_base;
     const double angle = rotationAngle(F.R);
     const Vec3 axis = angle > 0.0 ? Vec3(logSO3(F.R) / angle) : Vec3::UnitZ();

@@ -46,7 +46,8 @@ Blunders checkBlunders(double count, double size, const ArgumentSpelling& spelli
                                                     std::to_string(io::kMaxMeasurements) + "], got " + io::shortest(count));
   }
   if (!(size > 0 && size <= kMaxMagnitude)) {
-    throw UsageError(spelling.name("blunders"), "SIZE must be positive, got " + io::shortest(size));
+    throw UsageError(spelling.name("blunders"), "SIZE must be positive and at most " + io::shortest(kMaxMagnitude) +
+                                                    ", got " + io::shortest(size));
   }
   return {static_cast<long long>(count), size};
 }

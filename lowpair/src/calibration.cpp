@@ -862,24 +862,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
     w.rotation = 1.0;
   }
 
-  // the measurement frame (and the unknown targets' points), then the fit from there; the registration
-  // only where it pays (kRegistrationGain)
-  Registration reg = registration(nominal, measurements, measure, options.targets, options.register_frame);
-  if (options.register_frame) {
-    Registration unmoved = registration(nominal, measurements, measure, options.targets, false);
-    VecX scratch;
-    const VecX ones = VecX::Ones(static_cast<Eigen::Index>(measurements.size()));
-    const double registered = residual(movedModel(nominal, reg.T_meas_base), reg.targets, measurements, measure, w, ones, scratch);
-    const double unregistered = residual(nominal, unmoved.targets, measurements, measure, w, ones, scratch);
-    reg.rms_ratio = unregistered > 0.0 ? std::sqrt(registered / unregistered) : 1.0;
-    if (!(reg.rms_ratio < kRegistrationGain)) {
-      unmoved.applied = false;
-      unmoved.rms_ratio = reg.rms_ratio;
-      reg = std::move(unmoved);
-    }
-  } else {
-    reg.applied = false;
-  }
+  // the measurement frame (and the unknown targets' points), then the fit from there
+  const Registration reg = registration(nominal, measurements, measure, options.targets, options.register_frame);
   const PoeModel start = movedModel(nominal, reg.T_meas_base);
   ErrorModelSpec spec;
   spec.free_pitch = options.free_pitch;
@@ -1331,12 +1315,14 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
     DhParams& deviation = i == 0 ? out.base : out.links[static_cast<size_t>(i - 1)];
     fixed.a = true;
     deviation.a = 0.0;
+    // (a revolute joint with a fitted pitch slides too: d += pitch * scale * offset)
+    auto fitted = [&](ParameterKind kind) {
+      return std::any_of(em.parameters().begin(), em.parameters().end(),
+                         [&](const Parameter& p) { return p.kind == kind && p.joint == i - 1; });
+    };
     bool offset_moves_d = false;
-    if (i > 0 && result.model.joint(i - 1).type != JointType::Revolute) {
-      offset_moves_d = result.model.joint(i - 1).offset != 0.0 ||
-                       std::any_of(em.parameters().begin(), em.parameters().end(), [&](const Parameter& p) {
-                         return p.kind == ParameterKind::Offset && p.joint == i - 1;
-                       });
+    if (i > 0 && (result.model.joint(i - 1).type != JointType::Revolute || fitted(ParameterKind::Pitch))) {
+      offset_moves_d = result.model.joint(i - 1).offset != 0.0 || fitted(ParameterKind::Offset);
     }
     if (!offset_moves_d) {
       fixed.d = true;

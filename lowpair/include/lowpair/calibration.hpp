@@ -239,19 +239,7 @@ struct Registration {
   std::vector<bool> estimated;
   int iterations = 0;
   bool determined = true;  ///< false: the predicted points are collinear (and no rotations): identity kept
-  /// calibrate only: whether the registration was applied. It is when it at least halves the RMS of the
-  /// weighted residuals (kRegistrationGain): the frame's misplacement then dominates the robot's own errors.
-  /// Otherwise the nominal is fitted where it stands (identity) and its base absorbs the small frame.
-  bool applied = true;
-  double rms_ratio = 0.0;  ///< calibrate: the RMS weighted residual registered over unregistered
 };
-
-/// calibrate applies a registration that lowers the RMS weighted residual below this fraction of the
-/// unregistered one. A rigid fit of a nominal several errors away from the robot is biased by them (3.2 deg
-/// on the paper's PUMA, measured in its own base frame), and it turns the parameter directions the data do
-/// not determine along with everything else, where they stay: position data of the PUMA's wrist centre then
-/// leave 1.3 mm instead of 0.26 mm on held-out points.
-constexpr double kRegistrationGain = 0.5;
 
 /// @throws std::invalid_argument as calibrate for bad measurements
 Registration registerMeasurementFrame(const PoeModel& model, const std::vector<Measurement>& measurements,
@@ -391,7 +379,8 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
 /// pitches, 1 for angles and scales): a noise-free fit gives that floor, never an exact 0. An entry the
 /// conversion fixes by convention has standard deviation 0 and its flag set: a row placed by a prismatic
 /// joint's axis has `a = 0` and `d = 0` (docs/conversion.md; `d` only while no offset of the joint before
-/// it, prismatic or helical, moves it).
+/// it moves it: one that slides, prismatic, helical or revolute with a fitted pitch, with a nonzero or fitted
+/// offset).
 struct DhUncertainty {
   DhConversion conversion;              ///< of the calibrated model
   DhParams base;                        ///< standard deviations
