@@ -18,8 +18,9 @@ Comparison, line by line, after stripping trailing whitespace on both sides:
   - an expected line that is `...` (indentation allowed) matches any number of lines, none included;
   - wall-clock times are masked: a number followed by ` s` (`(0.010 s)`, `plan 1.597 s`) or by
     ` samples/s`;
-  - numbers are equal when their text is, or when they differ by at most one unit in the last printed
-    digit of the less precise one (another CPU or compiler may round the last digit the other way; two
+  - numbers are equal when their text is, or when they differ by at most one unit in the last significant
+    digit of the more precise one, counting at least two digits since %g drops trailing zeros (another
+    CPU or compiler may round the last digit the other way; two
     plain integers, counts, ranks and line numbers, must be equal), or when both are at rounding level,
     |x| <= 1e-12, or both the reciprocal of it, |x| >= 1e12 (a condition number of a singular matrix):
     such numbers differ between builds, and the docs say so next to them; whitespace next to a number
@@ -131,11 +132,16 @@ def mask_times(line):
     return line
 
 
-def decimal_unit(token):
-    """One unit in the last printed digit of a number's text."""
-    mantissa, _, exponent = token.lower().partition("e")
-    digits = len(mantissa.partition(".")[2])
-    return Decimal(1).scaleb(int(exponent or 0) - digits)
+def significant_digits(token):
+    return len(Decimal(token).as_tuple().digits)
+
+
+def last_digit_unit(a, b):
+    """One unit in the last significant digit of the pair: as many digits as the more precise one shows, and
+    at least 2 (a %g number drops trailing zeros: "9e-05" may be 9.0e-05, but "1e-05" is not "2e-05")."""
+    digits = max(significant_digits(a), significant_digits(b), 2)
+    leading = max(Decimal(a).adjusted(), Decimal(b).adjusted())
+    return Decimal(1).scaleb(leading - (digits - 1))
 
 
 def is_integer(token):
@@ -144,7 +150,7 @@ def is_integer(token):
 
 def numbers_agree(a, b):
     """The same text; both at rounding level, or both its reciprocal; else at most one unit in the last
-    printed digit of the less precise one apart, unless both are plain integers (counts, ranks, lines)."""
+    significant digit apart (last_digit_unit), unless both are plain integers (counts, ranks, lines)."""
     if a == b:
         return True
     x, y = Decimal(a), Decimal(b)
@@ -154,7 +160,7 @@ def numbers_agree(a, b):
         return True
     if is_integer(a) and is_integer(b):
         return False
-    return abs(x - y) <= max(decimal_unit(a), decimal_unit(b))
+    return abs(x - y) <= last_digit_unit(a, b)
 
 
 def lines_agree(expected, actual):
