@@ -82,77 +82,62 @@ void fkDh(benchmark::State& state, RobotId id) {
 
 // ---- Jacobians --------------------------------------------------------------------------------------
 
-void jacobianGeometric(benchmark::State& state, RobotId id) {
+using JacobianRowMajor = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>;
+
+// FK + Jacobian + one getter, after checking the getter's result (turned into the geometric form by
+// `toGeometric(J, k, Jg)`) against the reference at every pool configuration.
+template <typename Get, typename ToGeometric>
+void jacobianBenchmark(benchmark::State& state, RobotId id, const char* what, Get get, ToGeometric toGeometric) {
   const RobotCase& r = robotCase(id);
   const PoeModel& model = robotModels(id).poe;
   Data data(model);
   Mat6X J(6, r.dof);
-  Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jr(6, r.dof);
+  JacobianRowMajor Jg(6, r.dof);
   double err = 0.0;
   for (int k = 0; k < kPool; ++k) {
-    computeJacobians(model, data, qOf(r, k)); getGeometricJacobian(data, J);
-    Jr = J;
-    err = std::max(err, jacobianMismatch(r, k, Jr.data()));
+    computeJacobians(model, data, qOf(r, k));
+    get(data, J);
+    toGeometric(J, k, Jg);
+    err = std::max(err, jacobianMismatch(r, k, Jg.data()));
   }
-  if (rejected(state, err, "geometric Jacobian")) return;
+  if (rejected(state, err, what)) return;
   int k = 0;
   for (auto _ : state) {
-    computeJacobians(model, data, qOf(r, k)); getGeometricJacobian(data, J);
+    computeJacobians(model, data, qOf(r, k));
+    get(data, J);
     benchmark::DoNotOptimize(J.data());
     benchmark::ClobberMemory();
     k = (k + 1) & (kPool - 1);
   }
+}
+
+void jacobianGeometric(benchmark::State& state, RobotId id) {
+  jacobianBenchmark(state, id, "geometric Jacobian", [](const Data& d, Mat6X& J) { getGeometricJacobian(d, J); },
+                    [](const Mat6X& J, int, JacobianRowMajor& Jg) { Jg = J; });
 }
 
 void jacobianSpatial(benchmark::State& state, RobotId id) {
   const RobotCase& r = robotCase(id);
-  const PoeModel& model = robotModels(id).poe;
-  Data data(model);
-  Mat6X J(6, r.dof);
-  Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jg(6, r.dof);
-  double err = 0.0;
-  for (int k = 0; k < kPool; ++k) {
-    computeJacobians(model, data, qOf(r, k)); getSpatialJacobian(data, J);
-    // spatial [w; v_s] -> geometric [v_s + w x p_tool; w] for the comparison
-    const Vec3 p = Eigen::Map<const Vec3>(&r.pose[static_cast<size_t>(k) * 12 + 9]);
-    for (int i = 0; i < r.dof; ++i) {
-      const Vec3 w = J.col(i).head<3>();
-      Jg.col(i) << J.col(i).tail<3>() + w.cross(p), w;
-    }
-    err = std::max(err, jacobianMismatch(r, k, Jg.data()));
-  }
-  if (rejected(state, err, "spatial Jacobian")) return;
-  int k = 0;
-  for (auto _ : state) {
-    computeJacobians(model, data, qOf(r, k)); getSpatialJacobian(data, J);
-    benchmark::DoNotOptimize(J.data());
-    benchmark::ClobberMemory();
-    k = (k + 1) & (kPool - 1);
-  }
+  // spatial [w; v_s] -> geometric [v_s + w x p_tool; w] for the comparison
+  jacobianBenchmark(state, id, "spatial Jacobian", [](const Data& d, Mat6X& J) { getSpatialJacobian(d, J); },
+                    [&r](const Mat6X& J, int k, JacobianRowMajor& Jg) {
+                      const Vec3 p = Eigen::Map<const Vec3>(&r.pose[static_cast<size_t>(k) * 12 + 9]);
+                      for (int i = 0; i < r.dof; ++i) {
+                        const Vec3 w = J.col(i).head<3>();
+                        Jg.col(i) << J.col(i).tail<3>() + w.cross(p), w;
+                      }
+                    });
 }
 
 void jacobianBody(benchmark::State& state, RobotId id) {
   const RobotCase& r = robotCase(id);
-  const PoeModel& model = robotModels(id).poe;
-  Data data(model);
-  Mat6X J(6, r.dof);
-  Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor> Jg(6, r.dof);
-  double err = 0.0;
-  for (int k = 0; k < kPool; ++k) {
-    computeJacobians(model, data, qOf(r, k)); getBodyJacobian(data, J);
-    // body [w_b; v_b] (tool frame) -> geometric [R v_b; R w_b] for the comparison
-    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(&r.pose[static_cast<size_t>(k) * 12]);
-    for (int i = 0; i < r.dof; ++i) Jg.col(i) << R * J.col(i).tail<3>(), R * J.col(i).head<3>();
-    err = std::max(err, jacobianMismatch(r, k, Jg.data()));
-  }
-  if (rejected(state, err, "body Jacobian")) return;
-  int k = 0;
-  for (auto _ : state) {
-    computeJacobians(model, data, qOf(r, k)); getBodyJacobian(data, J);
-    benchmark::DoNotOptimize(J.data());
-    benchmark::ClobberMemory();
-    k = (k + 1) & (kPool - 1);
-  }
+  // body [w_b; v_b] (tool frame) -> geometric [R v_b; R w_b] for the comparison
+  jacobianBenchmark(state, id, "body Jacobian", [](const Data& d, Mat6X& J) { getBodyJacobian(d, J); },
+                    [&r](const Mat6X& J, int k, JacobianRowMajor& Jg) {
+                      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> R(
+                          &r.pose[static_cast<size_t>(k) * 12]);
+                      for (int i = 0; i < r.dof; ++i) Jg.col(i) << R * J.col(i).tail<3>(), R * J.col(i).head<3>();
+                    });
 }
 
 // ---- batched FK: 1024 configurations per call, reported per pose ---------------------------------------

@@ -9,27 +9,15 @@
 #include <iostream>
 #include <string>
 
+#include "io/one_line.hpp"
 #include "kdl_peer.hpp"
 #include "registration.hpp"
 
 namespace {
 
 using namespace lowpair_bench;
+using lowpair::io::oneLine;
 
-// `message` on one line: every run of control characters (a newline in a file name or in MuJoCo's
-// message) folded into one space, as the lowpair CLI does.
-std::string oneLine(const std::string& message) {
-  std::string line;
-  for (const char ch : message) {
-    const bool control = static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f;
-    if (!control) {
-      line += ch;
-    } else if (!line.empty() && line.back() != ' ') {
-      line += ' ';
-    }
-  }
-  return line;
-}
 
 void registerBundled(RobotId id) {
   const std::string name = bundledName(id);

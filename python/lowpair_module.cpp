@@ -36,6 +36,7 @@
 #include "io/atomic_file.hpp"
 #include "io/export.hpp"
 #include "io/measurements.hpp"
+#include "io/one_line.hpp"
 #include "io/output.hpp"
 #include "io/robot_file.hpp"
 #include "io/singularity_output.hpp"
@@ -76,19 +77,6 @@ validation::ArgumentSpelling pythonSpelling() {
           [](const std::string& name, const std::string& value) { return name + "='" + value + "'"; }};
 }
 
-// The CLI's one error line: every control character folded into one space (cli/main.cpp reportError).
-std::string oneLine(const std::string& message) {
-  std::string line;
-  for (const char ch : message) {
-    const bool control = static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f;
-    if (!control) {
-      line += ch;
-    } else if (line.empty() || line.back() != ' ') {
-      line += ' ';
-    }
-  }
-  return line;
-}
 
 // nlohmann::json -> Python objects (numbers keep their double bits).
 py::object toPython(const json& j) {
@@ -1303,17 +1291,17 @@ PYBIND11_MODULE(_lowpair, m) {
     } catch (const py::builtin_exception&) {
       throw;
     } catch (const validation::UsageError& e) {  // a shared check's: "SUBJECT: message", as the CLI prints it
-      PyErr_SetString(error.ptr(), oneLine(e.subject() + ": " + e.what()).c_str());
+      PyErr_SetString(error.ptr(), io::oneLine(e.subject() + ": " + e.what()).c_str());
     } catch (const std::invalid_argument& e) {
-      PyErr_SetString(error.ptr(), oneLine(e.what()).c_str());
+      PyErr_SetString(error.ptr(), io::oneLine(e.what()).c_str());
     } catch (const std::domain_error& e) {
-      PyErr_SetString(error.ptr(), oneLine(e.what()).c_str());
+      PyErr_SetString(error.ptr(), io::oneLine(e.what()).c_str());
     } catch (const std::out_of_range& e) {
-      PyErr_SetString(error.ptr(), oneLine(e.what()).c_str());
+      PyErr_SetString(error.ptr(), io::oneLine(e.what()).c_str());
     } catch (const std::length_error& e) {
-      PyErr_SetString(error.ptr(), oneLine(e.what()).c_str());
+      PyErr_SetString(error.ptr(), io::oneLine(e.what()).c_str());
     } catch (const std::runtime_error& e) {
-      PyErr_SetString(error.ptr(), oneLine(e.what()).c_str());
+      PyErr_SetString(error.ptr(), io::oneLine(e.what()).c_str());
     }
   });
 

@@ -11,6 +11,7 @@
 
 #include "cli/commands.hpp"
 #include "mujoco/mujoco_robot.hpp"
+#include "io/one_line.hpp"
 #include "io/urdf_reader.hpp"
 
 namespace lowpair::cli {
@@ -62,16 +63,7 @@ namespace {
 // The one error line: "error: " and the message with every control character (a newline in a file name,
 // a YAML key or a --tip value) folded into a space, so the contract holds whatever the input held.
 int reportError(const std::string& message) {
-  std::string line = "error: ";
-  for (const char ch : message) {
-    const bool control = static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f;
-    if (!control) {
-      line += ch;
-    } else if (line.back() != ' ') {
-      line += ' ';
-    }
-  }
-  std::cerr << line << "\n";
+  std::cerr << io::oneLine("error: " + message) << "\n";
   return 2;
 }
 

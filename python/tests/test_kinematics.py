@@ -226,14 +226,14 @@ def test_every_public_function_and_property_is_documented():
             assert _documented(doc, attr), f"{name}.{attr}"
 
 
-def test_type_stubs_cover_the_module():
+def test_type_hints_cover_the_module():
     """__init__.pyi names every public class, property, method and function with the runtime's parameter names."""
     import ast
     import os
     import re
-    stub = ast.parse(open(os.path.join(os.path.dirname(lowpair.__file__), "__init__.pyi")).read())
-    functions = {n.name: n for n in stub.body if isinstance(n, ast.FunctionDef)}
-    classes = {n.name: {m.name: m for m in n.body if isinstance(m, ast.FunctionDef)} for n in stub.body
+    hints = ast.parse(open(os.path.join(os.path.dirname(lowpair.__file__), "__init__.pyi")).read())
+    functions = {n.name: n for n in hints.body if isinstance(n, ast.FunctionDef)}
+    classes = {n.name: {m.name: m for m in n.body if isinstance(m, ast.FunctionDef)} for n in hints.body
                if isinstance(n, ast.ClassDef)}
 
     def runtime_parameters(doc):
@@ -241,7 +241,7 @@ def test_type_stubs_cover_the_module():
         inside = signature[signature.index("(") + 1:signature.rindex(") ->")]
         return [p for p in re.findall(r"(?:^|, )(\w+):", inside) if p != "self"]
 
-    def stub_parameters(node):
+    def hinted_parameters(node):
         return [a.arg for a in node.args.args + node.args.kwonlyargs if a.arg != "self"]
 
     for name in lowpair.__all__ + ["_time_batch_fk", "_time_single_fk", "_batch_fk_reference"]:
@@ -255,7 +255,7 @@ def test_type_stubs_cover_the_module():
                     continue
                 assert attr in classes[name], f"{name}.{attr} missing from __init__.pyi"
                 if not isinstance(value, property):
-                    assert stub_parameters(classes[name][attr]) == runtime_parameters(value.__doc__), f"{name}.{attr}"
+                    assert hinted_parameters(classes[name][attr]) == runtime_parameters(value.__doc__), f"{name}.{attr}"
         else:
             assert name in functions, name
-            assert stub_parameters(functions[name]) == runtime_parameters(obj.__doc__), name
+            assert hinted_parameters(functions[name]) == runtime_parameters(obj.__doc__), name
