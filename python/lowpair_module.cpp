@@ -717,6 +717,7 @@ struct CalibrateArguments {
   double outlier_threshold = 5.0;
   std::optional<std::string> parameters, select;
   int folds = 5;
+  int repeats = kCrossValidationRepeats;
 };
 
 Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::optional<io::MeasurementFile> held_out,
@@ -758,6 +759,9 @@ Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::option
   options.outlier_threshold = a.outlier_threshold;
   if (a.select && *a.select != "cv") throw UsageError("select", "expected 'cv' or None, got '" + *a.select + "'");
   if (!(a.folds >= 2 && a.folds <= 20)) throw UsageError("folds", "must be in [2, 20], got " + std::to_string(a.folds));
+  if (!(a.repeats >= 1 && a.repeats <= 100)) {
+    throw UsageError("repeats", "must be in [1, 100], got " + std::to_string(a.repeats));
+  }
   if (a.parameters) {
     if (a.select) throw UsageError("select", "choose the parameters by parameters= or by select=, not both");
     validation::parseParameters(*a.parameters, options, pythonSpelling());
@@ -772,7 +776,7 @@ Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::option
     py::gil_scoped_release release;
     const auto start = std::chrono::steady_clock::now();
     if (a.select) {
-      cv = crossValidate(nominal, fit.measurements, options, a.folds);
+      cv = crossValidate(nominal, fit.measurements, options, a.folds, a.repeats);
       options.parameters = cv->chosen;
     }
     result.emplace(calibrate(nominal, fit.measurements, options));
@@ -805,7 +809,7 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
                                 const std::optional<InArray>& validation_rotations,
                                 const std::optional<std::vector<std::string>>& targets,
                                 const std::optional<std::vector<std::string>>& validation_targets,
-                                const std::optional<std::string>& select, int folds) {
+                                const std::optional<std::string>& select, int folds, int repeats) {
   io::MeasurementFile fit = measurementArrays(r, q, positions, rotations, targets, "");
   std::optional<io::MeasurementFile> held_out;
   if (validation_q || validation_positions || validation_rotations || validation_targets) {
@@ -833,6 +837,7 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
   a.parameters = parameters;
   a.select = select;
   a.folds = folds;
+  a.repeats = repeats;
   return calibrateArrays(r, std::move(fit), std::move(held_out), a);
 }
 
@@ -1584,7 +1589,8 @@ PYBIND11_MODULE(_lowpair, m) {
                                if (!c.j.contains("cross_validation")) return py::none();
                                return toPython(c.j["cross_validation"]);
                              },
-                             "dict folds, candidates, chosen (select='cv'), or None.")
+                             "dict folds, repeats, candidates (parameters, count, rms_position, rms_rotation, score, failed), "
+                             "chosen (select='cv'), or None.")
       .def_property_readonly("dh", [](const Calibration& c) { return toPython(c.j["dh"]); },
                              "dict: the calibrated D-H table with standard deviations (to_dict()['dh']).")
       .def_property_readonly(
@@ -1855,11 +1861,11 @@ PYBIND11_MODULE(_lowpair, m) {
         py::arg("outlier_threshold") = 5.0, py::arg("parameters") = py::none(), py::arg("validation_q") = py::none(),
         py::arg("validation_positions") = py::none(), py::arg("validation_rotations") = py::none(),
         py::arg("targets") = py::none(), py::arg("validation_targets") = py::none(), py::arg("select") = py::none(),
-        py::arg("folds") = 5,
+        py::arg("folds") = 5, py::arg("repeats") = kCrossValidationRepeats,
         "calibrate(robot, q, positions, rotations=None, noise_position=None, noise_rotation=None, free_pitch=False,\n"
         "          loss='squared', outlier_threshold=5.0, parameters=None, validation_q=None,\n"
         "          validation_positions=None, validation_rotations=None, targets=None, validation_targets=None,\n"
-        "          select=None, folds=5) -> Calibration\n\n"
+        "          select=None, folds=5, repeats=10) -> Calibration\n\n"
         "`lowpair calibrate` from arrays (the measurement CSV's columns): q (N, n) joint values (rad / length_unit);\n"
         "positions (N, 3) measured tool positions (length_unit, the robot's; any measurement frame: it is\n"
         "registered); rotations (N, 4) unit quaternions qw, qx, qy, qz (scalar first; norm within 1e-6 of 1) for\n"
@@ -1870,7 +1876,7 @@ PYBIND11_MODULE(_lowpair, m) {
         "coordinate. loss: 'squared', 'huber' or 'cauchy' (robust: blunders weighed down); outlier_threshold:\n"
         "the normalized residual above which a row is flagged. parameters: None (all), 'full', 'lines',\n"
         "'offsets' or names 'j2.offset,base.rz'; select='cv' chooses among full/lines/offsets by `folds`-fold\n"
-        "cross-validation. validation_*: held-out measurements of the same kind (residuals before and after).\n"
+        "cross-validation over `repeats` partitions of the poses (the first in order, the others shuffled). validation_*: held-out measurements of the same kind (residuals before and after).\n"
         "The GIL is released during the fit. A rejected fit is data (accepted, reason), not an exception.");
   m.def("ik", &ik, py::arg("robot"), py::arg("targets"), py::arg("rotations") = py::none(), py::arg("q0") = py::none(),
         py::arg("seeds") = 8, py::arg("seed") = 1,

@@ -713,11 +713,13 @@ TEST(CalibrateTracker, ParameterLevelsAndCrossValidation) {
   ASSERT_LE(cv.status, 1) << cv.err;
   const auto j = nlohmann::json::parse(cv.out);
   ASSERT_EQ(j["cross_validation"]["candidates"].size(), 3u);
+  EXPECT_EQ(j["cross_validation"]["folds"], 5);
+  EXPECT_EQ(j["cross_validation"]["repeats"], 10);  // the documented default
   double best = 1e300;
   std::string best_name;
   for (const auto& c : j["cross_validation"]["candidates"]) {
-    if (!c["failed"].get<bool>() && c["rms_position"].get<double>() < best) {
-      best = c["rms_position"].get<double>();
+    if (!c["failed"].get<bool>() && c["score"].get<double>() < best) {
+      best = c["score"].get<double>();
       best_name = c["parameters"].get<std::string>();
     }
   }
@@ -734,4 +736,11 @@ TEST(CalibrateTracker, ParameterLevelsAndCrossValidation) {
   }
   expectRejected(base + " --parameters j1.offset,nonsense", "no parameter named 'nonsense'", kNominal);
   expectRejected(base + " --parameters offsets --select cv", "not both", "--select");
+  expectRejected(base + " --select cv --repeats 0", "--repeats", "--repeats");
+  // one partition: the candidates' scores differ from ten partitions' (the same choice is not promised)
+  const CliRun once = runCli(base + " --select cv --repeats 1");
+  ASSERT_LE(once.status, 1) << once.err;
+  const auto j1 = nlohmann::json::parse(once.out);
+  EXPECT_EQ(j1["cross_validation"]["repeats"], 1);
+  EXPECT_NE(j1["cross_validation"]["candidates"][0]["score"], j["cross_validation"]["candidates"][0]["score"]);
 }

@@ -380,22 +380,70 @@ TEST(TrackerParameters, OffsetsFitsOffsetsOnly) {
   EXPECT_LE(heldOutRms(r.model, {}, actual, {}, uniformPoses(nominal, 100, rng)), 0.01);
 }
 
-// --select cv: on random 6-joint arms with few noisy poses (15), the level chosen by 5-fold cross-validation
-// has a held-out RMS within 10 % of the best of the three levels in hindsight on 18 of 20 robots, and within
-// 1.5x on all. (Measured, not tuned: with 15 poses the cross-validated scores are themselves noisy; the two
-// misses are robots where the levels' scores are within that noise: one chose offsets at 1.77 where the full
-// set reached 1.20, one the full set at 1.28 where offsets reached 1.11. Leave-one-pose-out folds miss the
-// same two.)
+// A held-out blunder is scored as the fit's loss scores it: with a robust loss, one reading 5000 noise units
+// off does not decide the choice (under squared scoring it would: its own held-out error, a few noise units
+// different between the levels, enters multiplied by its size). One arm favouring each level, 20 poses, the
+// blunder in pose 7: the choice with the blunder is the choice on the clean data. (Under the sanitizers Huber only.)
+TEST(TrackerParameters, CrossValidationScoresAHeldOutBlunderByTheLoss) {
+  std::mt19937_64 rng(21);
+  for (int favours = 0; favours < 3; ++favours) {
+    const PoeModel nominal = jointMix("RRPRRR", 1000.0, rng);
+    const ErrorModel em(nominal, false);
+    VecX d = smallDelta(em, 1e-3, false, rng);
+    for (int k = 0; k < em.size(); ++k) {
+      const ParameterKind kind = em.parameters()[static_cast<size_t>(k)].kind;
+      if (favours == 1 && kind == ParameterKind::Scale) d[k] = 0.0;
+      if (favours == 2 && kind != ParameterKind::ToolRotation && kind != ParameterKind::ToolTranslation) d[k] = 0.0;
+    }
+    const PoeModel actual = em.apply(d);
+    const double sp = 0.5;
+    std::vector<Measurement> clean = measure(actual, uniformPoses(nominal, 20, rng));
+    addNoise(clean, sp, 5e-4, rng);
+    std::vector<Measurement> blundered = clean;
+    blundered[7].T_base_tool.p += 5000.0 * sp * Vec3(0.6, -0.8, 0.0);
+    for (const Loss loss : {Loss::Huber, Loss::Cauchy}) {
+      if (loss == Loss::Cauchy && lowpair_test::sanitized()) continue;
+      CalibrationOptions options;
+      options.sigma_position = sp;
+      options.sigma_rotation = 5e-4;
+      options.loss = loss;
+      const CrossValidation a = crossValidate(nominal, clean, options, 5, 2);
+      const CrossValidation b = crossValidate(nominal, blundered, options, 5, 2);
+      std::string line;
+      for (size_t c = 0; c < 3; ++c) {
+        line += std::string(" ") + parameterSetName(a.candidates[c].set) +
+                format(" %.4g -> %.4g", a.candidates[c].score, b.candidates[c].score);
+      }
+      EXPECT_EQ(parameterSetName(a.chosen), std::string(parameterSetName(b.chosen)))
+          << "favours " << favours << ", " << lossName(loss) << ":" << line;
+    }
+  }
+}
+
+// --select cv: on random 6-joint arms with few noisy poses (15, pose data, noise 0.5 on a robot of about
+// 1000 and 5e-4 rad), the level chosen by repeated 5-fold cross-validation has a held-out RMS within 10 % of
+// the best of the three levels in hindsight, and the choice matters: the robots' errors favour each level in
+// turn (robot % 3: line, scale and offset errors, where `full` is best; line and offset errors without scale
+// errors, where `lines` usually is; offset and tool errors only, where `offsets` is), so that always fitting
+// `full` is within 10 % on only 13 of the 30. Measured beyond this seed (the former test's) on 390 such robots
+// (seeds 15-27): ten repeats within 10 % on 387 (one partition: 380), always `full` on 167; the three misses
+// are robots whose 15 poses mislead every selector tried (one partition, leave-one-pose-out, Mallows' Cp).
+// Under the sanitizers a third of the robots (the statistics are this test's in the Release build).
 TEST(TrackerParameters, CrossValidationPicksANearBestLevel) {
   std::mt19937_64 rng(15);
   Failures failures;
-  constexpr int kRobots = 20;
-  int near_best = 0;
-  for (int robot = 0; robot < kRobots; ++robot) {
+  const int robots = lowpair_test::sanitized() ? 9 : 30;
+  int near_best = 0, full_near_best = 0;
+  for (int robot = 0; robot < robots; ++robot) {
     const PoeModel nominal = jointMix(robot % 2 ? "RRRRRR" : "RRPRRR", 1000.0, rng);
     const ErrorModel em(nominal, false);
-    // mostly offset and frame errors, small line errors: the levels genuinely compete
-    VecX d = smallDelta(em, robot < 3 ? 1e-4 : 1e-3, false, rng);
+    VecX d = smallDelta(em, 1e-3, false, rng);
+    const int favours = robot % 3;  // 0 full, 1 lines, 2 offsets
+    for (int k = 0; k < em.size(); ++k) {
+      const ParameterKind kind = em.parameters()[static_cast<size_t>(k)].kind;
+      if (favours == 1 && kind == ParameterKind::Scale) d[k] = 0.0;
+      if (favours == 2 && kind != ParameterKind::ToolRotation && kind != ParameterKind::ToolTranslation) d[k] = 0.0;
+    }
     PoeModel actual = em.apply(d);
     std::vector<Joint> joints = actual.joints();
     std::normal_distribution<double> n;
@@ -408,8 +456,9 @@ TEST(TrackerParameters, CrossValidationPicksANearBestLevel) {
     options.sigma_position = sp;
     options.sigma_rotation = 5e-4;
     const CrossValidation cv = crossValidate(nominal, ms, options);
+    EXPECT_EQ(cv.repeats, kCrossValidationRepeats);
     const std::vector<VecX> check = uniformPoses(nominal, 200, rng);
-    double best = kInf, chosen = kInf;
+    double best = kInf, chosen = kInf, full = kInf;
     std::string line;
     for (const auto& c : cv.candidates) {
       options.parameters = c.set;
@@ -417,13 +466,17 @@ TEST(TrackerParameters, CrossValidationPicksANearBestLevel) {
       const double rms = heldOutRms(r.model, {}, actual, {}, check);
       best = std::min(best, rms);
       if (c.set == cv.chosen) chosen = rms;
+      if (c.set == ParameterSet::Full) full = rms;
       line += std::string(" ") + parameterSetName(c.set) + format(" cv %.3g held-out %.3g", c.rms_position, rms);
     }
     std::printf("robot %d:%s; chose %s\n", robot, line.c_str(), parameterSetName(cv.chosen));
     if (chosen <= 1.1 * best) ++near_best;
-    if (!(chosen <= 1.5 * best)) failures.add("robot " + std::to_string(robot) + format(": chosen %.3g, best %.3g", chosen, best));
+    if (full <= 1.1 * best) ++full_near_best;
+    if (!(chosen <= 1.1 * best)) failures.add("robot " + std::to_string(robot) + format(": chosen %.3g, best %.3g", chosen, best));
   }
-  std::printf("the chosen level within 10 %% of the best in hindsight on %d of %d robots\n", near_best, kRobots);
-  EXPECT_GE(near_best, 18);
+  std::printf("the chosen level within 10 %% of the best in hindsight on %d of %d robots (always full: %d)\n",
+              near_best, robots, full_near_best);
   EXPECT_EQ(failures.count, 0);
+  // the choice matters: fitting every parameter is not within 10 % on most of these robots
+  EXPECT_LE(full_near_best, robots / 2);
 }

@@ -58,6 +58,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     std::string loss = "squared", parameters, select;
     double outlier_threshold = 5.0;
     int folds = 5;
+    int repeats = kCrossValidationRepeats;
   };
   auto o = std::make_shared<Options>();
 
@@ -125,6 +126,10 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
   cal->add_option("--select", o->select, "cv: choose full, lines or offsets by k-fold cross-validation")
       ->check(CLI::IsMember({"cv"}));
   cal->add_option("--folds", o->folds, "folds of --select cv (default 5)")->check(CLI::Range(2, 20));
+  cal->add_option("--repeats", o->repeats,
+                  "partitions of --select cv into folds, the first in order, the others shuffled (default " +
+                      std::to_string(kCrossValidationRepeats) + ")")
+      ->check(CLI::Range(1, 100));
   cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml); only when the fit is accepted");
   cal->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(cal, [o] {
@@ -221,7 +226,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     const auto start = std::chrono::steady_clock::now();
     std::optional<CrossValidation> cv;
     if (o->select == "cv") {
-      cv = crossValidate(nominal, fit.measurements, options, o->folds);
+      cv = crossValidate(nominal, fit.measurements, options, o->folds, o->repeats);
       options.parameters = cv->chosen;
     }
     const CalibrationResult result = calibrate(nominal, fit.measurements, options);

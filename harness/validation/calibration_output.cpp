@@ -493,9 +493,11 @@ json calibrationJson(const CalibrationReport& r) {
                             {"count", cand.parameters},
                             {"rms_position", cand.failed ? json(nullptr) : json(cand.rms_position)},
                             {"rms_rotation", cand.failed || r.fit.measure != Measure::Pose ? json(nullptr) : json(cand.rms_rotation)},
+                            {"score", cand.failed ? json(nullptr) : json(cand.score)},
                             {"failed", cand.failed}});
     }
     o["cross_validation"] = {{"folds", r.cross_validation->folds},
+                             {"repeats", r.cross_validation->repeats},
                              {"candidates", candidates},
                              {"chosen", parameterSetName(r.cross_validation->chosen)}};
   }
@@ -567,10 +569,13 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
         << c.error_model.size() << " (the complete set would be " << c.expected.total() << ")\n";
   }
   if (r.cross_validation) {
-    out << "parameter choice (" << r.cross_validation->folds << "-fold cross-validation, held-out RMS position):";
-    for (const auto& cand : r.cross_validation->candidates) {
+    const CrossValidation& cv = *r.cross_validation;
+    out << "parameter choice (" << cv.folds << "-fold cross-validation, " << cv.repeats
+        << (cv.repeats == 1 ? " partition" : " partitions") << "; held-out score in noise units, RMS position):";
+    for (const auto& cand : cv.candidates) {
       out << " " << parameterSetName(cand.set) << " (" << cand.parameters << ") "
-          << (cand.failed ? std::string("failed") : residual(cand.rms_position) + " " + u) << ";";
+          << (cand.failed ? std::string("failed") : residual(cand.score) + ", " + residual(cand.rms_position) + " " + u)
+          << ";";
     }
     out << " chosen: " << parameterSetName(r.cross_validation->chosen) << "\n";
   }

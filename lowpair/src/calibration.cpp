@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
+#include <random>
 #include <sstream>
 
 #include "lowpair/check.hpp"
@@ -1109,9 +1111,42 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   return out;
 }
 
+namespace {
+
+// The robust loss's rho of a normalized residual u (rho(u) = u^2 for least squares): what a fit with that
+// loss minimizes, so what its held-out measurements are scored by.
+double robustRho(Loss loss, double u) {
+  switch (loss) {
+    case Loss::Squared: return u * u;
+    case Loss::Huber: return u <= kHuberThreshold ? u * u : 2.0 * kHuberThreshold * u - kHuberThreshold * kHuberThreshold;
+    case Loss::Cauchy: return kCauchyScale * kCauchyScale * std::log1p((u / kCauchyScale) * (u / kCauchyScale));
+  }
+  return u * u;
+}
+
+// Pose p of repeat r goes to fold partition[p]: repeat 0 deals the poses in order (pose i to fold i % k),
+// later repeats deal a shuffle of them (Fisher-Yates on mt19937_64 seeded with r, whose output the
+// standard fixes: the same data give the same folds everywhere).
+std::vector<int> foldsOfRepeat(int poses, int folds, int repeat) {
+  std::vector<int> order(static_cast<size_t>(poses));
+  for (int p = 0; p < poses; ++p) order[static_cast<size_t>(p)] = p;
+  if (repeat > 0) {
+    std::mt19937_64 rng(static_cast<std::uint64_t>(repeat));
+    for (int i = poses - 1; i > 0; --i) {
+      std::swap(order[static_cast<size_t>(i)], order[static_cast<size_t>(rng() % static_cast<std::uint64_t>(i + 1))]);
+    }
+  }
+  std::vector<int> fold(static_cast<size_t>(poses));
+  for (int i = 0; i < poses; ++i) fold[static_cast<size_t>(order[static_cast<size_t>(i)])] = i % folds;
+  return fold;
+}
+
+}  // namespace
+
 CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
-                              const CalibrationOptions& options, int folds) {
+                              const CalibrationOptions& options, int folds, int repeats) {
   LP_CHECK(folds >= 2, "crossValidate: at least 2 folds");
+  LP_CHECK(repeats >= 1, "crossValidate: at least 1 repeat");
   // folds over poses: consecutive measurements with the same joint vector (a pose's targets) stay together
   std::vector<int> pose(measurements.size(), 0);
   for (size_t m = 1; m < measurements.size(); ++m) {
@@ -1119,8 +1154,12 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
   }
   const int poses = measurements.empty() ? 0 : pose.back() + 1;
   LP_CHECK(poses >= folds, "crossValidate: " << poses << " poses for " << folds << " folds");
+  std::vector<std::vector<int>> partitions;
+  for (int r = 0; r < repeats; ++r) partitions.push_back(foldsOfRepeat(poses, folds, r));
+  const double rows_per_point = rowsPerMeasurement(options.measure) / 3.0;
   CrossValidation out;
   out.folds = folds;
+  out.repeats = repeats;
   for (const ParameterSet set : {ParameterSet::Full, ParameterSet::Lines, ParameterSet::Offsets}) {
     CrossValidation::Candidate c;
     c.set = set;
@@ -1128,24 +1167,33 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
     o.parameters = set;
     double sum_p = 0.0, sum_r = 0.0, score = 0.0;
     int held = 0;
-    for (int f = 0; f < folds && !c.failed; ++f) {
-      std::vector<Measurement> train, test;
-      for (size_t m = 0; m < measurements.size(); ++m) (pose[m] % folds == f ? test : train).push_back(measurements[m]);
-      try {
-        const CalibrationResult fit = calibrate(nominal, train, o);
-        c.parameters = fit.error_model.size();
-        if (!fit.converged) c.failed = true;
-        const ResidualStatistics s = residualStatistics(fit.model, test, o.measure, fit.targets);
-        sum_p += s.rms_position * s.rms_position * s.count;
-        sum_r += s.rms_rotation * s.rms_rotation * s.count;
-        held += s.count;
-        // the score: position and rotation in noise units (the fit's weights), so that a pose's rotation
-        // counts as the fit counts it
-        const double wp = fit.sigma_position, wr = fit.sigma_rotation;
-        score += s.count * (s.rms_position * s.rms_position / (wp * wp) +
-                            (o.measure == Measure::Pose ? s.rms_rotation * s.rms_rotation / (wr * wr) : 0.0));
-      } catch (const std::invalid_argument&) {
-        c.failed = true;
+    for (int r = 0; r < repeats && !c.failed; ++r) {
+      for (int f = 0; f < folds && !c.failed; ++f) {
+        std::vector<Measurement> train, test;
+        for (size_t m = 0; m < measurements.size(); ++m) {
+          (partitions[static_cast<size_t>(r)][static_cast<size_t>(pose[m])] == f ? test : train).push_back(measurements[m]);
+        }
+        try {
+          const CalibrationResult fit = calibrate(nominal, train, o);
+          c.parameters = fit.error_model.size();
+          if (!fit.converged) c.failed = true;
+          // the score: each held-out measurement's normalized residual (in the fit's noise units, over
+          // the fit's robust scale) under the fit's loss: least squares sums |r|^2, a robust loss does not
+          // let a held-out blunder decide
+          const double wp = fit.sigma_position, wr = fit.sigma_rotation, unit = fit.robust_scale;
+          for (const Measurement& m : test) {
+            const Pose T = predictedMeasurement(fit.model, m, o.measure, fit.targets);
+            const double ep = (m.T_base_tool.p - T.p).norm();
+            const double er = o.measure == Measure::Pose ? rotationAngle(T.R.transpose() * m.T_base_tool.R) : 0.0;
+            sum_p += ep * ep;
+            sum_r += er * er;
+            const double u = std::sqrt((ep * ep / (wp * wp) + er * er / (wr * wr)) / rows_per_point) / unit;
+            score += rows_per_point * unit * unit * robustRho(o.loss, u);
+            ++held;
+          }
+        } catch (const std::invalid_argument&) {
+          c.failed = true;
+        }
       }
     }
     if (held > 0) {

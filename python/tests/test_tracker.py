@@ -142,12 +142,15 @@ def test_cross_validation_equals_cli(tmp_path):
             "--out", m)
     _, q, _, positions, rotations = read_measurements(m)
     status, out, _ = run_cli("calibrate", NOMINAL, "--measurements", m, "--noise-position", "0.01", "--noise-rotation",
-                             "1e-5", "--free-pitch", "--select", "cv", "--folds", "4", "--json", check=False)
+                             "1e-5", "--free-pitch", "--select", "cv", "--folds", "4", "--repeats", "3", "--json",
+                             check=False)
     expected = json.loads(out)
     cal = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations, noise_position=0.01, noise_rotation=1e-5,
-                            free_pitch=True, select="cv", folds=4)
+                            free_pitch=True, select="cv", folds=4, repeats=3)
     assert comparable(cal.to_dict()) == comparable(expected)
-    assert cal.cross_validation["folds"] == 4 and cal.cross_validation["chosen"] in ("full", "lines", "offsets")
+    cv = cal.cross_validation
+    assert cv["folds"] == 4 and cv["repeats"] == 3 and cv["chosen"] in ("full", "lines", "offsets")
+    assert cv["chosen"] == min(cv["candidates"], key=lambda c: c["score"])["parameters"]
     named = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations, noise_position=0.01, noise_rotation=1e-5,
                               free_pitch=True, parameters="offsets")
     assert named.to_dict()["parameter_set"] == "offsets" and named.cross_validation is None
@@ -175,6 +178,7 @@ def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="aic"), "select: expected 'cv'"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", parameters="full"), "not both"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", folds=1), "folds: must be in"),
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", repeats=0), "repeats: must be in"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, parameters="j1.offset,,j2.offset"), "an empty name"),
         (lambda: lowpair.calibrate(puma, np.where(np.eye(4, 6) > 0, 100.0, 0.0), np.zeros((4, 3))),
          r"q: \[0, 0\] = 100 is outside joint 1's range .* by more than 10 times its width"),
