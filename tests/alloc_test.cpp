@@ -150,6 +150,7 @@ TEST(Alloc, ExpAllocatesNothing) {
 // malloc, calloc and realloc are interposed here (the executable's definitions come first in the dynamic
 // lookup; each forwards to glibc's own). Not under the sanitizers, whose runtime interposes them itself.
 #include "lowpair/ik.hpp"
+#include "lowpair/singularity.hpp"
 
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
@@ -221,6 +222,22 @@ TEST(Alloc, MallocCounterSeesMalloc) {
   EXPECT_EQ(big.sum(), 0.0);
 }
 #endif
+
+// The rank rule on singular values held in fixed-size or bounded vectors (IK's, the wrist/arm blocks'):
+// numericalRank reads them in place (it copied them into a heap VecX).
+TEST(Alloc, NumericalRankAllocatesNothing) {
+  Vec6 sigma;
+  sigma << 3.0, 2.0, 1.0, 0.5, 1e-20, 0.0;
+  const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> bounded = sigma.head(4);
+  int full = 0, head = 0;
+  EXPECT_EQ(heapCallsOf([&] {
+              full = numericalRank(sigma, rankTolerance(sigma[0], 6));
+              head = numericalRank(bounded, rankTolerance(bounded[0], 6));
+            }),
+            0);
+  EXPECT_EQ(full, 4);
+  EXPECT_EQ(head, 4);
+}
 
 TEST(Alloc, InverseKinematicsAllocatesNothingAfterSetup) {
   // 8 joints (helical, prismatic: minimum-norm steps), a 5-joint chain (fewer joints than pose rows), ranges

@@ -440,8 +440,7 @@ const IkResult& inverseKinematics(const PoeModel& model, Data& data, const Pose&
     const Eigen::Index c = sigma.size();
     const double sigma_max = c > 0 ? sigma[0] : 0.0;
     const double tolerance = rankTolerance(sigma_max, n);
-    // numericalRank's rule, counted here: numericalRank copies its argument into a heap VecX
-    result.rank = static_cast<int>((sigma.array() > tolerance).count());
+    result.rank = numericalRank(sigma, tolerance);
     result.sigma_min = c > 0 ? sigma[c - 1] : 0.0;
     const double threshold =
         std::max(tolerance, ikSingularRatio(std::max(options.position_tolerance, pose ? options.rotation_tolerance : 0.0)) * sigma_max);

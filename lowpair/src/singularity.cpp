@@ -28,7 +28,7 @@ constexpr size_t kConcurrentLines = 4;        // C3: lines through one point spa
 constexpr size_t kParallelLines = 4;          // C4: parallel lines span 3
 constexpr size_t kCoplanarLines = 4;          // C5: lines in one plane span 3
 
-int countAbove(const VecX& sigma, double tol) {
+int countAbove(const Eigen::Ref<const VecX>& sigma, double tol) {
   return static_cast<int>((sigma.array() > tol).count());
 }
 
