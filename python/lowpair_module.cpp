@@ -758,9 +758,13 @@ Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::option
   options.loss = a.loss == "huber" ? Loss::Huber : a.loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
   options.outlier_threshold = a.outlier_threshold;
   if (a.select && *a.select != "cv") throw UsageError("select", "expected 'cv' or None, got '" + *a.select + "'");
-  if (!(a.folds >= 2 && a.folds <= 20)) throw UsageError("folds", "must be in [2, 20], got " + std::to_string(a.folds));
-  if (!(a.repeats >= 1 && a.repeats <= 100)) {
-    throw UsageError("repeats", "must be in [1, 100], got " + std::to_string(a.repeats));
+  if (!(a.folds >= 2 && a.folds <= kMaxCrossValidationFolds)) {
+    throw UsageError("folds", "must be in [2, " + std::to_string(kMaxCrossValidationFolds) + "], got " +
+                                  std::to_string(a.folds));
+  }
+  if (!(a.repeats >= 1 && a.repeats <= kMaxCrossValidationRepeats)) {
+    throw UsageError("repeats", "must be in [1, " + std::to_string(kMaxCrossValidationRepeats) + "], got " +
+                                    std::to_string(a.repeats));
   }
   if (a.parameters) {
     if (a.select) throw UsageError("select", "choose the parameters by parameters= or by select=, not both");
@@ -1047,6 +1051,9 @@ struct Simulation {
   std::vector<std::string> target_names;  // Targets: the names measurement.target indexes
   std::vector<size_t> blunders;           // the rows moved, increasing
   std::vector<std::string> comments;      // for save(): where the file came from
+  std::string length_unit;                // of the positions; "" when unknown
+  std::vector<long long> lines;           // read_measurements: the file line of each row
+  std::vector<std::string> notes;         // read_measurements: a unit conversion
 };
 
 // The targets measured: the robot file's (all, or those named, in the order named).
@@ -1155,6 +1162,37 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
                        (frame ? ", in a measurement frame" : "") +
                        (blunders ? ", " + std::to_string(s.blunders.size()) + " blunders" : std::string()));
   if (io::isUnitLabel(r.file.length_unit)) s.comments.push_back("length_unit: " + r.file.length_unit);
+  s.length_unit = r.file.length_unit;
+  return s;
+}
+
+// ----- read_measurements (io/measurements.hpp; what `lowpair calibrate` reads, validation/calibration_inputs.hpp) --
+
+Simulation readMeasurementFile(const std::string& path, const Robot* robot) {
+  io::MeasurementFile file;
+  validation::CalibrationMeasurements checked;
+  {
+    py::gil_scoped_release release;
+    if (robot) {
+      checked = validation::readCalibrationMeasurements(path, robot->file, robot->poe);
+      file = std::move(checked.file);
+    } else {
+      file = io::readMeasurements(path);
+    }
+  }
+  for (const std::string& w : checked.warnings) {
+    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
+  }
+  Simulation s;
+  s.measure = file.measure;
+  s.measurements = std::move(file.measurements);
+  s.target_names = std::move(file.target_names);
+  s.length_unit = file.length_unit;
+  s.lines = std::move(file.lines);
+  s.notes = std::move(checked.notes);
+  s.comments.push_back("read by lowpair.read_measurements (Python) from " + path +
+                       (robot ? " for " + robot->subject() : std::string()));
+  if (io::isUnitLabel(s.length_unit)) s.comments.push_back("length_unit: " + s.length_unit);
   return s;
 }
 
@@ -1820,7 +1858,17 @@ PYBIND11_MODULE(_lowpair, m) {
           },
           "list[str]: the target measured in each row (the CSV's target column) for target measurements, else None.")
       .def_property_readonly("blunders", [](const Simulation& s) { return s.blunders; },
-                             "list[int]: the rows moved by a blunder (0-based, increasing).")
+                             "list[int]: the rows moved by a blunder (0-based, increasing); [] for a file read.")
+      .def_property_readonly(
+          "length_unit",
+          [](const Simulation& s) -> py::object { return s.length_unit.empty() ? py::none() : py::cast(s.length_unit); },
+          "str: the unit of positions (the robot's; a file's `# length_unit` comment, or the robot's after a "
+          "conversion), or None when unknown.")
+      .def_property_readonly(
+          "lines", [](const Simulation& s) -> py::object { return s.lines.empty() ? py::none() : py::cast(s.lines); },
+          "list[int]: the 1-based file line of each row (read_measurements), else None.")
+      .def_property_readonly("notes", [](const Simulation& s) { return s.notes; },
+                             "list[str]: what reading did to the numbers (a unit conversion), as calibrate's notes.")
       .def(
           "save",
           [](const Simulation& s, const std::string& path) {
@@ -1876,7 +1924,8 @@ PYBIND11_MODULE(_lowpair, m) {
         "coordinate. loss: 'squared', 'huber' or 'cauchy' (robust: blunders weighed down); outlier_threshold:\n"
         "the normalized residual above which a row is flagged. parameters: None (all), 'full', 'lines',\n"
         "'offsets' or names 'j2.offset,base.rz'; select='cv' chooses among full/lines/offsets by `folds`-fold\n"
-        "cross-validation over `repeats` partitions of the poses (the first in order, the others shuffled). validation_*: held-out measurements of the same kind (residuals before and after).\n"
+        "cross-validation over `repeats` partitions of the poses (the first in order, the others shuffled).\n"
+        "validation_*: held-out measurements of the same kind (residuals before and after).\n"
         "The GIL is released during the fit. A rejected fit is data (accepted, reason), not an exception.");
   m.def("ik", &ik, py::arg("robot"), py::arg("targets"), py::arg("rotations") = py::none(), py::arg("q0") = py::none(),
         py::arg("seeds") = 8, py::arg("seed") = 1,
@@ -1906,6 +1955,15 @@ PYBIND11_MODULE(_lowpair, m) {
         "random sets of N, and predict every parameter's and D-H number's standard deviation after calibrating\n"
         "on the plan with the given noise (length_unit, rad; default 1e-5 L and 1e-5 rad). measure: 'pose',\n"
         "'position' or 'targets' (the robot file's targets). The GIL is released while planning.");
+  m.def("read_measurements", &readMeasurementFile, py::arg("path"), py::arg("robot") = py::none(),
+        "read_measurements(path, robot=None) -> Measurements\n\n"
+        "A measurement CSV (docs/calibration.md \"Measurement files\"), as `lowpair calibrate` reads one: its\n"
+        "columns as arrays for lowpair.calibrate. With `robot`, it is read for that robot: the joint count and\n"
+        "the length unit are checked at the header line, lengths in another unit lowpair knows are converted\n"
+        "to the robot's (`notes` says so), a joint value more than 10 range widths outside the robot's range\n"
+        "raises, nearer ones are UserWarnings. Without, the numbers are as written (`length_unit` says in\n"
+        "what, if the file does). Bad files raise lowpair.Error `FILE:LINE: what`. The GIL is released while\n"
+        "reading.");
   m.def("simulate", &simulate, py::arg("robot"), py::arg("poses") = py::none(), py::arg("q") = py::none(),
         py::arg("seed") = 1, py::arg("measure") = "pose", py::arg("targets") = py::none(), py::arg("frame") = py::none(),
         py::arg("noise_position") = 0.0, py::arg("noise_rotation") = 0.0, py::arg("blunders") = py::none(),

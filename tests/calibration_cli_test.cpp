@@ -702,8 +702,8 @@ TEST(CalibrateTracker, AnotherRobotOrShuffledRowsAreRefused) {
   }
 }
 
-// --select cv prints each level's cross-validated RMS and fits the chosen one; --parameters offsets fits the
-// joint offsets, the base and the tool only.
+// --select cv prints each level's cross-validated score and RMS and fits the level of the least score;
+// --parameters offsets fits the joint offsets, the base and the tool only.
 TEST(CalibrateTracker, ParameterLevelsAndCrossValidation) {
   const std::string fit = simulateTo("levels.csv", kMujocoActual + " --poses 30 --seed 9 --noise-position 0.01"
                                                                    " --noise-rotation 1e-5");

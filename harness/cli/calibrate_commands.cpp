@@ -123,64 +123,27 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
   cal->add_option("--parameters", o->parameters,
                   "full (default: every identifiable parameter), lines (no scales), offsets (joint offsets, base, "
                   "tool), or a comma list of parameter names");
-  cal->add_option("--select", o->select, "cv: choose full, lines or offsets by k-fold cross-validation")
+  cal->add_option("--select", o->select, "cv: choose full, lines or offsets by repeated k-fold cross-validation")
       ->check(CLI::IsMember({"cv"}));
-  cal->add_option("--folds", o->folds, "folds of --select cv (default 5)")->check(CLI::Range(2, 20));
+  cal->add_option("--folds", o->folds, "folds of --select cv (default 5)")
+      ->check(CLI::Range(2, kMaxCrossValidationFolds));
   cal->add_option("--repeats", o->repeats,
-                  "partitions of --select cv into folds, the first in order, the others shuffled (default " +
-                      std::to_string(kCrossValidationRepeats) + ")")
-      ->check(CLI::Range(1, 100));
+                  "partitions of the poses into folds for --select cv, the first in order, the others shuffled "
+                  "(default " + std::to_string(kCrossValidationRepeats) + ")")
+      ->check(CLI::Range(1, kMaxCrossValidationRepeats));
   cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml); only when the fit is accepted");
   cal->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(cal, [o] {
     const RobotFile file = loadRobot(o->robot);
     const PoeModel nominal = file.poeModel();
-    // the measurements must be of this robot: its joint count, and its length unit when both state one
-    // (checked at the header line, before the rest of a large file is read)
-    auto check_matches = [&](const MeasurementFile& m) {
-      if (m.dof != nominal.dof()) {
-        throw RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + file.path + " has " +
-                             std::to_string(nominal.dof()) + " joints");
-      }
-      if (!m.length_unit.empty() && !file.length_unit.empty() && m.length_unit != file.length_unit &&
-          !(metresPerUnit(m.length_unit) && metresPerUnit(file.length_unit))) {
-        throw RobotFileError(m.path + ": lengths in " + m.length_unit + " (its length_unit comment) but " + file.path +
-                             " is in " + file.length_unit + ", and lowpair converts only m, mm, cm, dm, um, km, in, ft");
-      }
-    };
-    // a CSV in another unit lowpair knows: its lengths converted to the nominal's (one note says so)
     std::vector<std::string> notes;
-    auto convert_units = [&](MeasurementFile& m) {
-      if (m.length_unit.empty() || file.length_unit.empty() || m.length_unit == file.length_unit) return;
-      const double factor = *metresPerUnit(m.length_unit) / *metresPerUnit(file.length_unit);
-      for (Measurement& x : m.measurements) x.T_base_tool.p *= factor;
-      notes.push_back(m.path + ": lengths converted from " + m.length_unit + " (its length_unit comment) to " +
-                      file.length_unit + " (the nominal's), x " + shortest(factor));
-      m.length_unit = file.length_unit;
+    auto read = [&](const std::string& path) {
+      CalibrationMeasurements r = readCalibrationMeasurements(path, file, nominal);
+      for (const std::string& w : r.warnings) std::cerr << "warning: " << w << "\n";
+      notes.insert(notes.end(), r.notes.begin(), r.notes.end());
+      return std::move(r.file);
     };
-    // joint values outside the nominal's ranges: a warning each (the first few), an error beyond
-    // kFarOutsideRange range widths (a wrong column or unit, never fitted silently)
-    auto check_ranges = [&](const MeasurementFile& m) {
-      constexpr int kMaxRangeWarnings = 5;
-      int warnings = 0;
-      for (const OutsideRange& x : jointValuesOutsideRanges(nominal, m.measurements)) {
-        const std::string where = m.path + ":" + std::to_string(m.lines[x.row]) + ": q" + std::to_string(x.joint + 1) +
-                                  " = " + shortest(x.q) + " is outside joint " + std::to_string(x.joint + 1) +
-                                  "'s range [" + shortest(x.range[0]) + ", " + shortest(x.range[1]) + "] of " + file.path;
-        if (x.far) {
-          throw RobotFileError(where + " by more than " + shortest(kFarOutsideRange) +
-                               " times its width: a wrong column or unit?");
-        }
-        if (warnings++ < kMaxRangeWarnings) std::cerr << "warning: " << where << "\n";
-      }
-      if (warnings > kMaxRangeWarnings) {
-        std::cerr << "warning: " << m.path << ": " << warnings << " joint values outside the ranges in all\n";
-      }
-    };
-    MeasurementFile fit = readMeasurements(o->measurements, check_matches);
-    check_matches(fit);  // a length_unit comment may also follow the header
-    check_ranges(fit);
-    convert_units(fit);
+    MeasurementFile fit = read(o->measurements);
     if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
         identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) > kMaxJacobianEntries) {
       throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
@@ -192,10 +155,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     }
     std::optional<MeasurementFile> validation;
     if (!o->validation.empty()) {
-      validation = readMeasurements(o->validation, check_matches);
-      check_matches(*validation);
-      check_ranges(*validation);
-      convert_units(*validation);
+      validation = read(o->validation);
       if (validation->measure != fit.measure) {
         throw RobotFileError(validation->path + ": " + measureName(validation->measure) + " measurements, but " +
                              fit.path + " holds " + measureName(fit.measure) + " measurements");

@@ -26,6 +26,54 @@ std::vector<OutsideRange> jointValuesOutsideRanges(const PoeModel& nominal, cons
   return out;
 }
 
+CalibrationMeasurements readCalibrationMeasurements(const std::string& path, const io::RobotFile& robot,
+                                                    const PoeModel& nominal) {
+  // the measurements must be of this robot: its joint count, and its length unit when both state one
+  // (checked at the header line, before the rest of a large file is read)
+  auto check_matches = [&](const io::MeasurementFile& m) {
+    if (m.dof != nominal.dof()) {
+      throw io::RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + robot.path +
+                               " has " + std::to_string(nominal.dof()) + " joints");
+    }
+    if (!m.length_unit.empty() && !robot.length_unit.empty() && m.length_unit != robot.length_unit &&
+        !(io::metresPerUnit(m.length_unit) && io::metresPerUnit(robot.length_unit))) {
+      throw io::RobotFileError(m.path + ": lengths in " + m.length_unit + " (its length_unit comment) but " +
+                               robot.path + " is in " + robot.length_unit +
+                               ", and lowpair converts only m, mm, cm, dm, um, km, in, ft");
+    }
+  };
+  CalibrationMeasurements out;
+  out.file = io::readMeasurements(path, check_matches);
+  io::MeasurementFile& m = out.file;
+  check_matches(m);  // a length_unit comment may also follow the header
+  // joint values outside the nominal's ranges: a warning each (the first few), an error beyond
+  // kFarOutsideRange range widths (a wrong column or unit, never fitted silently)
+  int outside = 0;
+  for (const OutsideRange& x : jointValuesOutsideRanges(nominal, m.measurements)) {
+    const std::string where = m.path + ":" + std::to_string(m.lines[x.row]) + ": q" + std::to_string(x.joint + 1) +
+                              " = " + io::shortest(x.q) + " is outside joint " + std::to_string(x.joint + 1) +
+                              "'s range [" + io::shortest(x.range[0]) + ", " + io::shortest(x.range[1]) + "] of " +
+                              robot.path;
+    if (x.far) {
+      throw io::RobotFileError(where + " by more than " + io::shortest(kFarOutsideRange) +
+                               " times its width: a wrong column or unit?");
+    }
+    if (outside++ < kMaxRangeWarnings) out.warnings.push_back(where);
+  }
+  if (outside > kMaxRangeWarnings) {
+    out.warnings.push_back(m.path + ": " + std::to_string(outside) + " joint values outside the ranges in all");
+  }
+  // a CSV in another unit lowpair knows: its lengths converted to the nominal's (one note says so)
+  if (!m.length_unit.empty() && !robot.length_unit.empty() && m.length_unit != robot.length_unit) {
+    const double factor = *io::metresPerUnit(m.length_unit) / *io::metresPerUnit(robot.length_unit);
+    for (Measurement& x : m.measurements) x.T_base_tool.p *= factor;
+    out.notes.push_back(m.path + ": lengths converted from " + m.length_unit + " (its length_unit comment) to " +
+                        robot.length_unit + " (the nominal's), x " + io::shortest(factor));
+    m.length_unit = robot.length_unit;
+  }
+  return out;
+}
+
 void checkStatedNoise(const std::optional<double>& noise_position, const std::optional<double>& noise_rotation,
                       const ArgumentSpelling& spelling) {
   for (const auto& [value, name, limit] : {std::tuple{noise_position, "noise_position", kMaxMagnitude},

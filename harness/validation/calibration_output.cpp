@@ -571,7 +571,8 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   if (r.cross_validation) {
     const CrossValidation& cv = *r.cross_validation;
     out << "parameter choice (" << cv.folds << "-fold cross-validation, " << cv.repeats
-        << (cv.repeats == 1 ? " partition" : " partitions") << "; held-out score in noise units, RMS position):";
+        << (cv.repeats == 1 ? " partition" : " partitions") << "; held-out score"
+        << (c.noise_stated ? " in noise units" : " in weighted units, 1/L and 1/rad") << ", RMS position):";
     for (const auto& cand : cv.candidates) {
       out << " " << parameterSetName(cand.set) << " (" << cand.parameters << ") "
           << (cand.failed ? std::string("failed") : residual(cand.score) + ", " + residual(cand.rms_position) + " " + u)

@@ -584,6 +584,15 @@ Pose predict(const PoeModel& model, Data& data, const Measurement& m, Measure me
   return Pose{T.R, T.R * targets[static_cast<size_t>(m.target)] + T.p};
 }
 
+// A measurement's errors against its prediction: position (length) and rotation (rad; 0 for points).
+struct MeasurementErrors {
+  double position = 0.0, rotation = 0.0;
+};
+MeasurementErrors measurementErrors(const Pose& predicted, const Measurement& m, Measure measure) {
+  return {(m.T_base_tool.p - predicted.p).norm(),
+          measure == Measure::Pose ? rotationAngle(predicted.R.transpose() * m.T_base_tool.R) : 0.0};
+}
+
 }  // namespace
 
 Pose predictedMeasurement(const PoeModel& model, const Measurement& m, Measure measure, const std::vector<Vec3>& targets) {
@@ -599,9 +608,7 @@ ResidualStatistics residualStatistics(const PoeModel& model, const std::vector<M
   double sum_p = 0.0, sum_r = 0.0;
   for (const Measurement& m : measurements) {
     checkJointVector(m.q, model.dof());
-    const Pose T = predict(model, data, m, measure, targets);
-    const double ep = (m.T_base_tool.p - T.p).norm();
-    const double er = measure == Measure::Pose ? rotationAngle(T.R.transpose() * m.T_base_tool.R) : 0.0;
+    const auto [ep, er] = measurementErrors(predict(model, data, m, measure, targets), m, measure);
     sum_p += ep * ep;
     sum_r += er * er;
     s.max_position = std::max(s.max_position, ep);
@@ -816,6 +823,17 @@ double robustWeight(Loss loss, double u) {
   return 1.0;
 }
 
+// The robust loss's rho of a normalized residual u (rho(u) = u^2 for least squares): what a fit with that
+// loss minimizes, so what its held-out measurements are scored by.
+double robustRho(Loss loss, double u) {
+  switch (loss) {
+    case Loss::Squared: return u * u;
+    case Loss::Huber: return u <= kHuberThreshold ? u * u : 2.0 * kHuberThreshold * u - kHuberThreshold * kHuberThreshold;
+    case Loss::Cauchy: return kCauchyScale * kCauchyScale * std::log1p((u / kCauchyScale) * (u / kCauchyScale));
+  }
+  return u * u;
+}
+
 double median(std::vector<double> x) {
   if (x.empty()) return 0.0;
   const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
@@ -1003,10 +1021,11 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   {
     Data data(em.model());
     for (size_t m = 0; m < residuals.size(); ++m) {
-      const Pose T = predict(em.model(), data, measurements[m], measure, em.targets());
+      const MeasurementErrors e =
+          measurementErrors(predict(em.model(), data, measurements[m], measure, em.targets()), measurements[m], measure);
       MeasurementResidual& x = residuals[m];
-      x.position = (measurements[m].T_base_tool.p - T.p).norm();
-      x.rotation = measure == Measure::Pose ? rotationAngle(T.R.transpose() * measurements[m].T_base_tool.R) : kNaN;
+      x.position = e.position;
+      x.rotation = measure == Measure::Pose ? e.rotation : kNaN;
       x.normalized = u[m] / scale;
       x.weight = robust[static_cast<Eigen::Index>(m)];
       x.outlier = x.normalized > options.outlier_threshold;
@@ -1113,20 +1132,10 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
 
 namespace {
 
-// The robust loss's rho of a normalized residual u (rho(u) = u^2 for least squares): what a fit with that
-// loss minimizes, so what its held-out measurements are scored by.
-double robustRho(Loss loss, double u) {
-  switch (loss) {
-    case Loss::Squared: return u * u;
-    case Loss::Huber: return u <= kHuberThreshold ? u * u : 2.0 * kHuberThreshold * u - kHuberThreshold * kHuberThreshold;
-    case Loss::Cauchy: return kCauchyScale * kCauchyScale * std::log1p((u / kCauchyScale) * (u / kCauchyScale));
-  }
-  return u * u;
-}
-
 // Pose p of repeat r goes to fold partition[p]: repeat 0 deals the poses in order (pose i to fold i % k),
 // later repeats deal a shuffle of them (Fisher-Yates on mt19937_64 seeded with r, whose output the
-// standard fixes: the same data give the same folds everywhere).
+// standard fixes: the same data give the same folds everywhere). The folds are numbered in the order of
+// their first pose, so two partitions into the same sets compare equal.
 std::vector<int> foldsOfRepeat(int poses, int folds, int repeat) {
   std::vector<int> order(static_cast<size_t>(poses));
   for (int p = 0; p < poses; ++p) order[static_cast<size_t>(p)] = p;
@@ -1136,8 +1145,14 @@ std::vector<int> foldsOfRepeat(int poses, int folds, int repeat) {
       std::swap(order[static_cast<size_t>(i)], order[static_cast<size_t>(rng() % static_cast<std::uint64_t>(i + 1))]);
     }
   }
-  std::vector<int> fold(static_cast<size_t>(poses));
-  for (int i = 0; i < poses; ++i) fold[static_cast<size_t>(order[static_cast<size_t>(i)])] = i % folds;
+  std::vector<int> dealt(static_cast<size_t>(poses)), fold(static_cast<size_t>(poses)), label(static_cast<size_t>(folds), -1);
+  for (int i = 0; i < poses; ++i) dealt[static_cast<size_t>(order[static_cast<size_t>(i)])] = i % folds;
+  int next = 0;
+  for (int p = 0; p < poses; ++p) {
+    int& l = label[static_cast<size_t>(dealt[static_cast<size_t>(p)])];
+    if (l < 0) l = next++;
+    fold[static_cast<size_t>(p)] = l;
+  }
   return fold;
 }
 
@@ -1145,8 +1160,10 @@ std::vector<int> foldsOfRepeat(int poses, int folds, int repeat) {
 
 CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                               const CalibrationOptions& options, int folds, int repeats) {
-  LP_CHECK(folds >= 2, "crossValidate: at least 2 folds");
-  LP_CHECK(repeats >= 1, "crossValidate: at least 1 repeat");
+  LP_CHECK(folds >= 2 && folds <= kMaxCrossValidationFolds,
+           "crossValidate: " << folds << " folds (2 to " << kMaxCrossValidationFolds << ")");
+  LP_CHECK(repeats >= 1 && repeats <= kMaxCrossValidationRepeats,
+           "crossValidate: " << repeats << " repeats (1 to " << kMaxCrossValidationRepeats << ")");
   // folds over poses: consecutive measurements with the same joint vector (a pose's targets) stay together
   std::vector<int> pose(measurements.size(), 0);
   for (size_t m = 1; m < measurements.size(); ++m) {
@@ -1154,12 +1171,26 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
   }
   const int poses = measurements.empty() ? 0 : pose.back() + 1;
   LP_CHECK(poses >= folds, "crossValidate: " << poses << " poses for " << folds << " folds");
+  // distinct partitions only (few poses allow few: as many poses as folds, one)
   std::vector<std::vector<int>> partitions;
-  for (int r = 0; r < repeats; ++r) partitions.push_back(foldsOfRepeat(poses, folds, r));
+  for (int r = 0; r < repeats; ++r) {
+    std::vector<int> p = foldsOfRepeat(poses, folds, r);
+    if (std::find(partitions.begin(), partitions.end(), p) == partitions.end()) partitions.push_back(std::move(p));
+  }
+  // The noise unit of the scores, one for every level: 1 with stated noise; without, under a robust loss,
+  // the robust scale of the full level fitted to every measurement (each fold fit's own scale would shrink
+  // the held-out errors of the levels that fit their training poses tightest)
+  double unit = 1.0;
+  const bool stated = options.sigma_position.has_value() || options.sigma_rotation.has_value();
+  if (!stated && options.loss != Loss::Squared) {
+    CalibrationOptions o = options;
+    o.parameters = ParameterSet::Full;
+    unit = calibrate(nominal, measurements, o).robust_scale;
+  }
   const double rows_per_point = rowsPerMeasurement(options.measure) / 3.0;
   CrossValidation out;
   out.folds = folds;
-  out.repeats = repeats;
+  out.repeats = static_cast<int>(partitions.size());
   for (const ParameterSet set : {ParameterSet::Full, ParameterSet::Lines, ParameterSet::Offsets}) {
     CrossValidation::Candidate c;
     c.set = set;
@@ -1167,24 +1198,22 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
     o.parameters = set;
     double sum_p = 0.0, sum_r = 0.0, score = 0.0;
     int held = 0;
-    for (int r = 0; r < repeats && !c.failed; ++r) {
+    for (size_t r = 0; r < partitions.size() && !c.failed; ++r) {
       for (int f = 0; f < folds && !c.failed; ++f) {
         std::vector<Measurement> train, test;
         for (size_t m = 0; m < measurements.size(); ++m) {
-          (partitions[static_cast<size_t>(r)][static_cast<size_t>(pose[m])] == f ? test : train).push_back(measurements[m]);
+          (partitions[r][static_cast<size_t>(pose[m])] == f ? test : train).push_back(measurements[m]);
         }
         try {
           const CalibrationResult fit = calibrate(nominal, train, o);
           c.parameters = fit.error_model.size();
           if (!fit.converged) c.failed = true;
-          // the score: each held-out measurement's normalized residual (in the fit's noise units, over
-          // the fit's robust scale) under the fit's loss: least squares sums |r|^2, a robust loss does not
-          // let a held-out blunder decide
-          const double wp = fit.sigma_position, wr = fit.sigma_rotation, unit = fit.robust_scale;
+          // each held-out measurement's normalized residual (the fit's weights, over the common unit) scored
+          // by the fit's loss: least squares sums |r|^2, a robust loss does not let a held-out blunder decide
+          const double wp = fit.sigma_position, wr = fit.sigma_rotation;
+          Data data(fit.model);
           for (const Measurement& m : test) {
-            const Pose T = predictedMeasurement(fit.model, m, o.measure, fit.targets);
-            const double ep = (m.T_base_tool.p - T.p).norm();
-            const double er = o.measure == Measure::Pose ? rotationAngle(T.R.transpose() * m.T_base_tool.R) : 0.0;
+            const auto [ep, er] = measurementErrors(predict(fit.model, data, m, o.measure, fit.targets), m, o.measure);
             sum_p += ep * ep;
             sum_r += er * er;
             const double u = std::sqrt((ep * ep / (wp * wp) + er * er / (wr * wr)) / rows_per_point) / unit;

@@ -26,8 +26,10 @@ from ._lowpair import (  # noqa: F401
     ik,
     load,
     plan,
+    read_measurements,
     simulate,
 )
 
 __all__ = ["Calibration", "DhTable", "Error", "Identifiability", "IkSolutions", "Measurements", "Plan", "Robot",
-           "Singularity", "calibrate", "compensate", "export", "identifiability", "ik", "load", "plan", "simulate"]
+           "Singularity", "calibrate", "compensate", "export", "identifiability", "ik", "load", "plan",
+           "read_measurements", "simulate"]
