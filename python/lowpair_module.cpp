@@ -1171,18 +1171,26 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
 Simulation readMeasurementFile(const std::string& path, const Robot* robot) {
   io::MeasurementFile file;
   validation::CalibrationMeasurements checked;
+  std::vector<std::string> warnings;  // emitted with the GIL held, before an error the reading ended in
+  std::exception_ptr failure;
   {
     py::gil_scoped_release release;
-    if (robot) {
-      checked = validation::readCalibrationMeasurements(path, robot->file, robot->poe);
-      file = std::move(checked.file);
-    } else {
-      file = io::readMeasurements(path);
+    try {
+      if (robot) {
+        checked = validation::readCalibrationMeasurements(path, robot->file, robot->subject(), robot->poe,
+                                                          [&](const std::string& w) { warnings.push_back(w); });
+        file = std::move(checked.file);
+      } else {
+        file = io::readMeasurements(path);
+      }
+    } catch (...) {
+      failure = std::current_exception();
     }
   }
-  for (const std::string& w : checked.warnings) {
+  for (const std::string& w : warnings) {
     if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
   }
+  if (failure) std::rethrow_exception(failure);
   Simulation s;
   s.measure = file.measure;
   s.measurements = std::move(file.measurements);
@@ -1862,8 +1870,8 @@ PYBIND11_MODULE(_lowpair, m) {
       .def_property_readonly(
           "length_unit",
           [](const Simulation& s) -> py::object { return s.length_unit.empty() ? py::none() : py::cast(s.length_unit); },
-          "str: the unit of positions (the robot's; a file's `# length_unit` comment, or the robot's after a "
-          "conversion), or None when unknown.")
+          "str: the unit of positions: simulate's robot's; read_measurements: the file's `# length_unit`, the "
+          "robot's after a conversion, None when the file states none (calibrate then takes the robot's).")
       .def_property_readonly(
           "lines", [](const Simulation& s) -> py::object { return s.lines.empty() ? py::none() : py::cast(s.lines); },
           "list[int]: the 1-based file line of each row (read_measurements), else None.")
@@ -1961,9 +1969,10 @@ PYBIND11_MODULE(_lowpair, m) {
         "columns as arrays for lowpair.calibrate. With `robot`, it is read for that robot: the joint count and\n"
         "the length unit are checked at the header line, lengths in another unit lowpair knows are converted\n"
         "to the robot's (`notes` says so), a joint value more than 10 range widths outside the robot's range\n"
-        "raises, nearer ones are UserWarnings. Without, the numbers are as written (`length_unit` says in\n"
-        "what, if the file does). Bad files raise lowpair.Error `FILE:LINE: what`. The GIL is released while\n"
-        "reading.");
+        "raises, nearer ones are UserWarnings (under -W error the first raises as a UserWarning). A robot\n"
+        "without a length unit (an MJCF) converts nothing. Without `robot`, the numbers are as written\n"
+        "(`length_unit` says in what, if the file does). Bad files raise lowpair.Error `FILE:LINE: what`.\n"
+        "The GIL is released while reading.");
   m.def("simulate", &simulate, py::arg("robot"), py::arg("poses") = py::none(), py::arg("q") = py::none(),
         py::arg("seed") = 1, py::arg("measure") = "pose", py::arg("targets") = py::none(), py::arg("frame") = py::none(),
         py::arg("noise_position") = 0.0, py::arg("noise_rotation") = 0.0, py::arg("blunders") = py::none(),

@@ -203,11 +203,12 @@ TEST(RoughEdges, JointValuesOutsideTheRangeAreNamed) {
   size_t first_data = 0;
   while (lines[first_data].empty() || lines[first_data][0] == '#') ++first_data;
   ++first_data;  // the header
-  auto withQ1 = [&](const std::string& name, const std::string& q1) {
+  auto withQ1 = [&](const std::string& name, const std::string& q1, const std::string& next_q1 = "") {
     std::string text;
     for (size_t k = 0; k < lines.size(); ++k) {
       std::string line = lines[k];
       if (k == first_data) line = q1 + line.substr(line.find(','));
+      if (k == first_data + 1 && !next_q1.empty()) line = next_q1 + line.substr(line.find(','));
       text += line + "\n";
     }
     return writeScratchFile(name, text);
@@ -222,6 +223,16 @@ TEST(RoughEdges, JointValuesOutsideTheRangeAreNamed) {
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err.rfind("warning: " + near + ":" + std::to_string(first_data + 1) + ": q1 = 2.9 is outside", 0), 0u)
       << r.err;
+  // a near value, then a far one: the warning, then the refusal (exit 2, the error the last line, no stdout)
+  const std::string both = withQ1("both.csv", "2.9", "1e6");
+  const CliRun b = runCli("calibrate " + shellQuote(robot) + " --measurements " + shellQuote(both));
+  EXPECT_EQ(b.status, 2) << b.err;
+  EXPECT_TRUE(b.out.empty()) << b.out;
+  EXPECT_EQ(b.err.rfind("warning: " + both + ":" + std::to_string(first_data + 1) + ": q1 = 2.9 is outside", 0), 0u)
+      << b.err;
+  const std::string error_line = "\nerror: " + both + ":" + std::to_string(first_data + 2) + ": q1 = 1e+06 is outside";
+  EXPECT_NE(b.err.find(error_line), std::string::npos) << b.err;
+  EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 2) << b.err;
 }
 
 

@@ -138,8 +138,8 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     const PoeModel nominal = file.poeModel();
     std::vector<std::string> notes;
     auto read = [&](const std::string& path) {
-      CalibrationMeasurements r = readCalibrationMeasurements(path, file, nominal);
-      for (const std::string& w : r.warnings) std::cerr << "warning: " << w << "\n";
+      CalibrationMeasurements r = readCalibrationMeasurements(
+          path, file, file.path, nominal, [](const std::string& w) { std::cerr << "warning: " << w << "\n"; });
       notes.insert(notes.end(), r.notes.begin(), r.notes.end());
       return std::move(r.file);
     };

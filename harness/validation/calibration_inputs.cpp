@@ -27,18 +27,19 @@ std::vector<OutsideRange> jointValuesOutsideRanges(const PoeModel& nominal, cons
 }
 
 CalibrationMeasurements readCalibrationMeasurements(const std::string& path, const io::RobotFile& robot,
-                                                    const PoeModel& nominal) {
+                                                    const std::string& robot_name, const PoeModel& nominal,
+                                                    const std::function<void(const std::string&)>& warn) {
   // the measurements must be of this robot: its joint count, and its length unit when both state one
   // (checked at the header line, before the rest of a large file is read)
   auto check_matches = [&](const io::MeasurementFile& m) {
     if (m.dof != nominal.dof()) {
-      throw io::RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + robot.path +
+      throw io::RobotFileError(m.path + ": has " + std::to_string(m.dof) + " joint columns but " + robot_name +
                                " has " + std::to_string(nominal.dof()) + " joints");
     }
     if (!m.length_unit.empty() && !robot.length_unit.empty() && m.length_unit != robot.length_unit &&
         !(io::metresPerUnit(m.length_unit) && io::metresPerUnit(robot.length_unit))) {
       throw io::RobotFileError(m.path + ": lengths in " + m.length_unit + " (its length_unit comment) but " +
-                               robot.path + " is in " + robot.length_unit +
+                               robot_name + " is in " + robot.length_unit +
                                ", and lowpair converts only m, mm, cm, dm, um, km, in, ft");
     }
   };
@@ -53,16 +54,14 @@ CalibrationMeasurements readCalibrationMeasurements(const std::string& path, con
     const std::string where = m.path + ":" + std::to_string(m.lines[x.row]) + ": q" + std::to_string(x.joint + 1) +
                               " = " + io::shortest(x.q) + " is outside joint " + std::to_string(x.joint + 1) +
                               "'s range [" + io::shortest(x.range[0]) + ", " + io::shortest(x.range[1]) + "] of " +
-                              robot.path;
+                              robot_name;
     if (x.far) {
       throw io::RobotFileError(where + " by more than " + io::shortest(kFarOutsideRange) +
                                " times its width: a wrong column or unit?");
     }
-    if (outside++ < kMaxRangeWarnings) out.warnings.push_back(where);
+    if (outside++ < kMaxRangeWarnings) warn(where);
   }
-  if (outside > kMaxRangeWarnings) {
-    out.warnings.push_back(m.path + ": " + std::to_string(outside) + " joint values outside the ranges in all");
-  }
+  if (outside > kMaxRangeWarnings) warn(m.path + ": " + std::to_string(outside) + " joint values outside the ranges in all");
   // a CSV in another unit lowpair knows: its lengths converted to the nominal's (one note says so)
   if (!m.length_unit.empty() && !robot.length_unit.empty() && m.length_unit != robot.length_unit) {
     const double factor = *io::metresPerUnit(m.length_unit) / *io::metresPerUnit(robot.length_unit);

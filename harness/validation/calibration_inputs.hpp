@@ -6,6 +6,7 @@
 /// mapped to the fit's, and the nominal's target points.
 
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,22 +34,23 @@ struct OutsideRange {
 /// Every joint value of `measurements` outside the nominal's ranges, row by row, joint by joint.
 std::vector<OutsideRange> jointValuesOutsideRanges(const PoeModel& nominal, const std::vector<Measurement>& measurements);
 
-/// A measurement CSV read for a calibration of the robot file `robot` (its POE model `nominal`), as
-/// `lowpair calibrate` reads --measurements and --validation: the header is checked against the robot before
-/// the rest is read (its joint count; its length unit, when both state one and lowpair cannot convert
-/// between them), a joint value beyond kFarOutsideRange range widths outside the robot's range is refused,
-/// nearer ones are warned about (`warnings`: the first kMaxRangeWarnings, then the count), and lengths in
-/// another unit lowpair knows are converted to the robot's (`notes`: one line says so; `file.length_unit`
-/// is then the robot's).
+/// A measurement CSV read for a calibration of the robot file `robot` (its POE model `nominal`, named
+/// `robot_name` in messages), as `lowpair calibrate` reads --measurements and --validation: the header is
+/// checked against the robot before the rest is read (its joint count; its length unit, when both state one
+/// and lowpair cannot convert between them), a joint value beyond kFarOutsideRange range widths outside the
+/// robot's range is refused, nearer ones are warned about as they are found (`warn`, one line without
+/// "warning: ": the first kMaxRangeWarnings, then the count; those before a refusal are warned first), and
+/// lengths in another unit lowpair knows are converted to the robot's (`notes`: one line says so;
+/// `file.length_unit` is then the robot's).
 struct CalibrationMeasurements {
   io::MeasurementFile file;
-  std::vector<std::string> warnings;  ///< one line each, without "warning: "
-  std::vector<std::string> notes;     ///< one line each, without "note: "
+  std::vector<std::string> notes;  ///< one line each, without "note: "
 };
 constexpr int kMaxRangeWarnings = 5;
 /// @throws io::RobotFileError `FILE[:LINE]: what` (the reader's errors, and the checks above)
 CalibrationMeasurements readCalibrationMeasurements(const std::string& path, const io::RobotFile& robot,
-                                                    const PoeModel& nominal);
+                                                    const std::string& robot_name, const PoeModel& nominal,
+                                                    const std::function<void(const std::string&)>& warn);
 
 /// The stated measurement noise: each in (0, limit] (position 1e100 length, rotation pi rad).
 /// @throws UsageError naming noise_position or noise_rotation as `spelling` spells it

@@ -1,6 +1,7 @@
 """lowpair.simulate and tracker calibration (target measurements, robust loss, cross-validation) against the CLI
 (docs/calibration.md "Tracker data")."""
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -262,3 +263,29 @@ def test_read_measurements_for_a_robot_converts_and_checks(tracker_data, tmp_pat
         assert len(lowpair.read_measurements(str(near), corke)) == 1
     with pytest.raises(lowpair.Error, match=r"far\.csv:2: q1 = 100 is outside .* by more than 10 times its width"):
         lowpair.read_measurements(str(far), corke)
+    # seven near rows: five warnings and the count; a near row before a far one: its warning, then the error
+    many, both = tmp_path / "many.csv", tmp_path / "both.csv"
+    many.write_text("q1,q2,q3,q4,q5,q6,x,y,z\n" + "2.9,0,0,0,0,0,0.1,0.2,0.3\n" * 7)
+    both.write_text("q1,q2,q3,q4,q5,q6,x,y,z\n2.9,0,0,0,0,0,0.1,0.2,0.3\n100,0,0,0,0,0,0.1,0.2,0.3\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        lowpair.read_measurements(str(many), corke)
+    texts = [str(w.message) for w in caught]
+    assert len(texts) == 6 and all(f"many.csv:{k}: q1 = 2.9" in texts[k - 2] for k in range(2, 7))
+    assert texts[5].endswith("many.csv: 7 joint values outside the ranges in all")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with pytest.raises(lowpair.Error, match=r"both\.csv:3: q1 = 100"):
+            lowpair.read_measurements(str(both), corke)
+    assert len(caught) == 1 and "both.csv:2: q1 = 2.9" in str(caught[0].message)
+    with warnings.catch_warnings():  # -W error: the first warning raises, as a UserWarning
+        warnings.simplefilter("error")
+        with pytest.raises(UserWarning, match=r"near\.csv:2"):
+            lowpair.read_measurements(str(near), corke)
+    # a robot without a path (a calibration's) is named by its name in the messages
+    calibrated = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, targets=targets, noise_position=0.01,
+                                   free_pitch=True, loss="huber").robot
+    furlong = tmp_path / "furlong.csv"
+    furlong.write_text("# length_unit: furlong\n" + "".join(l for l in open(fit_csv) if "length_unit" not in l))
+    with pytest.raises(lowpair.Error, match=r"lengths in furlong \(its length_unit comment\) but [^ ]+ is in mm"):
+        lowpair.read_measurements(str(furlong), calibrated)
