@@ -180,12 +180,9 @@ void loadUserRobot(const std::string& path) {
   const io::RobotFile file = io::readRobotFile(path);
   std::filesystem::path mjcf = file_path;
   mjcf.replace_extension(".xml");
-  std::unique_ptr<Entry> built;
-  try {
-    built = build(file, userName(file, file_path), mjcf.string(), 20240605u + static_cast<unsigned>(RobotId::User));
-  } catch (const std::invalid_argument& e) {  // the library about this file's model (e.g. "poeToDh: ...")
-    throw std::invalid_argument(path + ": " + e.what());
-  }
+  // the library's errors about this model (e.g. "poeToDh: ...") get the path from main, as every other error
+  std::unique_ptr<Entry> built =
+      build(file, userName(file, file_path), mjcf.string(), 20240605u + static_cast<unsigned>(RobotId::User));
   std::lock_guard<std::mutex> lock(cache_mutex);
   cache[static_cast<int>(RobotId::User)] = std::move(built);
 }

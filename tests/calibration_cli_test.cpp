@@ -498,8 +498,8 @@ TEST(Export, HelicalUrdfHintNeverNamesAnExistingFile) {
 
 // Review finding: position measurements of the PUMA (tool point on the wrist axes) said "rank 30 < 39 ...
 // 12 directions" (the 3 tool rotations are in the error model, not in the count) and nothing on why the fit
-// stays at 1.3 mm on held-out points: the warning counts against the formula and says the fit is confined to the nominal's
-// determined directions.
+// stays at about a millimetre on held-out points (docs/calibration.md: 1.3 mm): the warning counts against the
+// formula and says the fit is confined to the nominal's determined directions.
 TEST(Calibrate, PositionOnlyRankWarningCountsAgainstTheFormula) {
   const std::string m = simulateTo("position_only.csv", shellQuote(kActualYaml) + " --poses 50 --seed 1 --measure position");
   const auto j = jsonOf("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m) + " --free-pitch");

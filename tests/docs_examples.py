@@ -48,7 +48,7 @@ from pathlib import Path
 
 SKIP_EXIT = 77
 LINKS = ("models", "scenarios", "tests")  # what the examples' relative paths reach in the source tree
-COMMAND_TIMEOUT = 120  # seconds; the slowest example takes about 1.5 s
+COMMAND_TIMEOUT = 120  # seconds; the slowest example takes about 1 s
 SKIP_MARKER = re.compile(r"^<!-- docs-example: not run \((?P<reason>.+)\) -->$")
 FENCE = re.compile(r"^(?P<fence>`{3,}|~{3,})")
 # a number: not part of a word or of a dotted name; a trailing `x` (4.93e+03x, a factor) is not part of it

@@ -28,10 +28,6 @@ constexpr size_t kConcurrentLines = 4;        // C3: lines through one point spa
 constexpr size_t kParallelLines = 4;          // C4: parallel lines span 3
 constexpr size_t kCoplanarLines = 4;          // C5: lines in one plane span 3
 
-int countAbove(const Eigen::Ref<const VecX>& sigma, double tol) {
-  return static_cast<int>((sigma.array() > tol).count());
-}
-
 // Line geometry with the tolerances of the header: angles in rad, lengths relative to L.
 class Lines {
  public:
@@ -317,7 +313,9 @@ void dimensionlessJacobian(const PoeModel& model, Eigen::Ref<Mat6X> J) {
 
 double rankTolerance(double sigma_max, int dof) { return numericalRankTolerance(sigma_max, std::max(kTwistDim, dof)); }
 
-int numericalRank(const Eigen::Ref<const VecX>& sigma, double tolerance) { return countAbove(sigma, tolerance); }
+int numericalRank(const Eigen::Ref<const VecX>& sigma, double tolerance) {
+  return static_cast<int>((sigma.array() > tolerance).count());
+}
 
 JacobianRank jacobianRank(const PoeModel& model, const Eigen::Ref<const Mat6X>& J_geometric) {
   LP_CHECK(J_geometric.cols() == model.dof(),
@@ -328,7 +326,7 @@ JacobianRank jacobianRank(const PoeModel& model, const Eigen::Ref<const Mat6X>& 
   const int m = std::min(kTwistDim, model.dof());
   r.singular_values = Eigen::JacobiSVD<MatX>(Jn).singularValues().head(m);
   r.tolerance = rankTolerance(m > 0 ? r.singular_values(0) : 0.0, model.dof());
-  r.rank = countAbove(r.singular_values, r.tolerance);
+  r.rank = numericalRank(r.singular_values, r.tolerance);
   return r;
 }
 
@@ -389,14 +387,14 @@ SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<con
   r.singular_values = svd.singularValues().head(m);
   const double sigma_max = m > 0 ? r.singular_values(0) : 0.0;
   r.tolerance = rankTolerance(sigma_max, n);
-  r.rank = countAbove(r.singular_values, r.tolerance);
+  r.rank = numericalRank(r.singular_values, r.tolerance);
   r.singular = r.rank < m;
   r.sigma_min = m > 0 ? r.singular_values(m - 1) : 0.0;
   r.manipulability = r.singular_values.prod();
   r.condition = r.sigma_min > 0.0 ? sigma_max / r.sigma_min : std::numeric_limits<double>::infinity();
   if (n > 0) {
-    r.rank_linear = countAbove(Eigen::JacobiSVD<MatX>(Jn.topRows(3)).singularValues(), r.tolerance);
-    r.rank_angular = countAbove(Eigen::JacobiSVD<MatX>(Jn.bottomRows(3)).singularValues(), r.tolerance);
+    r.rank_linear = numericalRank(Eigen::JacobiSVD<MatX>(Jn.topRows(3)).singularValues(), r.tolerance);
+    r.rank_angular = numericalRank(Eigen::JacobiSVD<MatX>(Jn.bottomRows(3)).singularValues(), r.tolerance);
   }
   // every direction of joint motion that moves nothing: n - rank of them (self-motion included for n > 6)
   r.nullity = n - r.rank;
