@@ -4,8 +4,8 @@
 // calibration planning, save and export. Every call computes what the CLI computes, with the same library and
 // harness functions, so the numbers are the CLI's (python/tests/ compares each result with the CLI's --json);
 // errors are lowpair.Error with the CLI's one-line message. A command's logic beyond its argument parsing lives
-// in the validation room (plan_report, ik_rows, simulation, calibration_inputs), which the CLI calls too; this
-// file converts arrays and arguments and calls it.
+// in the validation room (plan_report, ik_rows, simulation, calibration_inputs, calibration_run), which the CLI
+// calls too; this file converts arrays and arguments and calls it.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -53,6 +53,7 @@
 #include "validation/arguments.hpp"
 #include "validation/calibration_inputs.hpp"
 #include "validation/calibration_output.hpp"
+#include "validation/calibration_run.hpp"
 #include "validation/ik_rows.hpp"
 #include "validation/plan_report.hpp"
 #include "validation/simulation.hpp"
@@ -65,11 +66,9 @@ namespace lowpair::python {
 
 namespace {
 
-// A bad argument (not a file): "SUBJECT: message", as the CLI's UsageError prints it.
-struct UsageError : std::invalid_argument {
-  UsageError(const std::string& subject, const std::string& message)
-      : std::invalid_argument(subject.empty() ? message : subject + ": " + message) {}
-};
+// A bad argument (not a file): raised as lowpair.Error("SUBJECT: message"), as the CLI prints it; the error of
+// the validation room's shared checks, as in cli/commands.hpp.
+using UsageError = validation::UsageError;
 
 // Python's spelling of an argument in the validation room's shared checks: "noise_position", "measure='targets'".
 validation::ArgumentSpelling pythonSpelling() {
@@ -77,6 +76,11 @@ validation::ArgumentSpelling pythonSpelling() {
           [](const std::string& name, const std::string& value) { return name + "='" + value + "'"; }};
 }
 
+
+// A seed of the sampling streams, as the CLI's --seed takes it: a whole number in [0, 2^53].
+void checkSeed(long long seed) {
+  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+}
 
 // nlohmann::json -> Python objects (numbers keep their double bits).
 py::object toPython(const json& j) {
@@ -126,6 +130,27 @@ py::array_t<double> poseArray(const Pose& T) {
   auto w = out.mutable_unchecked<2>();
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) w(r, c) = r < 3 ? (c < 3 ? T.R(r, c) : T.p(r)) : (c == 3 ? 1.0 : 0.0);
+  }
+  return out;
+}
+
+// One value per row: f(row) for each of `rows`, as an (N,) array of T.
+template <class T, class Rows, class F>
+py::array_t<T> perRow(const Rows& rows, F f) {
+  py::array_t<T> out(static_cast<py::ssize_t>(rows.size()));
+  auto w = out.template mutable_unchecked<1>();
+  for (size_t k = 0; k < rows.size(); ++k) w(static_cast<py::ssize_t>(k)) = f(rows[k]);
+  return out;
+}
+
+// Vectors of `n` values, one per row, as an (N, n) array: row k is f(rows[k]).
+template <class Rows, class F>
+py::array_t<double> vectorRows(const Rows& rows, Eigen::Index n, F f) {
+  py::array_t<double> out({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(n)});
+  auto w = out.mutable_unchecked<2>();
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const VecX& v = f(rows[k]);
+    for (Eigen::Index i = 0; i < n; ++i) w(static_cast<py::ssize_t>(k), i) = v(i);
   }
   return out;
 }
@@ -414,12 +439,7 @@ void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, 
   for (Eigen::Index start = 0; start < count; start += kFkChunk) {
     const Eigen::Index len = std::min(kFkChunk, count - start);
     if (!transposeChunk(q + start * dof, len, dof, Q)) {
-      for (Eigen::Index k = start * dof;; ++k) {
-        if (!std::isfinite(q[k])) {
-          throw UsageError(r.subject(), "q[" + std::to_string(k / dof) + ", " + std::to_string(k % dof) + "]: '" +
-                                            io::shortest(q[k]) + "' is not finite");
-        }
-      }
+      requireFinite(q, (start + len) * dof, dof, r.subject(), "q");  // throws, naming the first value
     }
     if (poe) {
       forwardKinematicsBatch(r.poe, Q.topRows(len), poses.topRows(len));
@@ -451,7 +471,7 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
       result = newArray<2>({4, 4});
       dst = result.mutable_data();
     }
-    // no GIL release: one FK (~70 ns) costs less than releasing and taking it again
+    // no GIL release: one FK costs less than releasing and taking it again (docs/python.md, "Speed")
     if (kind == "poe") {
       Data& data = threadData(r.poe.chain(), dof);
       forwardKinematics(r.poe, data, x);
@@ -569,9 +589,7 @@ IdentifiabilityResult identifiability(const Robot& r, const std::string& measure
     throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxIdentifiabilityPoses) + "], got " +
                                   std::to_string(poses));
   }
-  if (seed < 0 || seed > validation::kMaxSeed) {
-    throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
-  }
+  checkSeed(seed);
   const PoeModel& model = r.poe;
   if (validation::identificationEntries(poses, model.dof(), 9.0) > validation::kMaxJacobianEntries) {
     const bool robot = validation::identificationEntries(1, model.dof(), 9.0) > validation::kMaxJacobianEntries;
@@ -601,18 +619,16 @@ IdentifiabilityResult identifiability(const Robot& r, const std::string& measure
 
 // ----- calibration -------------------------------------------------------------------------------------
 
-constexpr double kUnitQuaternionTolerance = 1e-6;  // the measurement CSV reader's (io/measurements.cpp)
-
-// A rotation from a quaternion qw, qx, qy, qz as the measurement CSV reader makes it (unit within 1e-6, then
-// normalized), so that arrays and a CSV of the same numbers give the same bits.
+// A rotation from a quaternion qw, qx, qy, qz by the measurement CSV reader's rule (io::unitQuaternionRotation),
+// so that arrays and a CSV of the same numbers give the same bits.
 Mat3 quaternionRotation(double w, double x, double y, double z, const std::string& subject, Eigen::Index row) {
-  const Eigen::Quaterniond quaternion(w, x, y, z);
-  const double norm = quaternion.norm();
-  if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) {
+  double norm = 0.0;
+  const std::optional<Mat3> R = io::unitQuaternionRotation(w, x, y, z, norm);
+  if (!R) {
     throw UsageError(subject, "row " + std::to_string(row) + ": qw..qz is not a unit quaternion (norm " +
                                   io::shortest(norm) + ")");
   }
-  return quaternion.normalized().toRotationMatrix();
+  return *R;
 }
 
 struct Calibration {
@@ -629,23 +645,16 @@ std::vector<std::string> numberTargets(const std::vector<std::string>& names, st
     throw UsageError(subject, "expected " + std::to_string(measurements.size()) + " target names (one per row), got " +
                                   std::to_string(names.size()));
   }
-  std::vector<std::string> distinct;
+  io::TargetNumbering numbering;
   for (size_t k = 0; k < names.size(); ++k) {
-    const std::string problem = io::targetNameProblem(names[k]);
-    if (!problem.empty()) {
-      throw UsageError(subject, "[" + std::to_string(k) + "]: " + io::quotedFileText(names[k]) + " " + problem + " (" +
-                                    io::kTargetNameRule + ")");
-    }
-    auto it = std::find(distinct.begin(), distinct.end(), names[k]);
-    if (it == distinct.end()) {
-      if (distinct.size() == static_cast<size_t>(io::kMaxTargets)) {
-        throw UsageError(subject, "more than " + std::to_string(io::kMaxTargets) + " distinct targets");
-      }
-      it = distinct.insert(distinct.end(), names[k]);
-    }
-    measurements[k].target = static_cast<int>(it - distinct.begin());
+    std::string problem;
+    measurements[k].target = numbering.number(names[k], problem);
+    if (measurements[k].target >= 0) continue;
+    if (problem.empty()) throw UsageError(subject, "more than " + std::to_string(io::kMaxTargets) + " distinct targets");
+    throw UsageError(subject, "[" + std::to_string(k) + "]: " + io::quotedFileText(names[k]) + " " + problem + " (" +
+                                  io::kTargetNameRule + ")");
   }
-  return distinct;
+  return std::move(numbering.names);
 }
 
 // The measurement CSV's columns as arrays: q (N, n); positions (N, 3); rotations (N, 4) qw..qz for pose
@@ -695,113 +704,58 @@ io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const In
   return file;
 }
 
-// A joint value beyond kFarOutsideRange range widths outside the nominal's range is a wrong column or unit,
-// never fitted silently (as `lowpair calibrate` rejects it; the CLI's warnings for values just outside are not
-// repeated here).
-void checkFarOutsideRanges(const Robot& r, const io::MeasurementFile& m, const std::string& prefix) {
-  for (const validation::OutsideRange& x : validation::jointValuesOutsideRanges(r.poe, m.measurements)) {
-    if (!x.far) continue;
-    throw UsageError(prefix + "q", "[" + std::to_string(x.row) + ", " + std::to_string(x.joint) + "] = " +
-                                       io::shortest(x.q) + " is outside joint " + std::to_string(x.joint + 1) +
-                                       "'s range [" + io::shortest(x.range[0]) + ", " + io::shortest(x.range[1]) +
-                                       "] of " + r.subject() + " by more than " +
-                                       io::shortest(validation::kFarOutsideRange) +
-                                       " times its width: a wrong column or unit?");
+// Python's UserWarning `text` (with the GIL held); under -W error it raises.
+void warnUser(const std::string& text) {
+  if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+}
+
+// The joint values against the nominal's ranges, as `lowpair calibrate` checks a measurement file's
+// (validation::checkJointRanges): one beyond kFarOutsideRange range widths outside is a wrong column or unit,
+// never fitted silently; nearer ones are UserWarnings (the first few, then their count).
+void checkRanges(const Robot& r, const io::MeasurementFile& m, const std::string& prefix) {
+  const std::string subject = prefix + "q";
+  const int outside = validation::checkJointRanges(
+      r.poe, m.measurements, r.subject(),
+      [](const validation::OutsideRange& x) {
+        return "[" + std::to_string(x.row) + ", " + std::to_string(x.joint) + "]";
+      },
+      [&](const std::string& text) { throw UsageError(subject, text); },
+      [&](const std::string& text) { warnUser(subject + ": " + text); });
+  if (outside > validation::kMaxRangeWarnings) {
+    warnUser(subject + ": " + std::to_string(outside) + " joint values outside the ranges in all");
   }
 }
 
-struct CalibrateArguments {
-  std::optional<double> noise_position, noise_rotation;
-  bool free_pitch = false;
-  std::string loss = "squared";
-  double outlier_threshold = 5.0;
-  std::optional<std::string> parameters, select;
-  int folds = 5;
-  int repeats = kCrossValidationRepeats;
-};
-
 Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::optional<io::MeasurementFile> held_out,
-                            const CalibrateArguments& a) {
-  const PoeModel& nominal = r.poe;
-  if (fit.measurements.size() > static_cast<size_t>(validation::kMaxCalibrationMeasurements) ||
-      validation::identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) >
-          validation::kMaxJacobianEntries) {
-    throw UsageError("q", std::to_string(fit.measurements.size()) + " measurements of " + std::to_string(nominal.dof()) +
-                              " joints; calibrate fits at most " +
-                              std::to_string(validation::kMaxCalibrationMeasurements) + " measurements and at most " +
-                              io::shortest(validation::kMaxJacobianEntries) + " numbers at once");
+                            const validation::CalibrationRequest& request) {
+  if (const auto problem = validation::calibrationSizeProblem(fit.measurements.size(), r.dof())) {
+    throw UsageError("q", *problem);
   }
-  checkFarOutsideRanges(r, fit, "");
+  checkRanges(r, fit, "");
   if (held_out) {
-    checkFarOutsideRanges(r, *held_out, "validation_");
+    checkRanges(r, *held_out, "validation_");
     // targets by name: the validation rows' indices mapped to the fit's
     if (const auto unknown = validation::mapValidationTargets(*held_out, fit.target_names)) {
       throw UsageError("validation_targets", "target " + *unknown + " is not measured in the fit (targets)");
     }
   }
-  validation::checkStatedNoise(a.noise_position, a.noise_rotation, pythonSpelling());
-  if (a.noise_rotation && fit.measure != Measure::Pose) {
-    throw UsageError("noise_rotation", std::string(measureName(fit.measure)) +
-                                           " measurements (rotations=None): there is no rotation to weigh");
-  }
-  if (!(a.outlier_threshold >= 1e-3 && a.outlier_threshold <= 1e6)) {
-    throw UsageError("outlier_threshold", "must be in [0.001, 1e6], got " + io::shortest(a.outlier_threshold));
-  }
-  CalibrationOptions options;
-  options.measure = fit.measure;
-  options.free_pitch = a.free_pitch;
-  options.sigma_position = a.noise_position;
-  options.sigma_rotation = a.noise_rotation;
-  if (a.loss != "squared" && a.loss != "huber" && a.loss != "cauchy") {
-    throw UsageError("loss", "expected 'squared', 'huber' or 'cauchy', got '" + a.loss + "'");
-  }
-  options.loss = a.loss == "huber" ? Loss::Huber : a.loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
-  options.outlier_threshold = a.outlier_threshold;
-  if (a.select && *a.select != "cv") throw UsageError("select", "expected 'cv' or None, got '" + *a.select + "'");
-  if (!(a.folds >= 2 && a.folds <= kMaxCrossValidationFolds)) {
-    throw UsageError("folds", "must be in [2, " + std::to_string(kMaxCrossValidationFolds) + "], got " +
-                                  std::to_string(a.folds));
-  }
-  if (!(a.repeats >= 1 && a.repeats <= kMaxCrossValidationRepeats)) {
-    throw UsageError("repeats", "must be in [1, " + std::to_string(kMaxCrossValidationRepeats) + "], got " +
-                                    std::to_string(a.repeats));
-  }
-  if (a.parameters) {
-    if (a.select) throw UsageError("select", "choose the parameters by parameters= or by select=, not both");
-    validation::parseParameters(*a.parameters, options, pythonSpelling());
-  }
-  // targets: a point from the nominal's targets: list of the same name, else estimated
-  options.targets = validation::nominalTargets(r.file, fit.target_names);
-  std::optional<CrossValidation> cv;
-  std::optional<CalibrationResult> result;
-  std::optional<DhUncertainty> dh;
-  double seconds = 0.0;
+  std::optional<validation::CalibrationReport> report;
   {
     py::gil_scoped_release release;
-    const auto start = std::chrono::steady_clock::now();
-    if (a.select) {
-      cv = crossValidate(nominal, fit.measurements, options, a.folds, a.repeats);
-      options.parameters = cv->chosen;
-    }
-    result.emplace(calibrate(nominal, fit.measurements, options));
-    dh.emplace(dhUncertainty(*result));
-    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report.emplace(validation::runCalibration(r.file, r.poe, std::move(fit), std::move(held_out), request,
+                                              pythonSpelling()));
   }
-  validation::CalibrationReport report = validation::makeCalibrationReport(r.file, std::move(fit), std::move(held_out),
-                                                                           *result, *dh, seconds);
-  report.cross_validation = cv;
   // the calibrated robot, as `calibrate --out` writes it
   io::RobotFile calibrated;
-  calibrated.name = (r.file.name.empty() ? std::filesystem::path(r.file.path).stem().string() : r.file.name) +
-                    "-calibrated";
+  calibrated.name = validation::calibratedName(r.file);
   calibrated.length_unit = r.file.length_unit;
   calibrated.angle_unit = r.file.angle_unit;
   calibrated.description = "calibrated by lowpair.calibrate (Python) from arrays";
-  calibrated.poe = result->model;
-  calibrated.targets = validation::calibratedTargets(report);
-  auto robot = std::make_shared<Robot>(std::move(calibrated), validation::calibrationProvenance(report));
-  json j = validation::calibrationJson(report);
-  return Calibration{std::move(report), std::move(robot), std::move(j)};
+  calibrated.poe = report->result.model;
+  calibrated.targets = validation::calibratedTargets(*report);
+  auto robot = std::make_shared<Robot>(std::move(calibrated), validation::calibrationProvenance(*report));
+  json j = validation::calibrationJson(*report);
+  return Calibration{std::move(*report), std::move(robot), std::move(j)};
 }
 
 Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray& positions,
@@ -832,17 +786,9 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
     held_out = measurementArrays(r, *validation_q, *validation_positions, validation_rotations, validation_targets,
                                  "validation_");
   }
-  CalibrateArguments a;
-  a.noise_position = noise_position;
-  a.noise_rotation = noise_rotation;
-  a.free_pitch = free_pitch;
-  a.loss = loss;
-  a.outlier_threshold = outlier_threshold;
-  a.parameters = parameters;
-  a.select = select;
-  a.folds = folds;
-  a.repeats = repeats;
-  return calibrateArrays(r, std::move(fit), std::move(held_out), a);
+  const validation::CalibrationRequest request{noise_position, noise_rotation, free_pitch, loss, outlier_threshold,
+                                               parameters,     select,         folds,      repeats};
+  return calibrateArrays(r, std::move(fit), std::move(held_out), request);
 }
 
 // ----- inverse kinematics, compensation (lowpair/ik.hpp; `lowpair ik`, `lowpair compensate`) ------------
@@ -919,8 +865,11 @@ std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, s
 // k * seeds + s of the stream `seed`, the sampling convention), the first ok kept, else the best attempt.
 IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<InArray>& rotations,
                const std::optional<InArray>& q0, int seeds, long long seed) {
-  if (seeds < 1 || seeds > 1000) throw UsageError("seeds", "must be in [1, 1000], got " + std::to_string(seeds));
-  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+  if (seeds < 1 || seeds > validation::kMaxIkSeeds) {
+    throw UsageError("seeds", "must be in [1, " + std::to_string(validation::kMaxIkSeeds) + "], got " +
+                                  std::to_string(seeds));
+  }
+  checkSeed(seed);
   bool pose = false;
   const std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
   const std::optional<MatX> given = seedRows(r, q0, targets.size());
@@ -1021,7 +970,7 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
     throw UsageError("candidates", "must be in [1, " + std::to_string(validation::kMaxPlanCandidates) + "], got " +
                                        std::to_string(candidate_count));
   }
-  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+  checkSeed(seed);
   if (criterion_text != "D" && criterion_text != "O1") {
     throw UsageError("criterion", "expected 'D' or 'O1', got '" + criterion_text + "'");
   }
@@ -1056,40 +1005,6 @@ struct Simulation {
   std::vector<std::string> notes;         // read_measurements: a unit conversion
 };
 
-// The targets measured: the robot file's (all, or those named, in the order named).
-std::vector<std::string> simulatedTargets(const Robot& r, const std::optional<std::vector<std::string>>& names,
-                                          std::vector<Vec3>& points) {
-  if (r.file.targets.empty()) {
-    throw UsageError(r.subject(), "measure='targets': the robot file lists no targets (a 'targets:' list of {name, point})");
-  }
-  std::vector<std::string> out;
-  if (!names) {
-    for (const Target& t : r.file.targets) out.push_back(t.name);
-  } else {
-    for (const std::string& name : *names) {
-      const std::string problem = io::targetNameProblem(name);
-      if (!problem.empty()) {
-        throw UsageError("targets", io::quotedFileText(name) + " " + problem + " (" + io::kTargetNameRule + ")");
-      }
-      if (std::find(out.begin(), out.end(), name) != out.end()) {
-        throw UsageError("targets", io::quotedFileText(name) + " is given twice");
-      }
-      out.push_back(name);
-    }
-  }
-  for (const std::string& name : out) {
-    const auto it = std::find_if(r.file.targets.begin(), r.file.targets.end(), [&](const Target& t) { return t.name == name; });
-    if (it == r.file.targets.end()) {
-      std::string known;
-      for (const Target& t : r.file.targets) known += (known.empty() ? "" : ", ") + t.name;
-      throw UsageError("targets", io::quotedFileText(name) + " is not a target of " + r.subject() + " (its targets: " +
-                                      known + ")");
-    }
-    points.push_back(*it->point_tool);
-  }
-  return out;
-}
-
 // Measurements of the robot's tool by the library's POE FK (the truth `lowpair simulate` uses for a robot file):
 // at `poses` random joint vectors (sample k of the stream `seed`) or at the rows of q; in a measurement frame;
 // with the seeded noise and blunders of validation/sampling.hpp, so the same arguments give the CLI's numbers.
@@ -1098,17 +1013,20 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
                     const std::optional<std::vector<double>>& frame, double noise_position, double noise_rotation,
                     const std::optional<std::tuple<double, double>>& blunders) {
   if (poses.has_value() == q_arg.has_value()) throw UsageError("poses", "give poses=N or q=(N, n) joint values, one of them");
-  if (poses && (*poses < 1 || *poses > 1000000)) {
-    throw UsageError("poses", "must be in [1, 1000000], got " + std::to_string(*poses));
+  if (poses && (*poses < 1 || *poses > validation::kMaxSimulatedPoses)) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxSimulatedPoses) + "], got " +
+                                  std::to_string(*poses));
   }
-  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+  checkSeed(seed);
   const Measure measure = parseMeasure(measure_text);
   validation::checkSimulationArguments(measure, noise_position, noise_rotation, targets.has_value(), pythonSpelling());
   validation::MeasurementSetup setup;
   setup.measure = measure;
   Simulation s;
   s.measure = measure;
-  if (measure == Measure::Targets) s.target_names = simulatedTargets(r, targets, setup.targets);
+  if (measure == Measure::Targets) {
+    s.target_names = validation::robotFileTargets(r.file.targets, targets, r.subject(), pythonSpelling(), setup.targets);
+  }
   if (frame) {
     if (frame->size() != 6) {
       throw UsageError("frame", "expected 6 numbers rx, ry, rz, x, y, z (rotation vector in rad, translation), got " +
@@ -1187,9 +1105,7 @@ Simulation readMeasurementFile(const std::string& path, const Robot* robot) {
       failure = std::current_exception();
     }
   }
-  for (const std::string& w : warnings) {
-    if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
-  }
+  for (const std::string& w : warnings) warnUser(w);
   if (failure) std::rethrow_exception(failure);
   Simulation s;
   s.measure = file.measure;
@@ -1202,14 +1118,6 @@ Simulation readMeasurementFile(const std::string& path, const Robot* robot) {
                        (robot ? " for " + robot->subject() : std::string()));
   if (io::isUnitLabel(s.length_unit)) s.comments.push_back("length_unit: " + s.length_unit);
   return s;
-}
-
-// The quaternion qw, qx, qy, qz of a rotation as the measurement CSV writer prints it (normalized, qw >= 0).
-Eigen::Vector4d csvQuaternion(const Mat3& R) {
-  Eigen::Quaterniond quaternion(R);
-  quaternion.normalize();
-  if (quaternion.w() < 0) quaternion.coeffs() *= -1.0;
-  return {quaternion.w(), quaternion.x(), quaternion.y(), quaternion.z()};
 }
 
 // ----- save, export --------------------------------------------------------------------------------------
@@ -1341,8 +1249,8 @@ PYBIND11_MODULE(_lowpair, m) {
       throw;
     } catch (const py::builtin_exception&) {
       throw;
-    } catch (const validation::UsageError& e) {  // a shared check's: "SUBJECT: message", as the CLI prints it
-      PyErr_SetString(error.ptr(), io::oneLine(e.subject() + ": " + e.what()).c_str());
+    } catch (const UsageError& e) {  // "SUBJECT: message", as the CLI prints it
+      PyErr_SetString(error.ptr(), io::oneLine(e.subject().empty() ? std::string(e.what()) : e.subject() + ": " + e.what()).c_str());
     } catch (const std::invalid_argument& e) {
       PyErr_SetString(error.ptr(), io::oneLine(e.what()).c_str());
     } catch (const std::domain_error& e) {
@@ -1410,8 +1318,8 @@ PYBIND11_MODULE(_lowpair, m) {
            "'poe' or 'dh'. A single q equals `lowpair fk --json` bit for bit; the batched form holds the numbers of\n"
            "forwardKinematicsBatch bit for bit, which agree with the single form to rounding (a few eps;\n"
            "docs/python.md). out: an optional preallocated C-contiguous float64 array of the result's shape,\n"
-           "filled and returned. Cost (docs/python.md, \"Speed\"): ~0.4 us per call for one q, ~25 ns per pose\n"
-           "for a large batch. Raises lowpair.Error for a wrong shape or a non-finite value.")
+           "filled and returned. Cost: see docs/python.md, \"Speed\".\n"
+           "Raises lowpair.Error for a wrong shape or a non-finite value.")
       .def("jacobian", &jacobian, py::arg("q"), py::arg("frame") = "spatial",
            "jacobian(q, frame='spatial') -> numpy.ndarray (6, n)\n\n"
            "The manipulator Jacobian at q (n,), as `lowpair jacobian --frame`:\n"
@@ -1679,10 +1587,8 @@ PYBIND11_MODULE(_lowpair, m) {
       .def_property_readonly(
           "q",
           [](const IkSolutions& s) {
-            const int n = s.rows.empty() ? 0 : static_cast<int>(s.rows.front().result.q.size());
-            MatX out(static_cast<Eigen::Index>(s.rows.size()), n);
-            for (size_t k = 0; k < s.rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = s.rows[k].result.q.transpose();
-            return matrixArray(out);
+            const Eigen::Index n = s.rows.empty() ? 0 : s.rows.front().result.q.size();
+            return vectorRows(s.rows, n, [](const validation::IkRow& row) -> const VecX& { return row.result.q; });
           },
           "(N, n): the solutions (or each row's last iterate when not ok), rad / length_unit.")
       .def_property_readonly(
@@ -1696,57 +1602,43 @@ PYBIND11_MODULE(_lowpair, m) {
       .def_property_readonly(
           "ok",
           [](const IkSolutions& s) {
-            py::array_t<bool> out(static_cast<py::ssize_t>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].result.status == IkStatus::Ok;
-            return out;
+            return perRow<bool>(s.rows, [](const validation::IkRow& row) { return row.result.status == IkStatus::Ok; });
           },
           "(N,) bool: status == 'ok' (within 1e-10 L and 1e-10 rad, at a regular configuration).")
       .def_property_readonly(
           "iterations",
           [](const IkSolutions& s) {
-            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].result.iterations;
-            return out;
+            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.result.iterations; });
           },
           "(N,) int: iterations of the kept attempt.")
       .def_property_readonly(
           "position_error",
           [](const IkSolutions& s) {
-            VecX out(static_cast<Eigen::Index>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].result.position_error;
-            return vectorArray(out);
+            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.position_error; });
           },
           "(N,): |p_target - p| at q (length_unit).")
       .def_property_readonly(
           "rotation_error",
           [](const IkSolutions& s) {
-            VecX out(static_cast<Eigen::Index>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].result.rotation_error;
-            return vectorArray(out);
+            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.rotation_error; });
           },
           "(N,): the angle of R^T R_target at q (rad; 0 for positions).")
       .def_property_readonly(
           "rank",
           [](const IkSolutions& s) {
-            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].result.rank;
-            return out;
+            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.result.rank; });
           },
           "(N,) int: rank of the dimensionless task Jacobian at a converged q (-1 when not converged).")
       .def_property_readonly(
           "sigma_min",
           [](const IkSolutions& s) {
-            VecX out(static_cast<Eigen::Index>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out(static_cast<Eigen::Index>(k)) = s.rows[k].result.sigma_min;
-            return vectorArray(out);
+            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.sigma_min; });
           },
           "(N,): its smallest singular value (NaN when not converged).")
       .def_property_readonly(
           "seed",
           [](const IkSolutions& s) {
-            py::array_t<std::int64_t> out(static_cast<py::ssize_t>(s.rows.size()));
-            for (size_t k = 0; k < s.rows.size(); ++k) out.mutable_at(static_cast<py::ssize_t>(k)) = s.rows[k].seed;
-            return out;
+            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.seed; });
           },
           "(N,) int: the random seed s (0..seeds-1) the kept attempt started from; -1 for q0 (ik) and compensate.")
       .def_property_readonly(
@@ -1775,10 +1667,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "q",
           [](const PlanOutcome& p) {
             const std::vector<VecX>& q = p.report.q;
-            const int n = q.empty() ? 0 : static_cast<int>(q.front().size());
-            MatX out(static_cast<Eigen::Index>(q.size()), n);
-            for (size_t k = 0; k < q.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = q[k].transpose();
-            return matrixArray(out);
+            return vectorRows(q, q.empty() ? 0 : q.front().size(), [](const VecX& x) -> const VecX& { return x; });
           },
           "(N, n): the planned joint vectors in index order (what `plan --out` writes; rad / length_unit).")
       .def_property_readonly("criterion", [](const PlanOutcome& p) { return planCriterionName(p.report.plan.criterion); },
@@ -1828,11 +1717,8 @@ PYBIND11_MODULE(_lowpair, m) {
       .def_property_readonly(
           "q",
           [](const Simulation& s) {
-            MatX out(static_cast<Eigen::Index>(s.measurements.size()), s.measurements.front().q.size());
-            for (size_t k = 0; k < s.measurements.size(); ++k) {
-              out.row(static_cast<Eigen::Index>(k)) = s.measurements[k].q.transpose();
-            }
-            return matrixArray(out);
+            return vectorRows(s.measurements, s.measurements.front().q.size(),
+                              [](const Measurement& m) -> const VecX& { return m.q; });
           },
           "(M, n): the joint values of each row (targets: a pose's q repeated on each of its targets' rows).")
       .def_property_readonly(
@@ -1851,7 +1737,7 @@ PYBIND11_MODULE(_lowpair, m) {
             if (s.measure != Measure::Pose) return py::none();
             MatX out(static_cast<Eigen::Index>(s.measurements.size()), 4);
             for (size_t k = 0; k < s.measurements.size(); ++k) {
-              out.row(static_cast<Eigen::Index>(k)) = csvQuaternion(s.measurements[k].T_base_tool.R).transpose();
+              out.row(static_cast<Eigen::Index>(k)) = io::csvQuaternion(s.measurements[k].T_base_tool.R).transpose();
             }
             return matrixArray(out);
           },

@@ -1,9 +1,7 @@
 // identifiability, calibrate (docs/calibration.md).
 #include <algorithm>
-#include <chrono>
 #include <optional>
 #include <cmath>
-#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -12,6 +10,7 @@
 #include "io/atomic_file.hpp"
 #include "validation/calibration_inputs.hpp"
 #include "validation/calibration_output.hpp"
+#include "validation/calibration_run.hpp"
 #include "lowpair/tolerances.hpp"
 #include "cli/commands.hpp"
 #include "lowpair/calibration.hpp"
@@ -54,11 +53,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
     int poses = 50;
     long long seed = 1;
     bool as_json = false, free_pitch = false;
-    std::optional<double> noise_position, noise_rotation;
-    std::string loss = "squared", parameters, select;
-    double outlier_threshold = 5.0;
-    int folds = 5;
-    int repeats = kCrossValidationRepeats;
+    CalibrationRequest calibration;  // calibrate's arguments beyond its files
   };
   auto o = std::make_shared<Options>();
 
@@ -112,22 +107,23 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
   cal->add_option("--measurements", o->measurements, "measurement CSV (lowpair simulate, docs/file_formats.md)")
       ->required();
   cal->add_option("--validation", o->validation, "held-out measurement CSV: residuals before and after");
-  cal->add_option("--noise-position", o->noise_position, "measurement noise, standard deviation per coordinate (length)");
-  cal->add_option("--noise-rotation", o->noise_rotation, "measurement noise, standard deviation per axis (rad)");
-  cal->add_flag("--free-pitch", o->free_pitch, "identify a pitch on revolute joints too (they may come out helical)");
-  cal->add_option("--loss", o->loss, "squared (default), huber or cauchy: robust losses weigh blunders down (IRLS)")
+  CalibrationRequest& request = o->calibration;
+  cal->add_option("--noise-position", request.noise_position, "measurement noise, standard deviation per coordinate (length)");
+  cal->add_option("--noise-rotation", request.noise_rotation, "measurement noise, standard deviation per axis (rad)");
+  cal->add_flag("--free-pitch", request.free_pitch, "identify a pitch on revolute joints too (they may come out helical)");
+  cal->add_option("--loss", request.loss, "squared (default), huber or cauchy: robust losses weigh blunders down (IRLS)")
       ->check(CLI::IsMember({"squared", "huber", "cauchy"}));
-  cal->add_option("--outlier-threshold", o->outlier_threshold,
+  cal->add_option("--outlier-threshold", request.outlier_threshold,
                   "flag a measurement whose normalized residual exceeds this (default 5)")
       ->check(CLI::Range(1e-3, 1e6));
-  cal->add_option("--parameters", o->parameters,
+  cal->add_option("--parameters", request.parameters,
                   "full (default: every identifiable parameter), lines (no scales), offsets (joint offsets, base, "
                   "tool), or a comma list of parameter names");
-  cal->add_option("--select", o->select, "cv: choose full, lines or offsets by repeated k-fold cross-validation")
+  cal->add_option("--select", request.select, "cv: choose full, lines or offsets by repeated k-fold cross-validation")
       ->check(CLI::IsMember({"cv"}));
-  cal->add_option("--folds", o->folds, "folds of --select cv (default 5)")
+  cal->add_option("--folds", request.folds, "folds of --select cv (default 5)")
       ->check(CLI::Range(2, kMaxCrossValidationFolds));
-  cal->add_option("--repeats", o->repeats,
+  cal->add_option("--repeats", request.repeats,
                   "partitions of the poses into folds for --select cv, the first in order, the others shuffled "
                   "(default " + std::to_string(kCrossValidationRepeats) + ")")
       ->check(CLI::Range(1, kMaxCrossValidationRepeats));
@@ -144,13 +140,9 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
       return std::move(r.file);
     };
     MeasurementFile fit = read(o->measurements);
-    if (fit.measurements.size() > static_cast<size_t>(kMaxCalibrationMeasurements) ||
-        identificationEntries(static_cast<double>(fit.measurements.size()), nominal.dof(), 7.0) > kMaxJacobianEntries) {
-      throw RobotFileError(fit.path + ": " + std::to_string(fit.measurements.size()) +
-                           " measurements of " + std::to_string(nominal.dof()) + " joints; calibrate fits at most " +
-                           std::to_string(kMaxCalibrationMeasurements) + " measurements and at most " +
-                           shortest(kMaxJacobianEntries) +
-                           " numbers at once (the Jacobian, 6 rows per measurement, and the SVD's V, columns squared: "
+    if (const auto problem = calibrationSizeProblem(fit.measurements.size(), nominal.dof())) {
+      throw RobotFileError(fit.path + ": " + *problem +
+                           " (the Jacobian, 6 rows per measurement, and the SVD's V, columns squared: "
                            "fit fewer measurements and put the rest in --validation; a robot this long cannot be fitted)");
     }
     std::optional<MeasurementFile> validation;
@@ -165,40 +157,13 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
         throw RobotFileError(validation->path + ": target " + *unknown + " is not measured in " + fit.path);
       }
     }
-    checkStatedNoise(o->noise_position, o->noise_rotation, cliSpelling());
-    if (o->noise_rotation && fit.measure != Measure::Pose) {
-      throw UsageError("--noise-rotation", fit.path + " holds " + measureName(fit.measure) +
-                                               " measurements: there is no rotation to weigh");
-    }
-    CalibrationOptions options;
-    options.measure = fit.measure;
-    options.free_pitch = o->free_pitch;
-    options.sigma_position = o->noise_position;
-    options.sigma_rotation = o->noise_rotation;
-    options.loss = o->loss == "huber" ? Loss::Huber : o->loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
-    options.outlier_threshold = o->outlier_threshold;
-    if (!o->parameters.empty()) {
-      if (!o->select.empty()) throw UsageError("--select", "choose the parameters by --parameters or by --select, not both");
-      parseParameters(o->parameters, options, cliSpelling());
-    }
-    // targets: the CSV's names; a point from the nominal file's targets: list of the same name, else estimated
-    options.targets = nominalTargets(file, fit.target_names);
-    const auto start = std::chrono::steady_clock::now();
-    std::optional<CrossValidation> cv;
-    if (o->select == "cv") {
-      cv = crossValidate(nominal, fit.measurements, options, o->folds, o->repeats);
-      options.parameters = cv->chosen;
-    }
-    const CalibrationResult result = calibrate(nominal, fit.measurements, options);
-    const DhUncertainty dh = dhUncertainty(result);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    CalibrationReport report = makeCalibrationReport(file, std::move(fit), std::move(validation), result, dh, seconds);
-    report.cross_validation = cv;
+    CalibrationRequest request = o->calibration;
+    if (request.parameters && request.parameters->empty()) request.parameters.reset();  // --parameters "": the default
+    CalibrationReport report = runCalibration(file, nominal, std::move(fit), std::move(validation), request, cliSpelling());
     report.notes = notes;
+    const CalibrationResult& result = report.result;
     if (!o->out.empty() && result.accepted) {
-      const std::string name = (file.name.empty() ? std::filesystem::path(file.path).stem().string() : file.name) +
-                               "-calibrated";
-      writeFileAtomically(o->out, formatPoeRobotFile(result.model, file, name,
+      writeFileAtomically(o->out, formatPoeRobotFile(result.model, file, calibratedName(file),
                                                      "calibrated by lowpair calibrate from " + report.fit.path,
                                                      calibrationProvenance(report), calibratedTargets(report)));
     }

@@ -329,7 +329,7 @@ void addIkCommands(CLI::App& app, Commands& commands) {
   ik->add_option("--out", ik_options->out, "write the solutions (q1..qn,residual,status) here, all or nothing");
   ik->add_flag("--json", ik_options->as_json, "print JSON (every row: q, iterations, errors, status, reason)");
   ik->add_option("--seeds", ik_options->seeds, "random seeds per row without q columns, 1 to 1000 (default 8)")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, kMaxIkSeeds));
   ik->add_option("--seed", ik_options->seed, "seed of the random seeds, in [0, 2^53] (default 1)")->check(CLI::Range(0LL, kMaxSeed));
   commands.emplace_back(ik, [ik_options] { return runIk(*ik_options); });
 

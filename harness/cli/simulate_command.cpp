@@ -14,7 +14,6 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <set>
 #include <sstream>
 
 #include "io/atomic_file.hpp"
@@ -39,7 +38,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kMaxPoses = 1000000;
 constexpr int kBlundersPerCommentLine = 20;
 
 struct SimulateOptions {
@@ -153,17 +151,8 @@ Blunders blundersOption(const std::string& text) {
 
 // --targets NAME,...: distinct target names
 std::vector<std::string> targetNames(const std::string& text) {
-  std::vector<std::string> names;
-  std::set<std::string> seen;
-  for (const std::string& name : items(text)) {
-    const std::string problem = targetNameProblem(name);
-    if (!problem.empty()) throw UsageError("--targets", quotedFileText(name) + " " + problem + " (" + kTargetNameRule + ")");
-    if (!seen.insert(name).second) throw UsageError("--targets", quotedFileText(name) + " is given twice");
-    names.push_back(name);
-  }
-  if (names.size() > static_cast<size_t>(kMaxTargets)) {
-    throw UsageError("--targets", std::to_string(names.size()) + " targets, more than " + std::to_string(kMaxTargets));
-  }
+  std::vector<std::string> names = items(text);
+  checkTargetList(names, cliSpelling());
   return names;
 }
 
@@ -185,25 +174,8 @@ MeasuredTargets measuredTargets(const SimulateOptions& o, const Truth& truth) {
     t.source = "MuJoCo sites fixed to '" + o.robot.tip + "', their points in its frame at qpos0";
     return t;
   }
-  if (truth.file_targets.empty()) {
-    throw UsageError(o.robot.path, "--measure targets: the robot file lists no targets (a 'targets:' list of {name, point})");
-  }
-  if (!o.targets) {
-    for (const Target& target : truth.file_targets) t.names.push_back(target.name);
-  } else {
-    t.names = targetNames(*o.targets);
-  }
-  for (const std::string& name : t.names) {
-    const Target* found = nullptr;
-    for (const Target& target : truth.file_targets) found = target.name == name ? &target : found;
-    if (!found) {
-      std::string known;
-      for (const Target& target : truth.file_targets) known += (known.empty() ? "" : ", ") + target.name;
-      throw UsageError("--targets", quotedFileText(name) + " is not a target of " + o.robot.path + " (its targets: " +
-                                        known + ")");
-    }
-    t.points.push_back(*found->point_tool);
-  }
+  const auto names = o.targets ? std::optional(items(*o.targets)) : std::nullopt;
+  t.names = robotFileTargets(truth.file_targets, names, o.robot.path, cliSpelling(), t.points);
   t.source = "the targets: of " + o.robot.path + " (tool frame)";
   return t;
 }
@@ -363,7 +335,7 @@ void addSimulateCommand(CLI::App& app, Commands& commands) {
                                  "measurements of the tool frame (CSV) at random joint vectors or at those of a CSV");
   addRobotArgument(*sub, o->robot);
   auto* poses = sub->add_option("--poses", o->poses, "number of random poses (joint vectors), 1 to 1000000")
-                    ->check(CLI::Range(1, kMaxPoses));
+                    ->check(CLI::Range(1, kMaxSimulatedPoses));
   auto* q_file = sub->add_option("--q-file", o->q_file,
                                  "measure exactly the joint vectors of this CSV instead (its q1..qn columns, e.g. "
                                  "lowpair plan --out or a measurement file; other columns ignored)");

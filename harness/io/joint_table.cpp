@@ -15,8 +15,6 @@ namespace lowpair::io {
 
 namespace {
 
-constexpr double kUnitQuaternionTolerance = 1e-6;  // as the measurement reader
-
 // A token as a number (csv_text.hpp). @param fail throws "FILE:LINE: what"
 template <class Fail>
 double number(const std::string& token, const Fail& fail) {
@@ -98,12 +96,10 @@ JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof
       if (table.pose) {
         double w[4];
         for (int i = 0; i < 4; ++i) w[i] = number(fields[x + 3 + static_cast<size_t>(i)], fail);
-        const Eigen::Quaterniond quaternion(w[0], w[1], w[2], w[3]);
-        const double norm = quaternion.norm();
-        if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) {
-          fail("qw..qz is not a unit quaternion (norm " + shortest(norm) + ")");
-        }
-        T.R = quaternion.normalized().toRotationMatrix();
+        double norm = 0.0;
+        const std::optional<Mat3> R = unitQuaternionRotation(w[0], w[1], w[2], w[3], norm);
+        if (!R) fail("qw..qz is not a unit quaternion (norm " + shortest(norm) + ")");
+        T.R = *R;
       }
       table.targets.push_back(T);
     }

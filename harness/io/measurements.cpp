@@ -24,7 +24,6 @@ namespace lowpair::io {
 namespace {
 
 const char* const kExpectedColumns = "(expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)";
-constexpr double kUnitQuaternionTolerance = 1e-6;
 
 // Text from the file for a message (robot_file.hpp).
 std::string quoted(const std::string& text) { return quotedFileText(text); }
@@ -74,23 +73,6 @@ double parseNumber(const std::string& token, const Fail& fail) {
   return x;
 }
 
-// The index of target `name` in file.target_names, a new name appended. @param fail throws "FILE:LINE: what"
-template <class Fail>
-int targetIndex(const std::string& name, MeasurementFile& file, std::unordered_map<std::string, int>& index,
-                const Fail& fail) {
-  if (const auto it = index.find(name); it != index.end()) return it->second;
-  if (const std::string problem = targetNameProblem(name); !problem.empty()) {
-    fail("target " + quoted(name) + " " + problem + " (" + kTargetNameRule + ")");
-  }
-  if (file.target_names.size() >= static_cast<size_t>(kMaxTargets)) {
-    fail("more than " + std::to_string(kMaxTargets) + " distinct target names");
-  }
-  const int k = static_cast<int>(file.target_names.size());
-  file.target_names.push_back(name);
-  index.emplace(name, k);
-  return k;
-}
-
 // The names formatMeasurements writes: for Targets, names readMeasurements reads back as they are (valid,
 // distinct, at most kMaxTargets); for the other measures, none.
 void checkTargetNames(Measure measure, const std::vector<std::string>& target_names) {
@@ -122,6 +104,30 @@ void appendNumber(std::string& out, double x) {
 
 }  // namespace
 
+std::optional<Mat3> unitQuaternionRotation(double w, double x, double y, double z, double& norm) {
+  const Eigen::Quaterniond quaternion(w, x, y, z);
+  norm = quaternion.norm();
+  if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) return std::nullopt;
+  return quaternion.normalized().toRotationMatrix();
+}
+
+Eigen::Vector4d csvQuaternion(const Mat3& R) {
+  Eigen::Quaterniond quaternion(R);
+  quaternion.normalize();
+  if (quaternion.w() < 0) quaternion.coeffs() *= -1.0;
+  return {quaternion.w(), quaternion.x(), quaternion.y(), quaternion.z()};
+}
+
+int TargetNumbering::number(const std::string& name, std::string& problem) {
+  if (const auto it = indices.find(name); it != indices.end()) return it->second;
+  problem = targetNameProblem(name);
+  if (!problem.empty() || names.size() >= static_cast<size_t>(kMaxTargets)) return -1;
+  const int k = static_cast<int>(names.size());
+  names.push_back(name);
+  indices.emplace(name, k);
+  return k;
+}
+
 bool isUnitLabel(const std::string& unit) {
   return !unit.empty() && unit.size() <= 16 && std::all_of(unit.begin(), unit.end(), [](char c) { return c > ' ' && c < 127; });
 }
@@ -142,7 +148,7 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
   std::vector<std::string> fields;
   bool have_header = false;
   Columns columns;
-  std::unordered_map<std::string, int> target_index;  // name -> index into file.target_names
+  TargetNumbering targets;  // the target column's names, numbered
   while (lines.next(line)) {
     if (lines.number() > kMaxMeasurementLines) {
       fail("more than " + std::to_string(kMaxMeasurementLines) + " lines (comments and blank lines count)");
@@ -175,25 +181,34 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
     m.q.resize(n);
     for (int i = 0; i < n; ++i) m.q[i] = parseNumber(fields[static_cast<size_t>(i)], fail);
     const int xyz = columns.measure == Measure::Targets ? n + 1 : n;  // the column of x
-    if (columns.measure == Measure::Targets) m.target = targetIndex(fields[static_cast<size_t>(n)], file, target_index, fail);
+    if (columns.measure == Measure::Targets) {
+      const std::string& name = fields[static_cast<size_t>(n)];
+      std::string problem;
+      m.target = targets.number(name, problem);
+      if (m.target < 0) {
+        fail(problem.empty() ? "more than " + std::to_string(kMaxTargets) + " distinct target names"
+                             : "target " + quoted(name) + " " + problem + " (" + kTargetNameRule + ")");
+      }
+    }
     for (int i = 0; i < 3; ++i) m.T_base_tool.p[i] = parseNumber(fields[static_cast<size_t>(xyz + i)], fail);
     if (columns.measure == Measure::Pose) {
       double w[4];
       for (int i = 0; i < 4; ++i) w[i] = parseNumber(fields[static_cast<size_t>(n + 3 + i)], fail);
-      Eigen::Quaterniond quaternion(w[0], w[1], w[2], w[3]);
-      const double norm = quaternion.norm();
-      if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) {
+      double norm = 0.0;
+      const std::optional<Mat3> R = unitQuaternionRotation(w[0], w[1], w[2], w[3], norm);
+      if (!R) {
         char text[32];
         std::snprintf(text, sizeof text, "%.9g", norm);
         fail(std::string("qw..qz is not a unit quaternion (norm ") + text + ")");
       }
-      m.T_base_tool.R = quaternion.normalized().toRotationMatrix();
+      m.T_base_tool.R = *R;
     }
     file.measurements.push_back(std::move(m));
     file.lines.push_back(lines.number());
   }
   if (!have_header) throw RobotFileError(path + ": no header line " + kExpectedColumns);
   if (file.measurements.empty()) throw RobotFileError(path + ": no measurements");
+  file.target_names = std::move(targets.names);
   return file;
 }
 
@@ -237,12 +252,10 @@ std::string formatMeasurements(Measure measure, const std::vector<Measurement>& 
       appendNumber(out, m.T_base_tool.p[i]);
     }
     if (measure == Measure::Pose) {
-      Eigen::Quaterniond quaternion(m.T_base_tool.R);
-      quaternion.normalize();
-      if (quaternion.w() < 0) quaternion.coeffs() *= -1.0;
-      for (double c : {quaternion.w(), quaternion.x(), quaternion.y(), quaternion.z()}) {
+      const Eigen::Vector4d quaternion = csvQuaternion(m.T_base_tool.R);
+      for (int i = 0; i < 4; ++i) {
         out += ',';
-        appendNumber(out, c);
+        appendNumber(out, quaternion[i]);
       }
     }
     out += '\n';

@@ -40,7 +40,9 @@
 /// written (their indices in order of first appearance in the file).
 
 #include <functional>
+#include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "io/csv_text.hpp"
@@ -65,6 +67,26 @@ constexpr int kMaxMeasurements = 1000000;
 constexpr int kMaxMeasurementJoints = 1000;
 constexpr size_t kMaxMeasurementLineBytes = kMaxCsvLineBytes;  ///< 65,536 (csv_text.hpp)
 constexpr long long kMaxMeasurementJointValues = 100000000;
+
+/// A quaternion qw..qz is a unit quaternion when its norm is within this of 1 (it is then normalized): the rule
+/// of every reader of quaternion columns (measurement, target and pose CSVs) and of the Python module's arrays.
+constexpr double kUnitQuaternionTolerance = 1e-6;
+
+/// The rotation of the quaternion (w, x, y, z), scalar first, normalized, when its norm is within
+/// kUnitQuaternionTolerance of 1; else nothing. `norm` is set to its norm (for the caller's message).
+std::optional<Mat3> unitQuaternionRotation(double w, double x, double y, double z, double& norm);
+
+/// The quaternion qw, qx, qy, qz the writer prints for the rotation R: normalized, qw >= 0.
+Eigen::Vector4d csvQuaternion(const Mat3& R);
+
+/// Target names numbered in order of first appearance, as the reader numbers the `target` column.
+struct TargetNumbering {
+  std::vector<std::string> names;                ///< in order of first appearance
+  std::unordered_map<std::string, int> indices;  ///< name -> index into names
+  /// The index of `name`, a new name numbered next; -1 when the name is new and not a target name
+  /// (`problem`: its targetNameProblem) or kMaxTargets names are numbered already (`problem` empty).
+  int number(const std::string& name, std::string& problem);
+};
 
 /// A unit label a `# length_unit: U` comment can hold: one token of 1-16 printable ASCII characters.
 bool isUnitLabel(const std::string& unit);

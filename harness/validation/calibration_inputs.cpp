@@ -26,6 +26,23 @@ std::vector<OutsideRange> jointValuesOutsideRanges(const PoeModel& nominal, cons
   return out;
 }
 
+int checkJointRanges(const PoeModel& nominal, const std::vector<Measurement>& measurements, const std::string& robot_name,
+                     const std::function<std::string(const OutsideRange&)>& where,
+                     const std::function<void(const std::string&)>& refuse,
+                     const std::function<void(const std::string&)>& warn) {
+  int outside = 0;
+  for (const OutsideRange& x : jointValuesOutsideRanges(nominal, measurements)) {
+    const std::string text = where(x) + " = " + io::shortest(x.q) + " is outside joint " + std::to_string(x.joint + 1) +
+                             "'s range [" + io::shortest(x.range[0]) + ", " + io::shortest(x.range[1]) + "] of " +
+                             robot_name;
+    if (x.far) {
+      refuse(text + " by more than " + io::shortest(kFarOutsideRange) + " times its width: a wrong column or unit?");
+    }
+    if (outside++ < kMaxRangeWarnings) warn(text);
+  }
+  return outside;
+}
+
 CalibrationMeasurements readCalibrationMeasurements(const std::string& path, const io::RobotFile& robot,
                                                     const std::string& robot_name, const PoeModel& nominal,
                                                     const std::function<void(const std::string&)>& warn) {
@@ -49,18 +66,12 @@ CalibrationMeasurements readCalibrationMeasurements(const std::string& path, con
   check_matches(m);  // a length_unit comment may also follow the header
   // joint values outside the nominal's ranges: a warning each (the first few), an error beyond
   // kFarOutsideRange range widths (a wrong column or unit, never fitted silently)
-  int outside = 0;
-  for (const OutsideRange& x : jointValuesOutsideRanges(nominal, m.measurements)) {
-    const std::string where = m.path + ":" + std::to_string(m.lines[x.row]) + ": q" + std::to_string(x.joint + 1) +
-                              " = " + io::shortest(x.q) + " is outside joint " + std::to_string(x.joint + 1) +
-                              "'s range [" + io::shortest(x.range[0]) + ", " + io::shortest(x.range[1]) + "] of " +
-                              robot_name;
-    if (x.far) {
-      throw io::RobotFileError(where + " by more than " + io::shortest(kFarOutsideRange) +
-                               " times its width: a wrong column or unit?");
-    }
-    if (outside++ < kMaxRangeWarnings) warn(where);
-  }
+  const int outside = checkJointRanges(
+      nominal, m.measurements, robot_name,
+      [&](const OutsideRange& x) {
+        return m.path + ":" + std::to_string(m.lines[x.row]) + ": q" + std::to_string(x.joint + 1);
+      },
+      [](const std::string& text) { throw io::RobotFileError(text); }, warn);
   if (outside > kMaxRangeWarnings) warn(m.path + ": " + std::to_string(outside) + " joint values outside the ranges in all");
   // a CSV in another unit lowpair knows: its lengths converted to the nominal's (one note says so)
   if (!m.length_unit.empty() && !robot.length_unit.empty() && m.length_unit != robot.length_unit) {

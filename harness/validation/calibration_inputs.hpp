@@ -22,6 +22,9 @@ namespace lowpair::validation {
 /// fitted silently.
 constexpr double kFarOutsideRange = 10.0;
 
+/// At most this many joint values outside the ranges are warned about one by one (then their count).
+constexpr int kMaxRangeWarnings = 5;
+
 /// A measurement's joint value outside the nominal's range of that joint.
 struct OutsideRange {
   size_t row = 0;  ///< index into the measurements
@@ -33,6 +36,17 @@ struct OutsideRange {
 
 /// Every joint value of `measurements` outside the nominal's ranges, row by row, joint by joint.
 std::vector<OutsideRange> jointValuesOutsideRanges(const PoeModel& nominal, const std::vector<Measurement>& measurements);
+
+/// Checks the joint values of `measurements` against the nominal's ranges (jointValuesOutsideRanges): each
+/// value outside is described as "WHERE = Q is outside joint J's range [LO, HI] of ROBOT" (WHERE from `where`,
+/// ROBOT `robot_name`); the first beyond kFarOutsideRange range widths goes to `refuse` (which throws) with
+/// " by more than 10 times its width: a wrong column or unit?" appended, nearer ones before it to `warn`
+/// (the first kMaxRangeWarnings of them).
+/// @return how many values are outside (a caller says how many in all when more than kMaxRangeWarnings)
+int checkJointRanges(const PoeModel& nominal, const std::vector<Measurement>& measurements, const std::string& robot_name,
+                     const std::function<std::string(const OutsideRange&)>& where,
+                     const std::function<void(const std::string&)>& refuse,
+                     const std::function<void(const std::string&)>& warn);
 
 /// A measurement CSV read for a calibration of the robot file `robot` (its POE model `nominal`, named
 /// `robot_name` in messages), as `lowpair calibrate` reads --measurements and --validation: the header is
@@ -46,7 +60,6 @@ struct CalibrationMeasurements {
   io::MeasurementFile file;
   std::vector<std::string> notes;  ///< one line each, without "note: "
 };
-constexpr int kMaxRangeWarnings = 5;
 /// @throws io::RobotFileError `FILE[:LINE]: what` (the reader's errors, and the checks above)
 CalibrationMeasurements readCalibrationMeasurements(const std::string& path, const io::RobotFile& robot,
                                                     const std::string& robot_name, const PoeModel& nominal,

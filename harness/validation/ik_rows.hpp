@@ -13,6 +13,9 @@
 
 namespace lowpair::validation {
 
+/// Upper bound on the random seeds per row of `ik` (the CLI's --seeds, Python's seeds=); at least 1.
+constexpr int kMaxIkSeeds = 1000;
+
 /// One row of `ik` or `compensate`: the solver's result, the seed it came from and where the row was given.
 struct IkRow {
   IkResult result;

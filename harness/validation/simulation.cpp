@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "io/output.hpp"
 #include "lowpair/tolerances.hpp"
@@ -26,6 +27,49 @@ UsageError tooLarge(const std::string& subject, size_t row) {
 bool beyondReader(const Measurement& m) { return !(m.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude); }
 
 }  // namespace
+
+void checkTargetList(const std::vector<std::string>& names, const ArgumentSpelling& spelling) {
+  std::set<std::string> seen;
+  for (const std::string& name : names) {
+    const std::string problem = io::targetNameProblem(name);
+    if (!problem.empty()) {
+      throw UsageError(spelling.name("targets"), io::quotedFileText(name) + " " + problem + " (" + io::kTargetNameRule + ")");
+    }
+    if (!seen.insert(name).second) throw UsageError(spelling.name("targets"), io::quotedFileText(name) + " is given twice");
+  }
+  if (names.size() > static_cast<size_t>(io::kMaxTargets)) {
+    throw UsageError(spelling.name("targets"),
+                     std::to_string(names.size()) + " targets, more than " + std::to_string(io::kMaxTargets));
+  }
+}
+
+std::vector<std::string> robotFileTargets(const std::vector<Target>& file_targets,
+                                          const std::optional<std::vector<std::string>>& names,
+                                          const std::string& robot_subject, const ArgumentSpelling& spelling,
+                                          std::vector<Vec3>& points) {
+  if (file_targets.empty()) {
+    throw UsageError(robot_subject, spelling.setting("measure", "targets") +
+                                        ": the robot file lists no targets (a 'targets:' list of {name, point})");
+  }
+  std::vector<std::string> out;
+  if (names) {
+    checkTargetList(*names, spelling);
+    out = *names;
+  } else {
+    for (const Target& t : file_targets) out.push_back(t.name);
+  }
+  for (const std::string& name : out) {
+    const auto it = std::find_if(file_targets.begin(), file_targets.end(), [&](const Target& t) { return t.name == name; });
+    if (it == file_targets.end()) {
+      std::string known;
+      for (const Target& t : file_targets) known += (known.empty() ? "" : ", ") + t.name;
+      throw UsageError(spelling.name("targets"), io::quotedFileText(name) + " is not a target of " + robot_subject +
+                                                     " (its targets: " + known + ")");
+    }
+    points.push_back(*it->point_tool);
+  }
+  return out;
+}
 
 void checkSimulationArguments(Measure measure, double noise_position, double noise_rotation, bool targets_given,
                               const ArgumentSpelling& spelling) {

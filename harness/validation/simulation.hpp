@@ -9,10 +9,27 @@
 #include <vector>
 
 #include "io/measurements.hpp"
+#include "io/robot_file.hpp"
 #include "validation/arguments.hpp"
 #include "validation/sampling.hpp"
 
 namespace lowpair::validation {
+
+/// Upper bound on the random poses of a simulation (the CLI's --poses, Python's poses=).
+constexpr int kMaxSimulatedPoses = 1000000;
+
+/// Checks the target names a caller lists: each a target name (io::targetNameProblem), none twice, at most
+/// io::kMaxTargets. @throws UsageError naming targets as `spelling` spells it
+void checkTargetList(const std::vector<std::string>& names, const ArgumentSpelling& spelling);
+
+/// The targets measured of a robot file's `targets:` list: all, in the file's order, or those `names` lists
+/// (checkTargetList), in the order listed; `points` gets each one's point in the tool frame.
+/// @param robot_subject the robot file, named in messages
+/// @throws UsageError: the file lists no targets (subject `robot_subject`), a bad or unknown name (targets)
+std::vector<std::string> robotFileTargets(const std::vector<Target>& file_targets,
+                                          const std::optional<std::vector<std::string>>& names,
+                                          const std::string& robot_subject, const ArgumentSpelling& spelling,
+                                          std::vector<Vec3>& points);
 
 /// Checks the noise levels (each finite and in [0, limit]: 1e100 length, pi rad), that rotation noise goes
 /// with pose measurements only, and that a target list (`targets_given`) goes with target measurements.

@@ -1,6 +1,7 @@
 """lowpair.simulate and tracker calibration (target measurements, robust loss, cross-validation) against the CLI
 (docs/calibration.md "Tracker data")."""
 import json
+import re
 import warnings
 
 import numpy as np
@@ -289,3 +290,39 @@ def test_read_measurements_for_a_robot_converts_and_checks(tracker_data, tmp_pat
     furlong.write_text("# length_unit: furlong\n" + "".join(l for l in open(fit_csv) if "length_unit" not in l))
     with pytest.raises(lowpair.Error, match=r"lengths in furlong \(its length_unit comment\) but [^ ]+ is in mm"):
         lowpair.read_measurements(str(furlong), calibrated)
+
+
+def test_simulate_caps_the_target_list(tracker_robot):
+    # at most 1000 targets, as the CLI's --targets (checked after each name's own checks)
+    names = [f"t{k}" for k in range(1001)]
+    with pytest.raises(lowpair.Error, match=r"^targets: 1001 targets, more than 1000$"):
+        lowpair.simulate(lowpair.load(tracker_robot), poses=1, measure="targets", targets=names)
+    status, _, err = run_cli("simulate", tracker_robot, "--poses", "1", "--measure", "targets", "--targets",
+                             ",".join(names), check=False)
+    assert status == 2 and err.strip() == "error: --targets: 1001 targets, more than 1000"
+
+
+def test_calibrate_warns_about_joint_values_just_outside_the_ranges():
+    # as read_measurements warns for a file: each value outside a range (the first five, then the count)
+    corke = lowpair.load("models/puma560_corke.yaml")  # joint 1's range [-2.7925, 2.7925] rad
+    sim = lowpair.simulate(corke, poses=30, seed=2, measure="position")
+    q = sim.q.copy()
+    q[3, 0] = 2.9
+    outside = r"is outside joint 1's range \[-2\.79\d*, 2\.79\d*\] of models/puma560_corke\.yaml"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        lowpair.calibrate(corke, q, sim.positions)
+    texts = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    assert len(texts) == 1 and re.fullmatch(r"q: \[3, 0\] = 2\.9 " + outside, texts[0])
+    held_out = sim.q.copy()
+    held_out[:7, 0] = 2.9
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        lowpair.calibrate(corke, sim.q, sim.positions, validation_q=held_out, validation_positions=sim.positions)
+    texts = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    assert len(texts) == 6 and all(re.fullmatch(rf"validation_q: \[{k}, 0\] = 2\.9 " + outside, texts[k]) for k in range(5))
+    assert texts[5] == "validation_q: 7 joint values outside the ranges in all"
+    with warnings.catch_warnings():  # -W error: the first warning raises, as a UserWarning, before the fit
+        warnings.simplefilter("error")
+        with pytest.raises(UserWarning, match=r"^q: \[3, 0\] = 2\.9 "):
+            lowpair.calibrate(corke, q, sim.positions)

@@ -1,0 +1,83 @@
+// The fit of calibrate for the CLI and the Python module (calibration_run.hpp).
+#include "validation/calibration_run.hpp"
+
+#include <chrono>
+#include <filesystem>
+
+#include "io/output.hpp"
+#include "validation/calibration_inputs.hpp"
+
+namespace lowpair::validation {
+
+std::optional<std::string> calibrationSizeProblem(size_t measurements, int dof) {
+  if (measurements <= static_cast<size_t>(kMaxCalibrationMeasurements) &&
+      identificationEntries(static_cast<double>(measurements), dof, 7.0) <= kMaxJacobianEntries) {
+    return std::nullopt;
+  }
+  return std::to_string(measurements) + " measurements of " + std::to_string(dof) + " joints; calibrate fits at most " +
+         std::to_string(kMaxCalibrationMeasurements) + " measurements and at most " + io::shortest(kMaxJacobianEntries) +
+         " numbers at once";
+}
+
+CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeModel& nominal, io::MeasurementFile fit,
+                                 std::optional<io::MeasurementFile> validation, const CalibrationRequest& request,
+                                 const ArgumentSpelling& spelling) {
+  const CalibrationRequest& a = request;
+  checkStatedNoise(a.noise_position, a.noise_rotation, spelling);
+  if (a.noise_rotation && fit.measure != Measure::Pose) {
+    throw UsageError(spelling.name("noise_rotation"), fit.path + " holds " + measureName(fit.measure) +
+                                                          " measurements: there is no rotation to weigh");
+  }
+  if (!(a.outlier_threshold >= 1e-3 && a.outlier_threshold <= 1e6)) {
+    throw UsageError(spelling.name("outlier_threshold"), "must be in [0.001, 1e6], got " + io::shortest(a.outlier_threshold));
+  }
+  if (a.loss != "squared" && a.loss != "huber" && a.loss != "cauchy") {
+    throw UsageError(spelling.name("loss"), "expected 'squared', 'huber' or 'cauchy', got '" + a.loss + "'");
+  }
+  if (a.select && *a.select != "cv") {
+    throw UsageError(spelling.name("select"), "expected 'cv' or None, got '" + *a.select + "'");
+  }
+  if (!(a.folds >= 2 && a.folds <= kMaxCrossValidationFolds)) {
+    throw UsageError(spelling.name("folds"), "must be in [2, " + std::to_string(kMaxCrossValidationFolds) + "], got " +
+                                                 std::to_string(a.folds));
+  }
+  if (!(a.repeats >= 1 && a.repeats <= kMaxCrossValidationRepeats)) {
+    throw UsageError(spelling.name("repeats"), "must be in [1, " + std::to_string(kMaxCrossValidationRepeats) +
+                                                   "], got " + std::to_string(a.repeats));
+  }
+  CalibrationOptions options;
+  options.measure = fit.measure;
+  options.free_pitch = a.free_pitch;
+  options.sigma_position = a.noise_position;
+  options.sigma_rotation = a.noise_rotation;
+  options.loss = a.loss == "huber" ? Loss::Huber : a.loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
+  options.outlier_threshold = a.outlier_threshold;
+  if (a.parameters) {
+    if (a.select) {
+      throw UsageError(spelling.name("select"), "choose the parameters by " + spelling.name("parameters") + " or by " +
+                                                    spelling.name("select") + ", not both");
+    }
+    parseParameters(*a.parameters, options, spelling);
+  }
+  // targets: the fit's names; a point from the nominal's targets: list of the same name, else estimated
+  options.targets = nominalTargets(nominal_file, fit.target_names);
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<CrossValidation> cv;
+  if (a.select) {
+    cv = crossValidate(nominal, fit.measurements, options, a.folds, a.repeats);
+    options.parameters = cv->chosen;
+  }
+  CalibrationResult result = calibrate(nominal, fit.measurements, options);
+  DhUncertainty dh = dhUncertainty(result);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CalibrationReport report = makeCalibrationReport(nominal_file, std::move(fit), std::move(validation), std::move(result),
+                                                   std::move(dh), seconds);
+  report.cross_validation = std::move(cv);
+  return report;
+}
+
+std::string calibratedName(const io::RobotFile& nominal) {
+  return (nominal.name.empty() ? std::filesystem::path(nominal.path).stem().string() : nominal.name) + "-calibrated";
+}
+
+}  // namespace lowpair::validation

@@ -1,0 +1,50 @@
+#pragma once
+/// @file calibration_run.hpp
+/// The fit of `lowpair calibrate`, shared by the CLI and the Python module's lowpair.calibrate: the size
+/// limit, the checks of the arguments, the options filled from them, the optional cross-validation, the fit,
+/// the D-H uncertainty and the report; and the name of the calibrated robot.
+
+#include <optional>
+#include <string>
+
+#include "io/measurements.hpp"
+#include "io/robot_file.hpp"
+#include "lowpair/calibration.hpp"
+#include "validation/arguments.hpp"
+#include "validation/calibration_output.hpp"
+
+namespace lowpair::validation {
+
+/// The arguments of a calibration beyond its measurements, as the CLI's options and Python's keywords give
+/// them (named in messages by their Python names, as an ArgumentSpelling spells them).
+struct CalibrationRequest {
+  std::optional<double> noise_position, noise_rotation;  ///< stated noise: length, rad
+  bool free_pitch = false;
+  std::string loss = "squared";                   ///< squared, huber or cauchy
+  double outlier_threshold = 5.0;                 ///< in [1e-3, 1e6]
+  std::optional<std::string> parameters, select;  ///< parseParameters' text; select: "cv"
+  int folds = 5;                                  ///< in [2, kMaxCrossValidationFolds]
+  int repeats = kCrossValidationRepeats;          ///< in [1, kMaxCrossValidationRepeats]
+};
+
+/// What is wrong with fitting `measurements` measurements of a `dof`-joint robot at once (more than
+/// kMaxCalibrationMeasurements, or an identification above kMaxJacobianEntries), without a subject; nothing
+/// when it fits.
+std::optional<std::string> calibrationSizeProblem(size_t measurements, int dof);
+
+/// Checks `request` against the fit's measurements (stated noise, rotation noise with pose measurements
+/// only, the ranges and choices, parameters or select but not both), fills the options, chooses the
+/// parameters by cross-validation when select is "cv", fits, and makes the report (its `seconds`: the
+/// cross-validation, the fit and the D-H uncertainty). The validation set's targets must already be the
+/// fit's (mapValidationTargets).
+/// @param nominal_file the nominal robot file (its targets: start the fit's targets of the same names)
+/// @param nominal its POE model
+/// @throws UsageError naming the argument as `spelling` spells it; std::invalid_argument as calibrate does
+CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeModel& nominal, io::MeasurementFile fit,
+                                 std::optional<io::MeasurementFile> validation, const CalibrationRequest& request,
+                                 const ArgumentSpelling& spelling);
+
+/// The name of the robot a calibration of `nominal` makes: its name (else its file's stem) + "-calibrated".
+std::string calibratedName(const io::RobotFile& nominal);
+
+}  // namespace lowpair::validation
