@@ -2,6 +2,7 @@
 /// @file output.hpp
 /// JSON and human-readable renderings of models, conversions and poses (the CLI's contract, README).
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
@@ -15,6 +16,8 @@ namespace lowpair::io {
 /// `j` as indented JSON text (one space). Strings that are not valid UTF-8 (a name read from a file) are
 /// written with U+FFFD in place of the invalid bytes instead of failing the command.
 std::string jsonText(const nlohmann::json& j);
+/// A number as JSON, null where it is not finite (JSON has no inf or NaN: an undetermined deviation, no redundancy).
+inline nlohmann::json finiteOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
 nlohmann::json poseJson(const Pose& T);
 /// The table with its conditioning, the FK check `check` of it and the warnings (conversionWarnings).

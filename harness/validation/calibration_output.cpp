@@ -24,8 +24,6 @@ constexpr double kVarianceFactorLow = 0.25;
 // normal approximation 1 + 3.09 sqrt(2 / f) (a correct noise model exceeds it once in a thousand fits).
 double chiSquareBound(double f) { return 1.0 + 3.09 * std::sqrt(2.0 / std::max(f, 1.0)); }
 
-json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
 std::string lengthUnit(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
 
 std::string pitchUnit(const RobotFile& file) { return lengthUnit(file) + "/" + file.angle_unit; }

@@ -61,7 +61,7 @@ json ikRowsJson(const std::vector<IkRow>& rows, bool with_seed) {
               {"position_error", r.position_error},
               {"rotation_error", r.rotation_error},
               {"rank", r.rank},
-              {"sigma_min", std::isfinite(r.sigma_min) ? json(r.sigma_min) : json(nullptr)},
+              {"sigma_min", io::finiteOrNull(r.sigma_min)},
               {"reason", r.reason}};
     if (with_seed) j["seed"] = row.seed < 0 ? json("file") : json(row.seed);
     out.push_back(std::move(j));

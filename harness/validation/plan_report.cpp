@@ -26,8 +26,6 @@ Spread spread(std::vector<double> x) {
   return {n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]), x.back()};
 }
 
-json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
 }  // namespace
 
 PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request, const ArgumentSpelling& spelling) {
@@ -135,15 +133,15 @@ json planJson(const PlanReport& r, const std::string& out_path) {
     undetermined.push_back(terms);
   }
   auto value = [&](const PlanValue& v) {
-    return json{{"log_det", finiteOrNull(v.log_det)}, {"O1", v.o1}, {"rank", v.rank},
-                {"criterion", finiteOrNull(v.criterion(r.criterion))}};
+    return json{{"log_det", io::finiteOrNull(v.log_det)}, {"O1", v.o1}, {"rank", v.rank},
+                {"criterion", io::finiteOrNull(v.criterion(r.criterion))}};
   };
-  auto spreadJson = [](const Spread& s) { return json{{"median", finiteOrNull(s.median)}, {"best", finiteOrNull(s.best)}}; };
+  auto spreadJson = [](const Spread& s) { return json{{"median", io::finiteOrNull(s.median)}, {"best", io::finiteOrNull(s.best)}}; };
   const CalibrationResult& c = r.expected->calibration;
   json parameters = json::array();
   for (size_t k = 0; k < names.size(); ++k) {
     const Parameter& x = c.error_model.parameters()[k];
-    parameters.push_back({{"name", x.name}, {"unit", x.unit}, {"sd", finiteOrNull(c.standard_deviation[static_cast<Eigen::Index>(k)])}});
+    parameters.push_back({{"name", x.name}, {"unit", x.unit}, {"sd", io::finiteOrNull(c.standard_deviation[static_cast<Eigen::Index>(k)])}});
   }
   json q = json::array();
   for (const VecX& x : r.q) q.push_back(io::toVector(x));
@@ -178,7 +176,7 @@ json planJson(const PlanReport& r, const std::string& out_path) {
   o["candidate_rank"] = p.candidate_rank;
   o["parameters"] = names;
   o["singular_values"] = io::toVector(p.rank.singular_values);
-  o["condition"] = finiteOrNull(p.rank.condition);
+  o["condition"] = io::finiteOrNull(p.rank.condition);
   o["undetermined"] = undetermined;
   o["indices"] = p.indices;
   o["q"] = q;

@@ -32,8 +32,6 @@ std::vector<size_t> oneBased(const std::vector<size_t>& rows) {
   return out;
 }
 
-json finiteOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
 // count, RMS and max position (and rotation for a pose task: null otherwise; null for a number not measured)
 json statisticsJson(const ResidualStatistics& s, bool rotation) {
   return {{"count", s.count},
