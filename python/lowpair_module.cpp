@@ -561,12 +561,6 @@ Singularity singular(const Robot& r, const InArray& q) {
 
 // ----- identifiability ---------------------------------------------------------------------------------
 
-Measure parseMeasure(const std::string& text) {
-  if (text == "pose") return Measure::Pose;
-  if (text == "position") return Measure::Position;
-  if (text == "targets") return Measure::Targets;
-  throw UsageError("measure", "expected 'pose', 'position' or 'targets', got '" + text + "'");
-}
 
 std::vector<Vec3> fileTargets(const io::RobotFile& file) {
   if (file.targets.empty()) {
@@ -584,7 +578,7 @@ struct IdentifiabilityResult {
 
 IdentifiabilityResult identifiability(const Robot& r, const std::string& measure_text, int poses, long long seed,
                                       bool free_pitch) {
-  const Measure measure = parseMeasure(measure_text);
+  const Measure measure = validation::parseMeasure(measure_text, pythonSpelling());
   if (poses < 1 || poses > validation::kMaxIdentifiabilityPoses) {
     throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxIdentifiabilityPoses) + "], got " +
                                   std::to_string(poses));
@@ -975,7 +969,7 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
     throw UsageError("criterion", "expected 'D' or 'O1', got '" + criterion_text + "'");
   }
   validation::PlanRequest request;
-  request.measure = parseMeasure(measure_text);
+  request.measure = validation::parseMeasure(measure_text, pythonSpelling());
   request.criterion = criterion_text == "O1" ? PlanCriterion::O1 : PlanCriterion::D;
   request.poses = poses;
   request.candidates = candidate_count;
@@ -1018,7 +1012,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
                                   std::to_string(*poses));
   }
   checkSeed(seed);
-  const Measure measure = parseMeasure(measure_text);
+  const Measure measure = validation::parseMeasure(measure_text, pythonSpelling());
   validation::checkSimulationArguments(measure, noise_position, noise_rotation, targets.has_value(), pythonSpelling());
   validation::MeasurementSetup setup;
   setup.measure = measure;

@@ -30,9 +30,6 @@ using nlohmann::json;
 
 namespace {
 
-Measure parseMeasure(const std::string& text) {
-  return text == "position" ? Measure::Position : text == "targets" ? Measure::Targets : Measure::Pose;
-}
 
 // The robot file's targets' points, in order; Measure::Targets needs at least one.
 std::vector<Vec3> fileTargets(const RobotFile& file) {
@@ -70,7 +67,7 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
   commands.emplace_back(ident, [o] {
     const RobotFile file = loadRobot(o->robot);
     const PoeModel model = file.poeModel();
-    const Measure measure = parseMeasure(o->measure);
+    const Measure measure = parseMeasure(o->measure, cliSpelling());
     // the full error model has 8 columns per joint + pitches + 6; the D-H one 6 per joint + 6
     if (identificationEntries(o->poses, model.dof(), 9.0) > kMaxJacobianEntries) {
       // one pose over the limit: the robot is too long whatever --poses says

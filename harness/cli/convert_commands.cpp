@@ -34,7 +34,7 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
                bool as_json) {
   std::vector<long long> lines;
   const MatX Q = readJointValues(o.q_file, file.dof(), robot_path, lines);
-  const Measure measure = o.measure == "pose" ? Measure::Pose : o.measure == "position" ? Measure::Position : Measure::Targets;
+  const Measure measure = validation::parseMeasure(o.measure, cliSpelling());
   std::vector<std::string> target_names;
   if (measure == Measure::Targets) {
     if (file.targets.empty()) {

@@ -181,7 +181,7 @@ void addPlanCommand(CLI::App& app, Commands& commands) {
   sub->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(sub, [o] {
     PlanRequest request;
-    request.measure = o->measure == "position" ? Measure::Position : o->measure == "targets" ? Measure::Targets : Measure::Pose;
+    request.measure = parseMeasure(o->measure, cliSpelling());
     request.criterion = o->criterion == "O1" ? PlanCriterion::O1 : PlanCriterion::D;
     request.poses = o->poses;
     request.candidates = o->candidates;

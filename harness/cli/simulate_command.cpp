@@ -268,7 +268,7 @@ long long commentLines(const std::vector<std::string>& comments) {
 
 int simulate(const SimulateOptions& given) {
   SimulateOptions o = given;  // with --q-file, poses becomes its row count
-  const Measure measure = o.measure == "pose" ? Measure::Pose : o.measure == "position" ? Measure::Position : Measure::Targets;
+  const Measure measure = parseMeasure(o.measure, cliSpelling());
   checkSimulationArguments(measure, o.noise_position, o.noise_rotation, o.targets.has_value(), cliSpelling());
   const Pose T_frame_base = o.frame ? frameOption(*o.frame) : Pose();
   const std::optional<Blunders> blunders = o.blunders ? std::optional(blundersOption(*o.blunders)) : std::nullopt;

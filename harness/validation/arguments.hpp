@@ -8,6 +8,8 @@
 #include <string>
 #include <utility>
 
+#include "lowpair/calibration.hpp"
+
 namespace lowpair::validation {
 
 /// A usage error about an argument (not a file): printed as "error: SUBJECT: message" by the CLI, raised as
@@ -29,5 +31,13 @@ struct ArgumentSpelling {
   /// ("measure", "targets") -> "--measure targets" (CLI) or "measure='targets'" (Python)
   std::function<std::string(const std::string& name, const std::string& value)> setting;
 };
+
+/// "pose", "position" or "targets" (measureName's words) as a Measure. @throws UsageError naming `measure`
+inline Measure parseMeasure(const std::string& text, const ArgumentSpelling& spelling) {
+  for (const Measure m : {Measure::Pose, Measure::Position, Measure::Targets}) {
+    if (text == measureName(m)) return m;
+  }
+  throw UsageError(spelling.name("measure"), "expected 'pose', 'position' or 'targets', got '" + text + "'");
+}
 
 }  // namespace lowpair::validation
