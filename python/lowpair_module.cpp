@@ -323,6 +323,13 @@ double* outBuffer(const std::optional<py::array>& out, const std::array<py::ssiz
   return static_cast<double*>(const_cast<void*>(a.data()));  // writeable, checked above
 }
 
+// Whether the byte ranges [a, a + a_bytes) and [b, b + b_bytes) share a byte (the extents test of numpy's
+// may_share_memory: strides do not matter here, both arrays are C-contiguous).
+bool sharesBytes(const void* a, size_t a_bytes, const void* b, size_t b_bytes) {
+  const auto x = reinterpret_cast<uintptr_t>(a), y = reinterpret_cast<uintptr_t>(b);
+  return a_bytes > 0 && b_bytes > 0 && x < y + b_bytes && y < x + a_bytes;
+}
+
 // T as a row-major 4 x 4 matrix.
 void writePose(const Pose& T, double* dst) {
   for (int a = 0; a < 3; ++a) {
@@ -502,7 +509,23 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
   }
   {
     py::gil_scoped_release release;
-    fkBatchInto(r, kind == "poe", q.data(), count, dst);
+    const double* x = q.data();
+    std::vector<double> copy;  // q when `out` shares its memory
+    if (out_arg) {
+      // into the caller's buffer: every value checked before the first result is written, so a refusal leaves
+      // `out` as it was (the kernel checks chunk by chunk, after earlier chunks were written)
+      const size_t values = static_cast<size_t>(count) * static_cast<size_t>(dof);
+      if (!Eigen::Map<const VecX>(x, static_cast<Eigen::Index>(values)).allFinite()) {
+        requireFinite(x, static_cast<py::ssize_t>(values), dof, r.subject(), "q");  // throws, naming the value
+      }
+      // results written over joint values not read yet would be read back as joint values: q is copied first,
+      // as numpy copies an input that overlaps a ufunc's out=
+      if (sharesBytes(x, values * sizeof(double), dst, static_cast<size_t>(count) * 16 * sizeof(double))) {
+        copy.assign(x, x + values);
+        x = copy.data();
+      }
+    }
+    fkBatchInto(r, kind == "poe", x, count, dst);
   }
   if (out_arg) return *out_arg;
   return std::move(result);
@@ -790,7 +813,8 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
 // The rows of `ik` or `compensate` and the JSON of the CLI's --json (cli/ik_commands.cpp) without its files.
 struct IkSolutions {
   std::vector<validation::IkRow> rows;  // line: the 0-based row
-  json j;
+  json j;                               // the JSON without "rows": to_dict() builds them when asked (1 KB a row)
+  bool with_seed = false;               // ik's rows name their seed, compensate's do not
 };
 
 // The targets of ik: (N, 4, 4) homogeneous transforms, or (N, 3) positions, made poses by rotations (N, 4) qw..qz
@@ -840,6 +864,15 @@ std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>
   return out;
 }
 
+// The rows of ik and compensate: at most io::kMaxMeasurements, the CLI's limit (a file holds no more), checked
+// before anything is allocated (10^7 rows once grew to 7.7 GB).
+void checkRowCount(const InArray& a, const std::string& what) {
+  if (a.ndim() >= 2 && a.shape(0) > io::kMaxMeasurements) {
+    throw UsageError(what, std::to_string(a.shape(0)) + " rows, more than the " + std::to_string(io::kMaxMeasurements) +
+                               " one call takes (the CLI's limit): split the array");
+  }
+}
+
 // Per-row seeds: None, (n,) for every row, or (N, n).
 std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, size_t rows) {
   if (!q0) return std::nullopt;
@@ -864,6 +897,7 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
                                   std::to_string(seeds));
   }
   checkSeed(seed);
+  checkRowCount(targets_arg, "targets");
   bool pose = false;
   const std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
   const std::optional<MatX> given = seedRows(r, q0, targets.size());
@@ -903,7 +937,7 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
          {"seed", seed},
          {"notes", json::array()},
          {"counts", validation::ikCountsJson(s.rows)}};
-  s.j["rows"] = validation::ikRowsJson(s.rows, true);
+  s.with_seed = true;
   return s;
 }
 
@@ -922,6 +956,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
     throw UsageError(calibrated.subject(), "lengths in " + unit(calibrated) + " but nominal " + nominal.subject() +
                                                " in " + unit(nominal) + ": compensation needs one unit");
   }
+  checkRowCount(q_arg, "q");
   const MatX Q = q_arg.ndim() == 1 ? MatX(jointVector(q_arg, calibrated.dof(), calibrated.subject()).transpose())
                                    : jointMatrix(q_arg, calibrated.dof(), calibrated.subject());
   IkOptions options;
@@ -940,7 +975,6 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
          {"length_unit", calibrated.file.length_unit},
          {"measure", measure},
          {"counts", validation::ikCountsJson(s.rows)}};
-  s.j["rows"] = validation::ikRowsJson(s.rows, false);
   return s;
 }
 
@@ -990,6 +1024,7 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
 
 struct Simulation {
   Measure measure = Measure::Pose;
+  int dof = 0;  // joint values per row (q's second dimension, also with no rows)
   std::vector<Measurement> measurements;
   std::vector<std::string> target_names;  // Targets: the names measurement.target indexes
   std::vector<size_t> blunders;           // the rows moved, increasing
@@ -1018,6 +1053,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   setup.measure = measure;
   Simulation s;
   s.measure = measure;
+  s.dof = r.dof();
   if (measure == Measure::Targets) {
     s.target_names = validation::robotFileTargets(r.file.targets, targets, r.subject(), pythonSpelling(), setup.targets);
   }
@@ -1103,6 +1139,7 @@ Simulation readMeasurementFile(const std::string& path, const Robot* robot) {
   if (failure) std::rethrow_exception(failure);
   Simulation s;
   s.measure = file.measure;
+  s.dof = file.dof;
   s.measurements = std::move(file.measurements);
   s.target_names = std::move(file.target_names);
   s.length_unit = file.length_unit;
@@ -1574,7 +1611,17 @@ PYBIND11_MODULE(_lowpair, m) {
   py::class_<IkSolutions>(m, "IkSolutions",
                           "lowpair.ik(...) / lowpair.compensate(...): one solution per row, as `lowpair ik` / "
                           "`lowpair compensate` write them.")
-      .def("to_dict", [](const IkSolutions& s) { return toPython(s.j); },
+      .def("to_dict",
+           [](const IkSolutions& s) {
+             // row by row into Python objects: a JSON value of every row would need as much memory again, and
+             // nlohmann's destructor allocates, so running out of memory there ends the process (10^6 rows under a
+             // 700 MB limit did), where Python's own allocations raise MemoryError
+             py::dict out = toPython(s.j);
+             py::list rows;
+             for (const validation::IkRow& row : s.rows) rows.append(toPython(validation::ikRowJson(row, s.with_seed)));
+             out["rows"] = std::move(rows);
+             return out;
+           },
            "to_dict() -> dict: the content of `lowpair ik --json` (poses '<arrays>') or `lowpair compensate --json`\n"
            "(q_file '<arrays>'); every row's `line` is its 0-based row.")
       .def("__len__", [](const IkSolutions& s) { return s.rows.size(); })
@@ -1711,8 +1758,7 @@ PYBIND11_MODULE(_lowpair, m) {
       .def_property_readonly(
           "q",
           [](const Simulation& s) {
-            return vectorRows(s.measurements, s.measurements.front().q.size(),
-                              [](const Measurement& m) -> const VecX& { return m.q; });
+            return vectorRows(s.measurements, s.dof, [](const Measurement& m) -> const VecX& { return m.q; });
           },
           "(M, n): the joint values of each row (targets: a pose's q repeated on each of its targets' rows).")
       .def_property_readonly(

@@ -50,22 +50,24 @@ std::vector<IkRow> compensateJointRows(const PoeModel& nominal, const PoeModel& 
   return rows;
 }
 
+json ikRowJson(const IkRow& row, bool with_seed) {
+  const IkResult& r = row.result;
+  json j = {{"line", row.line},
+            {"q", io::toVector(r.q)},
+            {"status", ikStatusName(r.status)},
+            {"iterations", r.iterations},
+            {"position_error", r.position_error},
+            {"rotation_error", r.rotation_error},
+            {"rank", r.rank},
+            {"sigma_min", io::finiteOrNull(r.sigma_min)},
+            {"reason", r.reason}};
+  if (with_seed) j["seed"] = row.seed < 0 ? json("file") : json(row.seed);
+  return j;
+}
+
 json ikRowsJson(const std::vector<IkRow>& rows, bool with_seed) {
   json out = json::array();
-  for (const IkRow& row : rows) {
-    const IkResult& r = row.result;
-    json j = {{"line", row.line},
-              {"q", io::toVector(r.q)},
-              {"status", ikStatusName(r.status)},
-              {"iterations", r.iterations},
-              {"position_error", r.position_error},
-              {"rotation_error", r.rotation_error},
-              {"rank", r.rank},
-              {"sigma_min", io::finiteOrNull(r.sigma_min)},
-              {"reason", r.reason}};
-    if (with_seed) j["seed"] = row.seed < 0 ? json("file") : json(row.seed);
-    out.push_back(std::move(j));
-  }
+  for (const IkRow& row : rows) out.push_back(ikRowJson(row, with_seed));
   return out;
 }
 

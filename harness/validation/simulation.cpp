@@ -29,6 +29,12 @@ bool beyondReader(const Measurement& m) { return !(m.T_base_tool.p.cwiseAbs().ma
 }  // namespace
 
 void checkTargetList(const std::vector<std::string>& names, const ArgumentSpelling& spelling) {
+  if (names.empty()) {
+    // no target measured means no measurement: refused here, before anything is drawn (an empty result set used to
+    // reach the caller, and Python's Measurements.q read the first of no rows)
+    throw UsageError(spelling.name("targets"), "is empty: name at least one target, or leave it out to measure every "
+                                               "target of the robot file");
+  }
   std::set<std::string> seen;
   for (const std::string& name : names) {
     const std::string problem = io::targetNameProblem(name);

@@ -1,0 +1,73 @@
+"""Arrays the module writes into or sizes from: out= sharing memory with q, a refusal that leaves out= as it was, an
+empty target list, and row counts beyond the CLI's limit (docs/python.md "Arrays")."""
+import numpy as np
+import pytest
+
+import lowpair
+from test_kinematics import random_q
+
+PUMA = "models/puma560_corke.yaml"
+ROW_LIMIT = 1_000_000  # io::kMaxMeasurements, the CLI's rows per file
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return lowpair.load(PUMA)
+
+
+@pytest.mark.parametrize("where", ["start", "end"])
+def test_fk_into_out_that_holds_q_equals_fk_of_a_copy(puma, where):
+    # q lives inside out's own buffer: results written over joint values not yet read must not be read back
+    count = 1000
+    q = random_q(puma, count, seed=5)
+    expected = puma.fk(q.copy())
+    buf = np.zeros((count, 4, 4))
+    flat = buf.reshape(-1)
+    view = (flat[:count * 6] if where == "start" else flat[-count * 6:]).reshape(count, 6)
+    view[:] = q
+    assert np.shares_memory(view, buf)
+    result = puma.fk(view, out=buf)
+    assert result is buf
+    # the same kernel on the same joint values: bit for bit
+    assert np.array_equal(buf, expected)
+
+
+def test_fk_refusal_leaves_out_as_it_was(puma):
+    count = 1000
+    q = random_q(puma, count, seed=6)
+    q[900, 2] = np.nan
+    buf = np.full((count, 4, 4), 7.0)
+    with pytest.raises(lowpair.Error, match=r"q\[900, 2\]: 'nan' is not finite"):
+        puma.fk(q, out=buf)
+    assert np.all(buf == 7.0)
+
+
+def test_simulate_with_an_empty_target_list_is_refused(tmp_path):
+    path = tmp_path / "smr.yaml"
+    path.write_text(open(PUMA).read() + "targets:\n  - {name: smr_a, point: [0.01, 0, 0]}\n")
+    robot = lowpair.load(str(path))
+    with pytest.raises(lowpair.Error, match=r"^targets: is empty"):
+        lowpair.simulate(robot, poses=3, measure="targets", targets=[])
+    # the same robot with its file's targets: rows, and q of shape (rows, n)
+    sim = lowpair.simulate(robot, poses=3, measure="targets")
+    assert sim.q.shape == (3, 6)
+
+
+def test_ik_and_compensate_refuse_rows_beyond_the_cli_limit(puma):
+    # broadcast views: no memory behind the rows, so the refusal must come before any per-row work or allocation
+    targets = np.broadcast_to(np.array([0.3, 0.1, 0.2]), (ROW_LIMIT + 1, 3))
+    with pytest.raises(lowpair.Error, match=rf"^targets: {ROW_LIMIT + 1} rows, more than the {ROW_LIMIT}"):
+        lowpair.ik(puma, targets)
+    q = np.broadcast_to(np.zeros(6), (10 * ROW_LIMIT, 6))
+    with pytest.raises(lowpair.Error, match=rf"^q: {10 * ROW_LIMIT} rows, more than the {ROW_LIMIT}"):
+        lowpair.compensate(puma, puma, q)
+
+
+def test_ik_rows_json_is_built_when_asked(puma):
+    q = random_q(puma, 4, seed=7)
+    T = puma.fk(q)
+    solutions = lowpair.ik(puma, T[:, :3, 3].copy(), q0=q)
+    rows = solutions.to_dict()["rows"]
+    assert [row["line"] for row in rows] == [0, 1, 2, 3]
+    assert all(row["seed"] == "file" for row in rows)
+    assert all("seed" not in row for row in lowpair.compensate(puma, puma, q).to_dict()["rows"])
