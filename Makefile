@@ -28,8 +28,13 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j$(JOBS)
 
+# the long studies (ctest label `study`, minutes each) are left to `make study`
 check: build
-	ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS)
+	ctest --test-dir $(BUILD) --output-on-failure -j$(JOBS) -LE study
+
+.PHONY: study
+study: build
+	ctest --test-dir $(BUILD) --output-on-failure -L study
 
 run: build
 	./$(BUILD)/lowpair validate --report $(BUILD)/report
@@ -71,7 +76,7 @@ sanitize-build: deps
 sanitize: sanitize-build
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp LOWPAIR_SANITIZE=1 \
-	  ctest --test-dir $(SAN_BUILD) --output-on-failure -j$(JOBS) -E '$(SAN_SKIP)'
+	  ctest --test-dir $(SAN_BUILD) --output-on-failure -j$(JOBS) -LE study -E '$(SAN_SKIP)'
 
 # Fuzzing (tests/fuzz/README.md): libFuzzer targets built with clang (-fsanitize=fuzzer,address,undefined,
 # float-cast-overflow; the sanitizer and libFuzzer runtimes are in libclang-rt-14-dev) into $(FUZZ_BUILD),

@@ -269,8 +269,10 @@ TEST(IkCli, TargetsInAnotherUnitAreConverted) {
 TEST(IkCli, SameSeedSameSolutions) {
   const std::string q_file = simulated(kPuma, 6, 24, "ik_seed_q.csv");
   const std::string targets = withoutJoints(parseCsv(ok("fk " + kPuma + " --q-file " + q_file).out), 6, "m", "ik_seed.csv");
-  EXPECT_EQ(ok("ik " + kPuma + " --poses " + targets + " --seed 3 --seeds 4").out,
-            ok("ik " + kPuma + " --poses " + targets + " --seed 3 --seeds 4").out);
+  const std::string seeded = ok("ik " + kPuma + " --poses " + targets + " --seed 3 --seeds 4").out;
+  EXPECT_EQ(seeded, ok("ik " + kPuma + " --poses " + targets + " --seed 3 --seeds 4").out);
+  // and the seed is used: another seed starts from other joint vectors, which reach other branches
+  EXPECT_NE(seeded, ok("ik " + kPuma + " --poses " + targets + " --seed 4 --seeds 4").out);
 }
 
 // ---- compensate -------------------------------------------------------------------------------------------------------

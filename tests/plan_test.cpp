@@ -437,5 +437,20 @@ TEST(PlanInput, BadArgumentsThrow) {
     ASSERT_EQ(s.size(), 50u);
     for (int i = 0; i < 50; ++i) EXPECT_EQ(s[static_cast<size_t>(i)], i);
   }
-  EXPECT_EQ(randomPoseSets(1000, 30, 5, 4), randomPoseSets(1000, 30, 5, 4));
+  // the seed is used: another seed draws other sets, and the sets of one call differ from each other
+  const auto drawn = randomPoseSets(1000, 30, 5, 4);
+  EXPECT_NE(drawn, randomPoseSets(1000, 30, 5, 1004));
+  for (size_t k = 1; k < drawn.size(); ++k) EXPECT_NE(drawn[k], drawn[0]) << "set " << k;
+  // each set is N distinct indices of [0, M), and each index is drawn as often as a uniform N-subset draws it:
+  // 4000 sets of 5 of 20 hold index i about 1000 times (binomial, sd sqrt(4000 * 0.25 * 0.75) = 27.4); 6 sd
+  std::vector<int> count(20, 0);
+  for (const auto& set : randomPoseSets(20, 5, 4000, 7)) {
+    ASSERT_EQ(set.size(), 5u);
+    ASSERT_TRUE(std::is_sorted(set.begin(), set.end()));
+    ASSERT_EQ(std::adjacent_find(set.begin(), set.end()), set.end());
+    ASSERT_GE(set.front(), 0);
+    ASSERT_LT(set.back(), 20);
+    for (const int i : set) ++count[static_cast<size_t>(i)];
+  }
+  for (int i = 0; i < 20; ++i) EXPECT_NEAR(count[static_cast<size_t>(i)], 1000, 6 * 27.4) << "index " << i;
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "calibration_helpers.hpp"
+#include "cross_validation_arms.hpp"
 #include "lowpair/calibration.hpp"
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
@@ -53,24 +54,6 @@ void addPositionNoise(std::vector<Measurement>& ms, double sp, std::mt19937_64& 
   for (Measurement& m : ms) m.T_base_tool.p += sp * lowpair_test::draw3(n, rng);
 }
 
-// RMS over poses of the predicted points' (or tool origins') distance from the truth's.
-double heldOutRms(const PoeModel& model, const std::vector<Vec3>& targets, const PoeModel& truth,
-                  const std::vector<Vec3>& true_targets, const std::vector<VecX>& qs) {
-  double sum = 0.0;
-  int count = 0;
-  for (const VecX& q : qs) {
-    const Pose A = poeForwardKinematics(model, q), B = poeForwardKinematics(truth, q);
-    if (targets.empty()) {
-      sum += (A.p - B.p).squaredNorm();
-      ++count;
-    }
-    for (size_t t = 0; t < targets.size(); ++t) {
-      sum += ((A.R * targets[t] + A.p) - (B.R * true_targets[t] + B.p)).squaredNorm();
-      ++count;
-    }
-  }
-  return std::sqrt(sum / count);
-}
 
 // The D-H numbers that do not depend on where the measurement frame is: rows 2..n (theta, d, alpha, a,
 // pitch, scale), alpha and a of row 1 (joint 1 to joint 2), and the tool's theta and d.
@@ -384,28 +367,6 @@ TEST(TrackerParameters, OffsetsFitsOffsetsOnly) {
 
 namespace {
 
-// A random 6-joint arm (about 1000 long) made actual by errors that favour one parameter level: 0 line, scale
-// and offset errors (full), 1 line and offset errors, no scale errors (lines, usually), 2 offset and tool
-// errors only (offsets). Line errors `line_error` (rad, L; 1e-3 unless said), offsets 2e-3 rad.
-struct FavouringArm {
-  PoeModel nominal, actual;
-};
-FavouringArm favouringArm(const std::string& types, int favours, std::mt19937_64& rng, double line_error = 1e-3) {
-  const PoeModel nominal = jointMix(types, 1000.0, rng);
-  const ErrorModel em(nominal, false);
-  VecX d = smallDelta(em, line_error, false, rng);
-  for (int k = 0; k < em.size(); ++k) {
-    const ParameterKind kind = em.parameters()[static_cast<size_t>(k)].kind;
-    if (favours == 1 && kind == ParameterKind::Scale) d[k] = 0.0;
-    if (favours == 2 && kind != ParameterKind::ToolRotation && kind != ParameterKind::ToolTranslation) d[k] = 0.0;
-  }
-  const PoeModel moved = em.apply(d);
-  std::vector<Joint> joints = moved.joints();
-  std::normal_distribution<double> n;
-  for (Joint& j : joints) j.offset += 2e-3 * n(rng);
-  return {nominal, PoeModel(joints, moved.toolPose(), moved.name())};
-}
-
 // The candidates' least-squares score from their own RMS fields: sqrt(rms_p^2 / sp^2 + rms_r^2 / sr^2), what
 // every held-out measurement's |r|^2 sums to (pose data, stated noise): the score before robust scoring.
 ParameterSet squaredScoreChoice(const CrossValidation& cv, double sp, double sr) {
@@ -494,39 +455,6 @@ TEST(TrackerParameters, CrossValidationScoresAHeldOutBlunderByTheLoss) {
   EXPECT_GE(squared_differs, 1);
 }
 
-namespace {
-
-// What the levels give on one arm: 15 poses measured with 0.5 per coordinate and 5e-4 rad of noise (read as
-// `kind`), each level fitted to them and its RMS on 200 uniform held-out poses, and cross-validation's
-// choice with each of `repeats` partitions.
-struct LevelOutcome {
-  double held_out[3] = {kInf, kInf, kInf};  // full, lines, offsets
-  double best = kInf;
-  std::vector<CrossValidation> cv;  // one per entry of repeats
-  double chosen(size_t k) const { return held_out[level(cv[k].chosen)]; }
-  static int level(ParameterSet set) { return set == ParameterSet::Full ? 0 : set == ParameterSet::Lines ? 1 : 2; }
-};
-LevelOutcome levelOutcome(const FavouringArm& arm, Measure kind, const std::vector<int>& repeats,
-                          std::mt19937_64& rng) {
-  std::vector<Measurement> ms = measure(arm.actual, uniformPoses(arm.nominal, 15, rng));
-  addNoise(ms, 0.5, 5e-4, rng);
-  CalibrationOptions options;
-  options.measure = kind;
-  options.sigma_position = 0.5;
-  options.sigma_rotation = 5e-4;  // (weighs nothing for position data)
-  LevelOutcome out;
-  for (const int r : repeats) out.cv.push_back(crossValidate(arm.nominal, ms, options, 5, r));
-  const std::vector<VecX> check = uniformPoses(arm.nominal, 200, rng);
-  for (const ParameterSet set : {ParameterSet::Full, ParameterSet::Lines, ParameterSet::Offsets}) {
-    options.parameters = set;
-    const double rms = heldOutRms(calibrate(arm.nominal, ms, options).model, {}, arm.actual, {}, check);
-    out.held_out[LevelOutcome::level(set)] = rms;
-    out.best = std::min(out.best, rms);
-  }
-  return out;
-}
-
-}  // namespace
 
 // --select cv: on random 6-joint arms with few noisy poses (15, pose data, noise 0.5 on a robot of about
 // 1000 and 5e-4 rad), the level chosen by repeated 5-fold cross-validation has a held-out RMS within 10 % of
@@ -560,46 +488,4 @@ TEST(TrackerParameters, CrossValidationPicksANearBestLevel) {
   EXPECT_EQ(failures.count, 0);
   // the choice matters: fitting every parameter is not within 10 % on most of these robots
   EXPECT_LE(full_near_best, robots / 2);
-}
-
-// The numbers docs/calibration.md "Which parameters" gives, recomputed (3 minutes; run with
-// --gtest_also_run_disabled_tests --gtest_filter='*CrossValidationStudy'): how often the chosen level is within
-// 10 % of the best in hindsight with ten partitions and with one, against always `full`,
-// - on 390 favouring arms (seeds 15-27, 30 each, as CrossValidationPicksANearBestLevel), pose and position data;
-// - on 120 arms whose line errors are 1e-4 (rad, L: 0.1 against the 0.5 noise), errors of every kind
-//   (seeds 16-18, 40 each), pose data.
-TEST(TrackerParameters, DISABLED_CrossValidationStudy) {
-  struct Count {
-    int ten = 0, one = 0, full = 0, arms = 0;
-  };
-  auto study = [](int seed, int arms, Measure measure, bool below_noise, Count& count) {
-    std::mt19937_64 rng(static_cast<std::uint64_t>(seed));
-    for (int robot = 0; robot < arms; ++robot) {
-      const std::string types = robot % 2 ? "RRRRRR" : "RRPRRR";
-      const FavouringArm arm = below_noise ? favouringArm(types, 0, rng, 1e-4) : favouringArm(types, robot % 3, rng);
-      const LevelOutcome o = levelOutcome(arm, measure, {10, 1}, rng);
-      count.ten += o.chosen(0) <= 1.1 * o.best;
-      count.one += o.chosen(1) <= 1.1 * o.best;
-      count.full += o.held_out[0] <= 1.1 * o.best;
-      ++count.arms;
-    }
-  };
-  Count pose, position, below;
-  for (int seed = 15; seed <= 27; ++seed) {
-    study(seed, 30, Measure::Pose, false, pose);
-    study(seed, 30, Measure::Position, false, position);
-  }
-  for (int seed = 16; seed <= 18; ++seed) study(seed, 40, Measure::Pose, true, below);
-  for (const auto& [name, c] : {std::pair{"favouring, pose", pose}, {"favouring, position", position},
-                                {"line errors below the noise, pose", below}}) {
-    std::printf("%s: ten partitions %d, one %d, always full %d of %d\n", name, c.ten, c.one, c.full, c.arms);
-  }
-  EXPECT_EQ(pose.ten, 387);
-  EXPECT_EQ(pose.one, 380);
-  EXPECT_EQ(pose.full, 167);
-  EXPECT_EQ(position.ten, 384);
-  EXPECT_EQ(position.one, 382);
-  EXPECT_EQ(position.full, 142);
-  EXPECT_EQ(below.ten, 89);
-  EXPECT_EQ(below.full, 108);
 }
