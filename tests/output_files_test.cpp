@@ -119,6 +119,42 @@ TEST(OutputFiles, SymlinkToRegularFileStaysALink) {
   EXPECT_EQ(kindOf(scratch() + "/created.csv"), static_cast<mode_t>(S_IFREG));
 }
 
+// The replacement keeps the replaced file's permissions: a private file stays private (it became 644 under the
+// usual umask), an executable bit stays; a new file gets 0666 less the umask.
+TEST(OutputFiles, ReplacedFileKeepsItsMode) {
+  for (const mode_t mode : {mode_t{0600}, mode_t{0640}, mode_t{0755}}) {
+    const std::string path = scratch() + "/private.csv";
+    std::ofstream(path) << "old\n";
+    ASSERT_EQ(::chmod(path.c_str(), mode), 0);
+    const CliRun r = runCli(kSimulate + " --out " + shellQuote(path));
+    EXPECT_EQ(r.status, 0) << r.err;
+    struct stat info {};
+    ASSERT_EQ(::stat(path.c_str(), &info), 0);
+    EXPECT_EQ(info.st_mode & 07777, mode);
+    EXPECT_EQ(slurp(path), runCli(kSimulate).out);
+  }
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  const std::string fresh = scratch() + "/fresh.csv";
+  fs::remove(fresh);
+  EXPECT_EQ(runCli(kSimulate + " --out " + shellQuote(fresh)).status, 0);
+  struct stat info {};
+  ASSERT_EQ(::stat(fresh.c_str(), &info), 0);
+  EXPECT_EQ(info.st_mode & 07777, 0666 & ~mask);
+}
+
+// An empty value is refused, not read as the option not given (plan and calibrate wrote nothing at exit 0).
+TEST(OutputFiles, EmptyOutIsExitTwo) {
+  for (const std::string& args :
+       {kSimulate, "plan " + modelPath("puma560_corke.yaml") + " --poses 3 --candidates 10",
+        "fk " + modelPath("puma560_corke.yaml") + " --q 0,0,0,0,0,0"}) {
+    const CliRun r = runCli(args + " --out ''");
+    EXPECT_EQ(r.status, 2) << args;
+    EXPECT_EQ(r.err, "error: --out: is empty: give a value or leave the option out\n") << args;
+    EXPECT_EQ(r.out, "") << args;
+  }
+}
+
 TEST(OutputFiles, SocketIsRefused) {
   const std::string path = scratch() + "/socket";
   const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);

@@ -92,6 +92,21 @@ std::string inputOf(const CLI::App& app) {
 
 }  // namespace lowpair::cli
 
+namespace {
+
+// An option given an empty value (`--out ''`) is refused: the subcommands read an empty value as the option not
+// given, so `plan --out ''` wrote nothing at exit 0. Flags (no value) are not options with values.
+void refuseEmptyValues(const CLI::App& sub) {
+  for (const CLI::Option* option : sub.get_options()) {
+    if (option->get_type_size() == 0) continue;
+    for (const std::string& value : option->results()) {
+      if (value.empty()) throw lowpair::cli::UsageError(option->get_name(), "is empty: give a value or leave the option out");
+    }
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace lowpair::cli;
   using lowpair::io::RobotFileError;
@@ -120,7 +135,9 @@ int main(int argc, char** argv) {
   }
   try {
     for (const auto& [sub, run] : commands) {
-      if (sub->parsed()) return checkedExit(run());
+      if (!sub->parsed()) continue;
+      refuseEmptyValues(*sub);
+      return checkedExit(run());
     }
   } catch (const RobotFileError& e) {
     return reportError(e.what());

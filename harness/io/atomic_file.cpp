@@ -64,7 +64,14 @@ std::string writeTemporary(const std::string& path, const std::string& content) 
     fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0 && (errno != EEXIST || attempt >= 100)) throw failure(errorText(errno));
   }
-  int error = writeAll(fd, content);
+  // the replacement keeps the replaced file's permissions (a private file of mode 600 stayed 600 only by chance
+  // of the umask before); a new file gets 0666 less the umask, as any program's
+  struct stat existing {};
+  int error = 0;
+  if (::stat(path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode) && ::fchmod(fd, existing.st_mode & 07777) != 0) {
+    error = errno;
+  }
+  if (error == 0) error = writeAll(fd, content);
   // close reports delayed write errors (NFS, quotas); its failure is a failure of the write
   if (::close(fd) != 0 && error == 0) error = errno;
   if (error == 0) return temporary.string();
@@ -157,7 +164,14 @@ void writeDirectly(const std::string& path, int own, const std::string& content)
   }
   const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_NOCTTY | O_CLOEXEC);
   if (fd < 0) throw RobotFileError(path + ": cannot write: " + errorText(errno));
-  int error = writeAll(fd, content);
+  // the replacement keeps the replaced file's permissions (a private file of mode 600 stayed 600 only by chance
+  // of the umask before); a new file gets 0666 less the umask, as any program's
+  struct stat existing {};
+  int error = 0;
+  if (::stat(path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode) && ::fchmod(fd, existing.st_mode & 07777) != 0) {
+    error = errno;
+  }
+  if (error == 0) error = writeAll(fd, content);
   if (::close(fd) != 0 && error == 0) error = errno;
   if (error != 0) throw RobotFileError(path + ": cannot write: " + errorText(error));
 }
