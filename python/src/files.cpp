@@ -191,7 +191,7 @@ void exposeFiles(py::module_& m) {
       .def_property_readonly(
           "q",
           [](const Simulation& s) {
-            return vectorRows(s.measurements, s.dof, [](const Measurement& m) -> const VecX& { return m.q; });
+            return vectorRows(s.measurements, s.dof, [](const Measurement& x) -> const VecX& { return x.q; });
           },
           "(M, n): the joint values of each row (targets: a pose's q repeated on each of its targets' rows).")
       .def_property_readonly(

@@ -5,9 +5,9 @@
 // harness functions, so the numbers are the CLI's (python/tests/ compares each result with the CLI's --json);
 // errors are lowpair.Error with the CLI's one-line message. A command's logic beyond its argument parsing lives
 // in the validation room (plan_report, ik_rows, simulation, calibration_inputs, calibration_run), which the CLI
-// calls too; this file converts arrays and arguments and calls it.
-// Each topic binds its classes and functions in its own file (expose.hpp); this one makes the module, its error
-// type and the translation of C++ exceptions into it.
+// calls too; the files of python/src/ convert arrays and arguments and call it, one topic per file binding its
+// classes and functions (expose.hpp). This one makes the module, its error type and the translation of C++
+// exceptions into it.
 #include <exception>
 #include <new>
 #include <stdexcept>
