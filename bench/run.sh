@@ -35,10 +35,11 @@ mkdir -p "$(dirname "$BENCH_OUT")"
 "$exe" "${args[@]}" "${robot_args[@]}" --benchmark_out="$BENCH_OUT" --benchmark_out_format=json
 echo
 python3 "$here/report.py" "$BENCH_OUT"
-# the Python module's batched FK against the C++ batch in the same run (python/bench_fk.py, docs/python.md)
+# the Python module's batched FK against the C++ batch in the same run (python/bench_fk.py, docs/python.md; the C++
+# timers are the extension _lowpair_bench, python/bench/timers.cpp)
 if [ -z "${BENCH_SMOKE:-}" ] && [ -f "$BUILD/python/lowpair/__init__.py" -o -z "${BENCH_NO_BUILD:-}" ]; then
   robot_args=()
   [ -z "$BENCH_ROBOT" ] || robot_args=(--robot "$BENCH_ROBOT")
-  cmake --build "$BUILD" --target lowpair_python -j"${JOBS:-2}" >/dev/null &&
+  cmake --build "$BUILD" --target lowpair_python lowpair_python_bench -j"${JOBS:-2}" >/dev/null &&
     PYTHONPATH="$BUILD/python" /usr/bin/python3 "$root/python/bench_fk.py" "${robot_args[@]}"
 fi

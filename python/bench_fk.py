@@ -9,8 +9,8 @@ Per round, each of these is timed (the fastest of --repeats), and the medians ov
   column-major layout, forwardKinematicsBatch, the repacking into a fresh (N, 4, 4) array);
 - robot.fk(Q, out=buffer): the same into a preallocated array;
 - the C++ reference: forwardKinematicsBatch of all N poses in one call into a reused buffer, no Python in the loop
-  (lowpair._time_batch_fk);
-- robot.fk(q), q of shape (n,): one call, and the same kinematics in C++ (lowpair._time_single_fk): their
+  (_lowpair_bench.time_batch_fk, the C++ references' module built beside the package: python/bench/timers.cpp);
+- robot.fk(q), q of shape (n,): one call, and the same kinematics in C++ (_lowpair_bench.time_single_fk): their
   difference is the call's overhead; one numpy ufunc call, np.add(q, q), for comparison.
 The ratios are taken per round, then their median. The load average is printed before and after: run it on a
 quiet machine.
@@ -24,6 +24,7 @@ import time
 import numpy as np
 
 import lowpair
+import _lowpair_bench  # build/python/_lowpair_bench*.so, built with the benchmarks or the tests
 
 
 def best_of(repeats, fn, calls=1):
@@ -59,9 +60,9 @@ def main():
     for _ in range(args.rounds):
         rows["fresh"].append(best_of(args.repeats, lambda: fk(Q), args.n))
         rows["out"].append(best_of(args.repeats, lambda: fk(Q, out=out), args.n))
-        rows["cpp"].append(lowpair._time_batch_fk(robot, Q, args.repeats))
+        rows["cpp"].append(_lowpair_bench.time_batch_fk(robot, Q, args.repeats))
         rows["single"].append(best_of(args.repeats, lambda: [fk(x) for x in qs], len(qs)))
-        rows["single_cpp"].append(lowpair._time_single_fk(robot, Q[: args.single], args.repeats))
+        rows["single_cpp"].append(_lowpair_bench.time_single_fk(robot, Q[: args.single], args.repeats))
         rows["ufunc"].append(best_of(args.repeats, lambda: [np.add(x, x) for x in qs], len(qs)))
     # the loop over a list costs ~20 ns per element in both list timings; it is left in both
     median = {key: statistics.median(values) * 1e9 for key, values in rows.items()}

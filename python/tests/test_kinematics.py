@@ -175,10 +175,11 @@ def test_fk_out_buffer_and_help():
 
 @pytest.mark.parametrize("count", [1037, 9001])  # 9001 poses = 1.15 MB: the non-temporal stores' path
 def test_batched_fk_repacks_the_library_batch_bit_for_bit(count):
+    import _lowpair_bench  # the C++ references beside the package (python/bench/timers.cpp)
     robot = lowpair.load("models/puma560_corke.yaml")
     Q = random_q(robot, count, seed=9)
     for model in ("poe", "dh"):
-        reference = lowpair._batch_fk_reference(robot, Q, model=model)  # one forwardKinematicsBatch call
+        reference = _lowpair_bench.batch_fk_reference(robot, Q, model=model)  # one forwardKinematicsBatch call
         T = robot.fk(Q, model=model)
         assert np.array_equal(T[:, :3, :3].reshape(count, 9), reference[:, :9])
         assert np.array_equal(T[:, :3, 3], reference[:, 9:])
@@ -244,7 +245,7 @@ def test_type_hints_cover_the_module():
     def hinted_parameters(node):
         return [a.arg for a in node.args.args + node.args.kwonlyargs if a.arg != "self"]
 
-    for name in lowpair.__all__ + ["_time_batch_fk", "_time_single_fk", "_batch_fk_reference"]:
+    for name in lowpair.__all__:
         obj = getattr(lowpair, name)
         if isinstance(obj, type):
             assert name in classes, name

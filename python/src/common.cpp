@@ -1,0 +1,136 @@
+// What the topics of the Python module share (common.hpp).
+#include "common.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "io/measurements.hpp"
+#include "io/output.hpp"
+#include "validation/sampling.hpp"
+
+namespace lowpair::python {
+
+validation::ArgumentSpelling pythonSpelling() {
+  return {[](const std::string& name) { return name; },
+          [](const std::string& name, const std::string& value) { return name + "='" + value + "'"; }};
+}
+
+void checkSeed(long long seed) {
+  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+}
+
+py::object toPython(const json& j) {
+  switch (j.type()) {
+    case json::value_t::null: return py::none();
+    case json::value_t::boolean: return py::bool_(j.get<bool>());
+    case json::value_t::number_integer: return py::int_(j.get<long long>());
+    case json::value_t::number_unsigned: return py::int_(j.get<unsigned long long>());
+    case json::value_t::number_float: return py::float_(j.get<double>());
+    case json::value_t::string: return py::str(j.get<std::string>());
+    case json::value_t::array: {
+      py::list out;
+      for (const json& x : j) out.append(toPython(x));
+      return std::move(out);
+    }
+    case json::value_t::object: {
+      py::dict out;
+      for (auto it = j.begin(); it != j.end(); ++it) out[py::str(it.key())] = toPython(it.value());
+      return std::move(out);
+    }
+    default: return py::none();
+  }
+}
+
+py::array_t<double> matrixArray(const Eigen::Ref<const MatX>& m) {
+  py::array_t<double> out({m.rows(), m.cols()});
+  auto w = out.mutable_unchecked<2>();
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    for (Eigen::Index c = 0; c < m.cols(); ++c) w(r, c) = m(r, c);
+  }
+  return out;
+}
+
+py::array_t<double> vectorArray(const Eigen::Ref<const VecX>& v) {
+  py::array_t<double> out(v.size());
+  auto w = out.mutable_unchecked<1>();
+  for (Eigen::Index i = 0; i < v.size(); ++i) w(i) = v(i);
+  return out;
+}
+
+py::array_t<double> poseArray(const Pose& T) {
+  py::array_t<double> out({4, 4});
+  auto w = out.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) w(r, c) = r < 3 ? (c < 3 ? T.R(r, c) : T.p(r)) : (c == 3 ? 1.0 : 0.0);
+  }
+  return out;
+}
+
+std::string shapeText(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+void requireFinite(const double* x, py::ssize_t count, py::ssize_t per_row, const std::string& subject,
+                   const std::string& what) {
+  for (py::ssize_t k = 0; k < count; ++k) {
+    if (!std::isfinite(x[k])) {
+      std::string where = what;
+      if (per_row > 0) {
+        where += "[" + std::to_string(k / per_row) + ", " + std::to_string(k % per_row) + "]";
+      } else {
+        where += "[" + std::to_string(k) + "]";
+      }
+      throw UsageError(subject, where + ": '" + io::shortest(x[k]) + "' is not finite");
+    }
+  }
+}
+
+VecX jointVector(const InArray& q, int dof, const std::string& subject, const std::string& what) {
+  if (q.ndim() != 1 || q.shape(0) != dof) {
+    throw UsageError(subject, what + ": expected " + std::to_string(dof) + " joint values (shape (" +
+                                  std::to_string(dof) + ",)), got shape " + shapeText(q));
+  }
+  VecX out(dof);
+  auto r = q.unchecked<1>();
+  for (int i = 0; i < dof; ++i) out(i) = r(i);
+  requireFinite(out.data(), dof, 0, subject, what);
+  return out;
+}
+
+MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const std::string& what) {
+  if (Q.ndim() != 2 || Q.shape(1) != dof) {
+    throw UsageError(subject, what + ": expected shape (N, " + std::to_string(dof) + "), got shape " + shapeText(Q));
+  }
+  MatX out(Q.shape(0), dof);
+  auto r = Q.unchecked<2>();
+  for (py::ssize_t k = 0; k < Q.shape(0); ++k) {
+    for (int i = 0; i < dof; ++i) out(k, i) = r(k, i);
+  }
+  for (py::ssize_t k = 0; k < Q.shape(0); ++k) {
+    for (int i = 0; i < dof; ++i) {
+      if (!std::isfinite(out(k, i))) {
+        throw UsageError(subject, what + "[" + std::to_string(k) + ", " + std::to_string(i) + "]: '" +
+                                      io::shortest(out(k, i)) + "' is not finite");
+      }
+    }
+  }
+  return out;
+}
+
+void warnUser(const std::string& text) {
+  if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+}
+
+Mat3 quaternionRotation(double w, double x, double y, double z, const std::string& subject, Eigen::Index row) {
+  double norm = 0.0;
+  const std::optional<Mat3> R = io::unitQuaternionRotation(w, x, y, z, norm);
+  if (!R) {
+    throw UsageError(subject, "row " + std::to_string(row) + ": qw..qz is not a unit quaternion (norm " +
+                                  io::shortest(norm) + ")");
+  }
+  return *R;
+}
+
+}  // namespace lowpair::python

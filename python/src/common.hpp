@@ -1,0 +1,130 @@
+// What the topics of the Python module share (python/src/, docs/python.md): the error of a bad argument and its
+// Python spelling, JSON and array conversions, and the checks of joint arrays every binding makes.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "lowpair/types.hpp"
+#include "validation/arguments.hpp"
+
+namespace py = pybind11;
+
+namespace lowpair::python {
+
+using nlohmann::json;
+
+// A bad argument (not a file): raised as lowpair.Error("SUBJECT: message"), as the CLI prints it; the error of
+// the validation room's shared checks, as in cli/commands.hpp.
+using UsageError = validation::UsageError;
+
+// Python's spelling of an argument in the validation room's shared checks: "noise_position", "measure='targets'".
+validation::ArgumentSpelling pythonSpelling();
+
+// A seed of the sampling streams, as the CLI's --seed takes it: a whole number in [0, 2^53].
+void checkSeed(long long seed);
+
+// nlohmann::json -> Python objects (numbers keep their double bits).
+py::object toPython(const json& j);
+
+// ----- arrays ------------------------------------------------------------------------------------------
+
+using InArray = py::array_t<double, py::array::forcecast>;
+
+py::array_t<double> matrixArray(const Eigen::Ref<const MatX>& m);
+py::array_t<double> vectorArray(const Eigen::Ref<const VecX>& v);
+py::array_t<double> poseArray(const Pose& T);
+
+// One value per row: f(row) for each of `rows`, as an (N,) array of T.
+template <class T, class Rows, class F>
+py::array_t<T> perRow(const Rows& rows, F f) {
+  py::array_t<T> out(static_cast<py::ssize_t>(rows.size()));
+  auto w = out.template mutable_unchecked<1>();
+  for (size_t k = 0; k < rows.size(); ++k) w(static_cast<py::ssize_t>(k)) = f(rows[k]);
+  return out;
+}
+
+// Vectors of `n` values, one per row, as an (N, n) array: row k is f(rows[k]).
+template <class Rows, class F>
+py::array_t<double> vectorRows(const Rows& rows, Eigen::Index n, F f) {
+  py::array_t<double> out({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(n)});
+  auto w = out.mutable_unchecked<2>();
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const VecX& v = f(rows[k]);
+    for (Eigen::Index i = 0; i < n; ++i) w(static_cast<py::ssize_t>(k), i) = v(i);
+  }
+  return out;
+}
+
+std::string shapeText(const py::array& a);
+
+// Finite check of a joint array, naming the first bad value like the CLI's --q ("'nan' is not finite").
+void requireFinite(const double* x, py::ssize_t count, py::ssize_t per_row, const std::string& subject,
+                   const std::string& what);
+
+// (n,) joint vector.
+VecX jointVector(const InArray& q, int dof, const std::string& subject, const std::string& what = "q");
+
+// (N, n) joint values, column-major (what the library takes).
+MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const std::string& what = "q");
+
+// A float64 array read in place: C-contiguous and aligned (what numpy makes). Anything else (lists, integers,
+// Fortran order, strided views, other byte orders) is converted by numpy first, as InArray is.
+using CArray = py::array_t<double, py::array::c_style | py::array::forcecast | py::detail::npy_api::NPY_ARRAY_ALIGNED_>;
+
+inline CArray cArray(const py::handle& x, const char* what) {
+  if (CArray::check_(x) && py::detail::check_flags(x.ptr(), py::detail::npy_api::NPY_ARRAY_ALIGNED_)) {
+    return py::reinterpret_borrow<CArray>(x);
+  }
+  CArray a = CArray::ensure(x);
+  if (!a) {
+    throw py::type_error(std::string(what) + ": expected an array of numbers (float64), got " +
+                         py::str(py::type::handle_of(x).attr("__name__")).cast<std::string>());
+  }
+  return a;
+}
+
+// A new C-contiguous float64 array of `shape`, allocated by numpy (py::array's constructor would first build
+// std::vectors of the shape and strides: a single fk(q) notices).
+template <size_t D>
+py::array_t<double> newArray(const std::array<py::ssize_t, D>& shape) {
+  auto& api = py::detail::npy_api::get();
+  PyObject* a = api.PyArray_NewFromDescr_(api.PyArray_Type_, api.PyArray_DescrFromType_(py::detail::npy_api::NPY_DOUBLE_),
+                                          static_cast<int>(D), const_cast<Py_intptr_t*>(shape.data()), nullptr,
+                                          nullptr, 0, nullptr);
+  if (!a) throw py::error_already_set();
+  return py::reinterpret_steal<py::array_t<double>>(a);
+}
+
+// `out`: a preallocated float64 C-contiguous writeable array of the result's shape (no fresh pages per call).
+template <size_t D>
+double* outBuffer(const std::optional<py::array>& out, const std::array<py::ssize_t, D>& shape) {
+  if (!out) return nullptr;
+  const py::array& a = *out;
+  bool ok = py::isinstance<py::array_t<double>>(a) && a.writeable() && (a.flags() & py::array::c_style) &&
+            a.ndim() == static_cast<py::ssize_t>(D);
+  for (size_t k = 0; ok && k < D; ++k) ok = a.shape(static_cast<py::ssize_t>(k)) == shape[k];
+  if (!ok) {
+    std::string want = "(";
+    for (size_t k = 0; k < D; ++k) want += (k ? ", " : "") + std::to_string(shape[k]);
+    throw UsageError("out", "expected a writeable C-contiguous float64 array of shape " + want + "), got shape " +
+                                shapeText(a));
+  }
+  return static_cast<double*>(const_cast<void*>(a.data()));  // writeable, checked above
+}
+
+// Python's UserWarning `text` (with the GIL held); under -W error it raises.
+void warnUser(const std::string& text);
+
+// A rotation from a quaternion qw, qx, qy, qz by the measurement CSV reader's rule (io::unitQuaternionRotation),
+// so that arrays and a CSV of the same numbers give the same bits.
+Mat3 quaternionRotation(double w, double x, double y, double z, const std::string& subject, Eigen::Index row);
+
+}  // namespace lowpair::python

@@ -1,0 +1,144 @@
+// The batched FK of Robot.fk(Q), chunk by chunk (fk_batch.hpp).
+#include "fk_batch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
+#include "lowpair/kinematics.hpp"
+
+namespace lowpair::python {
+
+namespace {
+
+// Batched FK, chunk by chunk: 256 configurations (a multiple of every SIMD block, 4 or 8, so the blocks are
+// those of one whole call) keep the chunk's joint values and poses (36 KB for six joints) in the L1 cache.
+constexpr Eigen::Index kFkChunk = 256;
+// Results of at least this many bytes are written with non-temporal stores when their pages are resident: they
+// bypass the caches the result would not fit in anyway, and skip reading each line before writing it (12.8 MB for
+// N = 100,000). Smaller results stay in the cache for the caller's next read. Into pages not yet faulted in
+// (memory new to the process) non-temporal stores cost more than plain ones (docs/python.md, "Speed").
+constexpr size_t kStreamBytes = size_t{1} << 20;
+
+// Whether every page of [p, p + bytes) is resident (mincore; one system call, ~3,000 pages for 12.8 MB).
+bool resident(const void* p, size_t bytes) {
+#if defined(__linux__)
+  const auto page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+  const uintptr_t begin = reinterpret_cast<uintptr_t>(p) & ~(page - 1), end = reinterpret_cast<uintptr_t>(p) + bytes;
+  std::vector<unsigned char> pages((end - begin + page - 1) / page);
+  if (mincore(reinterpret_cast<void*>(begin), end - begin, pages.data()) != 0) return false;
+  return std::all_of(pages.begin(), pages.end(), [](unsigned char c) { return (c & 1) != 0; });
+#else
+  (void)p, (void)bytes;
+  return true;
+#endif
+}
+
+// The chunk's rows of the row-major (len x dof) q, transposed into the column-major Q the library takes: two
+// rows at a time, each 2 x 2 block (row pair, joint pair) transposed in registers (SSE2), the finiteness check
+// folded in; false when a value is not finite.
+bool transposeChunk(const double* q, Eigen::Index len, Eigen::Index dof, MatX& Q) {
+  constexpr double kLargest = std::numeric_limits<double>::max();
+  double* dst = Q.data();
+  const Eigen::Index ld = Q.rows();
+  bool finite = true;
+  Eigen::Index k = 0;
+#if defined(__SSE2__)
+  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff)), largest = _mm_set1_pd(kLargest);
+  __m128d bad = _mm_setzero_pd();  // lanes of NaN or +-inf: not (|x| <= largest)
+  for (; k + 2 <= len; k += 2) {
+    const double* a = q + k * dof;  // rows k and k + 1
+    const double* b = a + dof;
+    Eigen::Index i = 0;
+    for (; i + 2 <= dof; i += 2) {
+      const __m128d ra = _mm_loadu_pd(a + i), rb = _mm_loadu_pd(b + i);
+      bad = _mm_or_pd(bad, _mm_or_pd(_mm_cmpnle_pd(_mm_and_pd(ra, magnitude), largest),
+                                     _mm_cmpnle_pd(_mm_and_pd(rb, magnitude), largest)));
+      _mm_storeu_pd(dst + i * ld + k, _mm_unpacklo_pd(ra, rb));
+      _mm_storeu_pd(dst + (i + 1) * ld + k, _mm_unpackhi_pd(ra, rb));
+    }
+    for (; i < dof; ++i) {
+      dst[i * ld + k] = a[i], dst[i * ld + k + 1] = b[i];
+      finite &= std::abs(a[i]) <= kLargest && std::abs(b[i]) <= kLargest;
+    }
+  }
+  finite &= _mm_movemask_pd(bad) == 0;
+#endif
+  for (; k < len; ++k) {
+    for (Eigen::Index i = 0; i < dof; ++i) {
+      const double x = q[k * dof + i];
+      dst[i * ld + k] = x;
+      finite &= std::abs(x) <= kLargest;
+    }
+  }
+  return finite;
+}
+
+// The library's (len x 12) column-major poses (rotation row-major in columns 0..8, position in 9..11) as len
+// row-major 4 x 4 matrices at `out`: two configurations at a time, each 2 x 2 block of (column pair, pose
+// pair) transposed in registers (SSE2, the x86-64 baseline); `stream`: non-temporal stores (out 16-aligned).
+void repackChunk(const MatX& poses, Eigen::Index len, double* out, bool stream) {
+  const double* c = poses.data();
+  const Eigen::Index ld = poses.rows();
+  Eigen::Index k = 0;
+#if defined(__SSE2__)
+  const __m128d zero_zero = _mm_setzero_pd(), zero_one = _mm_set_pd(1.0, 0.0);
+  auto store = [stream](double* dst, __m128d v) { stream ? _mm_stream_pd(dst, v) : _mm_storeu_pd(dst, v); };
+  for (; k + 2 <= len; k += 2, out += 32) {
+    for (int a = 0; a < 3; ++a) {
+      const __m128d r0 = _mm_loadu_pd(c + (3 * a + 0) * ld + k), r1 = _mm_loadu_pd(c + (3 * a + 1) * ld + k);
+      const __m128d r2 = _mm_loadu_pd(c + (3 * a + 2) * ld + k), p = _mm_loadu_pd(c + (9 + a) * ld + k);
+      store(out + 4 * a, _mm_unpacklo_pd(r0, r1));
+      store(out + 4 * a + 2, _mm_unpacklo_pd(r2, p));
+      store(out + 16 + 4 * a, _mm_unpackhi_pd(r0, r1));
+      store(out + 16 + 4 * a + 2, _mm_unpackhi_pd(r2, p));
+    }
+    store(out + 12, zero_zero), store(out + 14, zero_one), store(out + 28, zero_zero), store(out + 30, zero_one);
+  }
+#endif
+  for (; k < len; ++k, out += 16) {
+    for (int a = 0; a < 3; ++a) {
+      out[4 * a + 0] = c[(3 * a + 0) * ld + k], out[4 * a + 1] = c[(3 * a + 1) * ld + k];
+      out[4 * a + 2] = c[(3 * a + 2) * ld + k], out[4 * a + 3] = c[(9 + a) * ld + k];
+    }
+    out[12] = 0.0, out[13] = 0.0, out[14] = 0.0, out[15] = 1.0;
+  }
+}
+
+}  // namespace
+
+void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, double* out) {
+  const Eigen::Index dof = r.dof(), rows = std::min(count, kFkChunk);
+  MatX Q(rows, dof), poses(rows, 12);
+  bool stream = false;
+#if defined(__SSE2__)
+  const size_t bytes = static_cast<size_t>(count) * 16 * sizeof(double);
+  stream = bytes >= kStreamBytes && reinterpret_cast<uintptr_t>(out) % 16 == 0 && resident(out, bytes);
+#endif
+  for (Eigen::Index start = 0; start < count; start += kFkChunk) {
+    const Eigen::Index len = std::min(kFkChunk, count - start);
+    if (!transposeChunk(q + start * dof, len, dof, Q)) {
+      requireFinite(q, (start + len) * dof, dof, r.subject(), "q");  // throws, naming the first value
+    }
+    if (poe) {
+      forwardKinematicsBatch(r.poe, Q.topRows(len), poses.topRows(len));
+    } else {
+      forwardKinematicsBatch(r.dhModel(), Q.topRows(len), poses.topRows(len));
+    }
+    repackChunk(poses, len, out + 16 * start, stream);
+  }
+#if defined(__SSE2__)
+  if (stream) _mm_sfence();  // the non-temporal stores are visible before the GIL is taken back
+#endif
+}
+
+}  // namespace lowpair::python

@@ -1,0 +1,25 @@
+// The batched FK of Robot.fk(Q) (docs/python.md, "Speed"): the hot path alone in fk_batch.cpp, as MuJoCo keeps
+// its batched rollout in rollout.cc.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+
+#include "robot.hpp"
+
+namespace lowpair::python {
+
+// Whether the byte ranges [a, a + a_bytes) and [b, b + b_bytes) share a byte (the extents test of numpy's
+// may_share_memory: strides do not matter here, both arrays are C-contiguous).
+inline bool sharesBytes(const void* a, size_t a_bytes, const void* b, size_t b_bytes) {
+  const auto x = reinterpret_cast<uintptr_t>(a), y = reinterpret_cast<uintptr_t>(b);
+  return a_bytes > 0 && b_bytes > 0 && x < y + b_bytes && y < x + a_bytes;
+}
+
+// Batched FK of `count` configurations (row-major count x dof `q`) into `out` (count x 4 x 4, row-major): per
+// chunk, transposeChunk (with the finiteness check), forwardKinematicsBatch, repackChunk. Called without the GIL
+// (the caller keeps `q` and `out` alive).
+void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, double* out);
+
+}  // namespace lowpair::python

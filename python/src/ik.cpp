@@ -1,0 +1,301 @@
+// lowpair.ik and lowpair.compensate (`lowpair ik`, `lowpair compensate`) and the class IkSolutions.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common.hpp"
+#include "expose.hpp"
+#include "io/measurements.hpp"
+#include "lowpair/ik.hpp"
+#include "lowpair/kinematics.hpp"
+#include "robot.hpp"
+#include "validation/ik_rows.hpp"
+#include "validation/sampling.hpp"
+
+namespace lowpair::python {
+
+namespace {
+
+// ----- inverse kinematics, compensation (lowpair/ik.hpp; `lowpair ik`, `lowpair compensate`) ------------
+
+// The rows of `ik` or `compensate` and the JSON of the CLI's --json (cli/ik_commands.cpp) without its files.
+struct IkSolutions {
+  std::vector<validation::IkRow> rows;  // line: the 0-based row
+  json j;                               // the JSON without "rows": to_dict() builds them when asked (1 KB a row)
+  bool with_seed = false;               // ik's rows name their seed, compensate's do not
+};
+
+// The targets of ik: (N, 4, 4) homogeneous transforms, or (N, 3) positions, made poses by rotations (N, 4) qw..qz
+// (the targets CSV's columns, converted as its reader converts them).
+std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>& rotations, bool& pose) {
+  std::vector<Pose> out;
+  if (targets.ndim() == 3 && targets.shape(1) == 4 && targets.shape(2) == 4) {
+    if (rotations) throw UsageError("rotations", "the targets are 4 x 4 transforms: they hold their rotations");
+    pose = true;
+    auto t = targets.unchecked<3>();
+    for (py::ssize_t k = 0; k < t.shape(0); ++k) {
+      Pose T;
+      for (int a = 0; a < 3; ++a) {
+        for (int c = 0; c < 3; ++c) T.R(a, c) = t(k, a, c);
+        T.p(a) = t(k, a, 3);
+      }
+      if (!(t(k, 3, 0) == 0.0 && t(k, 3, 1) == 0.0 && t(k, 3, 2) == 0.0 && t(k, 3, 3) == 1.0)) {
+        throw UsageError("targets", "[" + std::to_string(k) + "]: the last row of a transform must be [0, 0, 0, 1]");
+      }
+      out.push_back(T);
+    }
+  } else if (targets.ndim() == 2 && targets.shape(1) == 3) {
+    pose = rotations.has_value();
+    if (rotations && (rotations->ndim() != 2 || rotations->shape(0) != targets.shape(0) || rotations->shape(1) != 4)) {
+      throw UsageError("rotations", "expected shape (" + std::to_string(targets.shape(0)) +
+                                        ", 4) (unit quaternions qw, qx, qy, qz), got shape " + shapeText(*rotations));
+    }
+    auto t = targets.unchecked<2>();
+    for (py::ssize_t k = 0; k < t.shape(0); ++k) {
+      Pose T;
+      T.p = Vec3(t(k, 0), t(k, 1), t(k, 2));
+      if (rotations) {
+        auto w = rotations->unchecked<2>();
+        T.R = quaternionRotation(w(k, 0), w(k, 1), w(k, 2), w(k, 3), "rotations", k);
+      }
+      out.push_back(T);
+    }
+  } else {
+    throw UsageError("targets", "expected shape (N, 4, 4) (transforms) or (N, 3) (positions), got shape " +
+                                    shapeText(targets));
+  }
+  for (size_t k = 0; k < out.size(); ++k) {
+    if (!out[k].p.allFinite() || !out[k].R.allFinite()) {
+      throw UsageError("targets", "[" + std::to_string(k) + "]: not finite");
+    }
+  }
+  return out;
+}
+
+// The rows of ik and compensate: at most io::kMaxMeasurements, the CLI's limit (a file holds no more), checked
+// before anything is allocated (10^7 rows once grew to 7.7 GB).
+void checkRowCount(const InArray& a, const std::string& what) {
+  if (a.ndim() >= 2 && a.shape(0) > io::kMaxMeasurements) {
+    throw UsageError(what, std::to_string(a.shape(0)) + " rows, more than the " + std::to_string(io::kMaxMeasurements) +
+                               " one call takes (the CLI's limit): split the array");
+  }
+}
+
+// Per-row seeds: None, (n,) for every row, or (N, n).
+std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, size_t rows) {
+  if (!q0) return std::nullopt;
+  if (q0->ndim() == 1) {
+    const VecX x = jointVector(*q0, r.dof(), r.subject(), "q0");
+    return MatX(x.transpose().replicate(static_cast<Eigen::Index>(rows), 1));
+  }
+  MatX Q = jointMatrix(*q0, r.dof(), r.subject(), "q0");
+  if (Q.rows() != static_cast<Eigen::Index>(rows)) {
+    throw UsageError("q0", "expected shape (" + std::to_string(rows) + ", " + std::to_string(r.dof()) + ") or (" +
+                               std::to_string(r.dof()) + ",), got shape " + shapeText(*q0));
+  }
+  return Q;
+}
+
+// `lowpair ik`: one problem per target, from q0 (the CSV's q columns) or from up to `seeds` random seeds (sample
+// k * seeds + s of the stream `seed`, the sampling convention), the first ok kept, else the best attempt.
+IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<InArray>& rotations,
+               const std::optional<InArray>& q0, int seeds, long long seed) {
+  if (seeds < 1 || seeds > validation::kMaxIkSeeds) {
+    throw UsageError("seeds", "must be in [1, " + std::to_string(validation::kMaxIkSeeds) + "], got " +
+                                  std::to_string(seeds));
+  }
+  checkSeed(seed);
+  checkRowCount(targets_arg, "targets");
+  bool pose = false;
+  const std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
+  const std::optional<MatX> given = seedRows(r, q0, targets.size());
+  const PoeModel& model = r.poe;
+  IkOptions options;
+  options.measure = pose ? Measure::Pose : Measure::Position;
+  IkSolutions s;
+  s.rows.reserve(targets.size());
+  {
+    py::gil_scoped_release release;
+    const std::vector<validation::Range> ranges = validation::samplingRanges(model);
+    Data data(model);
+    IkWorkspace work(model);
+    for (size_t k = 0; k < targets.size(); ++k) {
+      const auto line = static_cast<long long>(k);
+      try {
+        if (given) {
+          s.rows.push_back({inverseKinematics(model, data, targets[k], given->row(static_cast<Eigen::Index>(k)).transpose(),
+                                              options, work),
+                            -1, line});
+        } else {
+          s.rows.push_back(validation::solveFromRandomSeeds(model, data, targets[k], k, seeds,
+                                                            static_cast<unsigned long long>(seed), ranges, options, work,
+                                                            line));
+        }
+      } catch (const std::invalid_argument& e) {
+        throw UsageError("targets", "[" + std::to_string(k) + "]: " + e.what());
+      }
+    }
+  }
+  s.j = {{"name", r.file.name},
+         {"source", r.file.path},
+         {"poses", "<arrays>"},
+         {"length_unit", r.file.length_unit},
+         {"task", pose ? "pose" : "position"},
+         {"seeds", given ? json("file") : json(seeds)},
+         {"seed", seed},
+         {"notes", json::array()},
+         {"counts", validation::ikCountsJson(s.rows)}};
+  s.with_seed = true;
+  return s;
+}
+
+// `lowpair compensate`: the joint values of `calibrated` that put the tool where `nominal` puts it at each q.
+IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const InArray& q_arg,
+                           const std::string& measure) {
+  if (measure != "pose" && measure != "position") {
+    throw UsageError("measure", "expected 'pose' or 'position', got '" + measure + "'");
+  }
+  if (nominal.dof() != calibrated.dof()) {
+    throw UsageError(calibrated.subject(), "has " + std::to_string(calibrated.dof()) + " joints but nominal " +
+                                               nominal.subject() + " has " + std::to_string(nominal.dof()));
+  }
+  if (nominal.file.length_unit != calibrated.file.length_unit) {
+    auto unit = [](const Robot& r) { return r.file.length_unit.empty() ? std::string("no stated unit") : r.file.length_unit; };
+    throw UsageError(calibrated.subject(), "lengths in " + unit(calibrated) + " but nominal " + nominal.subject() +
+                                               " in " + unit(nominal) + ": compensation needs one unit");
+  }
+  checkRowCount(q_arg, "q");
+  const MatX Q = q_arg.ndim() == 1 ? MatX(jointVector(q_arg, calibrated.dof(), calibrated.subject()).transpose())
+                                   : jointMatrix(q_arg, calibrated.dof(), calibrated.subject());
+  IkOptions options;
+  options.measure = measure == "pose" ? Measure::Pose : Measure::Position;
+  IkSolutions s;
+  {
+    py::gil_scoped_release release;
+    std::vector<long long> lines(static_cast<size_t>(Q.rows()));
+    for (size_t k = 0; k < lines.size(); ++k) lines[k] = static_cast<long long>(k);
+    s.rows = validation::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options);
+  }
+  s.j = {{"name", calibrated.file.name},
+         {"source", calibrated.file.path},
+         {"nominal", nominal.file.path},
+         {"q_file", "<arrays>"},
+         {"length_unit", calibrated.file.length_unit},
+         {"measure", measure},
+         {"counts", validation::ikCountsJson(s.rows)}};
+  return s;
+}
+
+}  // namespace
+
+void exposeIk(py::module_& m) {
+  py::class_<IkSolutions>(m, "IkSolutions",
+                          "lowpair.ik(...) / lowpair.compensate(...): one solution per row, as `lowpair ik` / "
+                          "`lowpair compensate` write them.")
+      .def("to_dict",
+           [](const IkSolutions& s) {
+             // row by row into Python objects: a JSON value of every row would need as much memory again, and
+             // nlohmann's destructor allocates, so running out of memory there ends the process (10^6 rows under a
+             // 700 MB limit did), where Python's own allocations raise MemoryError
+             py::dict out = toPython(s.j);
+             py::list rows;
+             for (const validation::IkRow& row : s.rows) rows.append(toPython(validation::ikRowJson(row, s.with_seed)));
+             out["rows"] = std::move(rows);
+             return out;
+           },
+           "to_dict() -> dict: the content of `lowpair ik --json` (poses '<arrays>') or `lowpair compensate --json`\n"
+           "(q_file '<arrays>'); every row's `line` is its 0-based row.")
+      .def("__len__", [](const IkSolutions& s) { return s.rows.size(); })
+      .def_property_readonly(
+          "q",
+          [](const IkSolutions& s) {
+            const Eigen::Index n = s.rows.empty() ? 0 : s.rows.front().result.q.size();
+            return vectorRows(s.rows, n, [](const validation::IkRow& row) -> const VecX& { return row.result.q; });
+          },
+          "(N, n): the solutions (or each row's last iterate when not ok), rad / length_unit.")
+      .def_property_readonly(
+          "status",
+          [](const IkSolutions& s) {
+            std::vector<std::string> out;
+            for (const validation::IkRow& row : s.rows) out.push_back(ikStatusName(row.result.status));
+            return out;
+          },
+          "list[str]: 'ok', 'out_of_range', 'singular', 'unreachable' or 'not_converged' per row (docs/ik.md).")
+      .def_property_readonly(
+          "ok",
+          [](const IkSolutions& s) {
+            return perRow<bool>(s.rows, [](const validation::IkRow& row) { return row.result.status == IkStatus::Ok; });
+          },
+          "(N,) bool: status == 'ok' (within 1e-10 L and 1e-10 rad, at a regular configuration).")
+      .def_property_readonly(
+          "iterations",
+          [](const IkSolutions& s) {
+            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.result.iterations; });
+          },
+          "(N,) int: iterations of the kept attempt.")
+      .def_property_readonly(
+          "position_error",
+          [](const IkSolutions& s) {
+            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.position_error; });
+          },
+          "(N,): |p_target - p| at q (length_unit).")
+      .def_property_readonly(
+          "rotation_error",
+          [](const IkSolutions& s) {
+            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.rotation_error; });
+          },
+          "(N,): the angle of R^T R_target at q (rad; 0 for positions).")
+      .def_property_readonly(
+          "rank",
+          [](const IkSolutions& s) {
+            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.result.rank; });
+          },
+          "(N,) int: rank of the dimensionless task Jacobian at a converged q (-1 when not converged).")
+      .def_property_readonly(
+          "sigma_min",
+          [](const IkSolutions& s) {
+            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.sigma_min; });
+          },
+          "(N,): its smallest singular value (NaN when not converged).")
+      .def_property_readonly(
+          "seed",
+          [](const IkSolutions& s) {
+            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.seed; });
+          },
+          "(N,) int: the random seed s (0..seeds-1) the kept attempt started from; -1 for q0 (ik) and compensate.")
+      .def_property_readonly(
+          "reason",
+          [](const IkSolutions& s) {
+            std::vector<std::string> out;
+            for (const validation::IkRow& row : s.rows) out.push_back(row.result.reason);
+            return out;
+          },
+          "list[str]: why a row is not ok, one sentence with the numbers ('' for ok rows).")
+      .def_property_readonly("counts", [](const IkSolutions& s) { return toPython(s.j["counts"]); },
+                             "dict status -> rows.")
+      .def("__repr__", [](const IkSolutions& s) {
+        long long ok = 0;
+        for (const validation::IkRow& row : s.rows) ok += row.result.status == IkStatus::Ok;
+        return "<lowpair.IkSolutions " + std::to_string(s.rows.size()) + " rows, " + std::to_string(ok) + " ok>";
+      });
+  m.def("ik", &ik, py::arg("robot"), py::arg("targets"), py::arg("rotations") = py::none(), py::arg("q0") = py::none(),
+        py::arg("seeds") = 8, py::arg("seed") = 1,
+        "ik(robot, targets, rotations=None, q0=None, seeds=8, seed=1) -> IkSolutions\n\n"
+        "`lowpair ik`: inverse kinematics, one problem per row. targets: (N, 4, 4) transforms T_base_tool (the tool\n"
+        "frame onto each), or (N, 3) positions (length_unit; the tool origin onto each: a position task), made\n"
+        "poses by rotations (N, 4) unit quaternions qw, qx, qy, qz (the targets CSV's columns). q0: (n,) or (N, n)\n"
+        "seeds (the CSV's q columns); None: up to `seeds` random seeds per row (1..1000), sample k * seeds + s of\n"
+        "the stream `seed` (the sampling convention; the same seed gives the CLI's numbers), the first that ends\n"
+        "ok kept, else the closest attempt. Tolerances 1e-10 L and 1e-10 rad (docs/ik.md). A row that is not\n"
+        "solved is data (status, reason), not an exception. The GIL is released while solving.");
+  m.def("compensate", &compensateRows, py::arg("calibrated"), py::arg("nominal"), py::arg("q"),
+        py::arg("measure") = "pose",
+        "compensate(calibrated, nominal, q, measure='pose') -> IkSolutions\n\n"
+        "`lowpair compensate`: for each row of q (N, n) (or one (n,)), nominal joint values, the joint values of\n"
+        "the calibrated robot that put its tool frame (measure='pose') or tool origin ('position') where the\n"
+        "nominal puts it at q, solved by inverse kinematics seeded at q. Both robots must have the same joint\n"
+        "count and length unit. The GIL is released while solving.");
+}
+
+}  // namespace lowpair::python

@@ -1,0 +1,41 @@
+// Forward kinematics, Jacobians, the D-H table and singularities of a Robot (lowpair.Robot's methods,
+// kinematics.cpp; the batched FK's kernel is fk_batch.cpp).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "common.hpp"
+#include "lowpair/convert.hpp"
+#include "lowpair/singularity.hpp"
+#include "robot.hpp"
+
+namespace lowpair::python {
+
+// Robot.fk: T_base_tool of one configuration (n,) -> (4, 4), or of (N, n) -> (N, 4, 4) batched (fk_batch.hpp).
+py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::string>& model,
+              const std::optional<py::array>& out_arg);
+
+// Robot.jacobian: the spatial, body or geometric Jacobian at q (n,), (6, n).
+py::array_t<double> jacobian(const Robot& r, const InArray& q, const std::string& frame);
+
+// ----- the D-H table -----------------------------------------------------------------------------------
+
+struct DhTable {
+  DhConversion conversion;
+  FkCheck check;
+  json j;
+};
+
+DhTable dhTable(const Robot& r, double parallel_threshold, bool modified);
+
+// ----- singularities (io/singularity_output.hpp) ----------
+
+struct Singularity {
+  SingularityReport report;
+  json j;
+};
+
+Singularity singular(const Robot& r, const InArray& q);
+
+}  // namespace lowpair::python

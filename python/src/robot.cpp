@@ -1,0 +1,148 @@
+// lowpair.load and the class Robot (its kinematics: kinematics.cpp).
+#include "robot.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "expose.hpp"
+#include "files.hpp"
+#include "kinematics.hpp"
+#include "mujoco/mujoco_robot.hpp"
+
+namespace lowpair::python {
+
+namespace {
+
+// As cli/main.cpp loadRobot (its checks in this module's words): a robot file, or the chain of an MJCF (MuJoCo) / URDF (urdfdom) model to `tip`.
+io::RobotFile loadFile(const std::string& path, const std::optional<std::string>& tip,
+                       const std::optional<std::string>& base) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  const std::string tip_name = tip.value_or(""), base_name = base.value_or("");
+  if (ext != ".xml" && ext != ".urdf") {
+    if (!tip_name.empty() || !base_name.empty()) {
+      throw UsageError(path, "tip/base go with a model file (.xml or .urdf), not a robot file");
+    }
+    return io::readRobotFile(path);
+  }
+  if (tip_name.empty()) throw UsageError(path, "tip=NAME is required with a model file");
+  return mujoco::robotFileOfModel(path, tip_name, base_name);
+}
+
+py::array_t<double> rangesArray(const Robot& r) {
+  py::array_t<double> out({static_cast<py::ssize_t>(r.dof()), py::ssize_t{2}});
+  auto w = out.mutable_unchecked<2>();
+  for (int i = 0; i < r.dof(); ++i) {
+    const auto& range = r.poe.joint(i).range;
+    w(i, 0) = range ? (*range)[0] : std::nan("");
+    w(i, 1) = range ? (*range)[1] : std::nan("");
+  }
+  return out;
+}
+
+}  // namespace
+
+void exposeRobot(py::module_& m) {
+  py::class_<Robot, RobotPtr>(m, "Robot",
+                              "An immutable serial robot (POE model, and the D-H model of a D-H robot file). Made by "
+                              "lowpair.load or lowpair.calibrate; safe to use from several threads at once.")
+      .def_property_readonly("name", [](const Robot& r) { return r.file.name; }, "The robot's name (str).")
+      .def_property_readonly("path", [](const Robot& r) { return r.file.path; }, "The file it was read from ('' if made).")
+      .def_property_readonly("description", [](const Robot& r) { return r.file.description; }, "The file's description.")
+      .def_property_readonly("dof", &Robot::dof, "Number of joints n (int).")
+      .def_property_readonly("model", [](const Robot& r) { return r.ownDh() ? "dh" : "poe"; },
+                             "'poe' or 'dh': the description the file holds (fk evaluates it by default).")
+      .def_property_readonly("length_unit", [](const Robot& r) { return r.file.length_unit; },
+                             "The length unit of every length in and out ('' when the file states none).")
+      .def_property_readonly("angle_unit", [](const Robot& r) { return r.file.angle_unit; },
+                             "The file's angle unit ('rad' or 'deg'); every angle in and out of the module is in rad.")
+      .def_property_readonly("size", [](const Robot& r) { return r.poe.lengthScale(); },
+                             "The robot size L (length_unit), docs/conventions.md.")
+      .def_property_readonly(
+          "joint_names",
+          [](const Robot& r) {
+            std::vector<std::string> names;
+            for (const Joint& j : r.poe.joints()) names.push_back(j.name);
+            return names;
+          },
+          "list[str], one per joint ('' where the file names none).")
+      .def_property_readonly(
+          "joint_types",
+          [](const Robot& r) {
+            std::vector<std::string> types;
+            for (const Joint& j : r.poe.joints()) types.push_back(jointTypeName(j.type));
+            return types;
+          },
+          "list[str]: 'revolute', 'prismatic' or 'helical' per joint.")
+      .def_property_readonly("ranges", &rangesArray,
+                             "(n, 2) float64 array [lo, hi] of each joint variable q (rad, or length_unit for "
+                             "prismatic joints); NaN in both columns for a joint without a range.")
+      .def_property_readonly(
+          "targets",
+          [](const Robot& r) {
+            py::dict out;
+            for (const Target& t : r.file.targets) {
+              out[py::str(t.name)] = t.point_tool ? py::object(vectorArray(*t.point_tool)) : py::object(py::none());
+            }
+            return out;
+          },
+          "dict name -> (3,) point in the tool frame (length_unit): the file's `targets:` (laser-tracker SMRs).")
+      .def("fk", &fk, py::arg("q"), py::arg("model") = py::none(), py::arg("out") = py::none(),
+           "fk(q, model=None, out=None) -> numpy.ndarray\n\n"
+           "Forward kinematics T_base_tool(q).\n\n"
+           "q: (n,) joint values -> (4, 4) homogeneous transform; or (N, n), one configuration per row -> (N, 4, 4),\n"
+           "evaluated by batched C++ calls (forwardKinematicsBatch, SIMD) with the GIL released.\n"
+           "Units: q in rad (revolute, helical) or length_unit (prismatic), the robot file's joint variable;\n"
+           "the translation column in length_unit. model: None (the file's own description, as `lowpair fk`),\n"
+           "'poe' or 'dh'. A single q equals `lowpair fk --json` bit for bit; the batched form holds the numbers of\n"
+           "forwardKinematicsBatch bit for bit, which agree with the single form to rounding (a few eps;\n"
+           "docs/python.md). out: an optional preallocated C-contiguous float64 array of the result's shape,\n"
+           "filled and returned. Cost: see docs/python.md, \"Speed\".\n"
+           "Raises lowpair.Error for a wrong shape or a non-finite value.")
+      .def("jacobian", &jacobian, py::arg("q"), py::arg("frame") = "spatial",
+           "jacobian(q, frame='spatial') -> numpy.ndarray (6, n)\n\n"
+           "The manipulator Jacobian at q (n,), as `lowpair jacobian --frame`:\n"
+           "'spatial': rows [w; v], twist coordinates in the base frame; 'body': rows [w; v] in the tool frame;\n"
+           "'geometric': rows [v; w], v the tool origin's velocity, base coordinates (Paden-Sastry eq. 3.13).\n"
+           "Columns are d/dq_i (they carry the joint scale); w in rad per unit q, v in length_unit per unit q.")
+      .def("dh", [](const Robot& r, double t, bool modified) { return dhTable(r, t, modified); },
+           py::arg("parallel_threshold") = 0.0, py::arg("modified") = false,
+           "dh(parallel_threshold=0.0, modified=False) -> DhTable\n\n"
+           "The standard (or modified, Craig) D-H table of the robot with its conditioning report and FK check,\n"
+           "as `lowpair poe2dh [--modified] --json` (DhTable.to_dict() is that JSON's content). Angles rad, lengths\n"
+           "length_unit. parallel_threshold: sin(angle) below which axes count as parallel (0: rounding level).")
+      .def("singular", &singular, py::arg("q"),
+           "singular(q) -> Singularity\n\n"
+           "Singularity analysis at q (n,), as `lowpair singular --json`: rank, sigma_min, manipulability, condition\n"
+           "of the dimensionless geometric Jacobian, the classes C1..C7, the wrist/arm split, null vectors.")
+      .def("save", [](const Robot& r, const std::string& path) { exportTo(r, path, r.ownDh() ? "dh" : "poe"); },
+           py::arg("path"),
+           "save(path) -> None\n\n"
+           "Writes the robot as a robot file (.yaml): a POE file, or a D-H file when it was read from one (the\n"
+           "table of poe2dh). Units as the robot's; a calibrated robot carries `calibrate --out`'s provenance.\n"
+           "The file is replaced atomically (all or nothing).")
+      .def("__repr__", [](const Robot& r) {
+        return "<lowpair.Robot '" + r.file.name + "' (" + std::to_string(r.dof()) + " joints, " +
+               (r.ownDh() ? "dh" : "poe") + (r.file.length_unit.empty() ? "" : ", " + r.file.length_unit) + ")>";
+      });
+
+  m.def(
+      "load",
+      [](const std::string& path, std::optional<std::string> tip, std::optional<std::string> base) {
+        io::RobotFile file;
+        {
+          py::gil_scoped_release release;
+          file = loadFile(path, tip, base);
+        }
+        return std::make_shared<Robot>(std::move(file));
+      },
+      py::arg("path"), py::arg("tip") = py::none(), py::arg("base") = py::none(),
+      "load(path, tip=None, base=None) -> Robot\n\n"
+      "A robot file (.yaml, POE or D-H), or the chain of an MJCF (.xml, through MuJoCo) or URDF (.urdf, urdfdom)\n"
+      "model from `base` (default the world / root link) to `tip` (a site or body / a link; required). As the\n"
+      "CLI's ROBOT [--tip --base]. Raises lowpair.Error with the CLI's message for a bad file.");
+}
+
+}  // namespace lowpair::python
