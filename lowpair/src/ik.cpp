@@ -20,7 +20,7 @@ namespace {
 using linalg::Small;
 using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
-int taskRows(Measure measure) { return measure == Measure::Pose ? 6 : 3; }
+int taskRows(Measure measure) { return rowsPerMeasurement(measure); }
 
 // q_i = columnScale * u_i: the dimensionless joint variable u of dimensionlessJacobian's columns
 double columnScale(const Joint& joint, double L) { return (joint.type == JointType::Prismatic ? L : 1.0) / joint.scale; }

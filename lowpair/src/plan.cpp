@@ -1,5 +1,6 @@
 #include "lowpair/plan.hpp"
 #include "linalg.hpp"
+#include "rank_rule.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,19 +9,15 @@
 
 #include "lowpair/check.hpp"
 #include "lowpair/kinematics.hpp"
+#include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
 
 namespace lowpair {
 
 namespace {
 
-// a direction's coefficient above which it is named (RankAnalysis::undetermined)
-constexpr double kNamedCoefficient = 0.1;
-
 int rowsPerCandidate(const PlanOptions& options) {
-  return options.measure == Measure::Pose       ? 6
-         : options.measure == Measure::Position ? 3
-                                                : 3 * static_cast<int>(options.targets.size());
+  return rowsPerPose(options.measure, static_cast<int>(options.targets.size()));
 }
 
 // the candidate's rows of a stacked matrix
@@ -284,21 +281,10 @@ PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& ca
     }
   }
   // the directions the candidates determine: the rank rule on all of them stacked
-  const Eigen::JacobiSVD<MatX> svd(c.scaled, Eigen::ComputeFullV);
-  VecX s = VecX::Zero(p);
-  s.head(svd.singularValues().size()) = svd.singularValues();
-  const double tolerance = numericalRankTolerance(p > 0 ? s[0] : 0.0, static_cast<double>(p));
-  c.rank = 0;
-  while (c.rank < p && s[c.rank] > tolerance) ++c.rank;
-  const MatX& V = svd.matrixV();
-  c.basis = V.leftCols(c.rank);
-  for (int k = c.rank; k < p; ++k) {
-    std::vector<std::pair<int, double>> named;
-    for (int j = 0; j < p; ++j) {
-      if (std::abs(V(j, k)) > kNamedCoefficient) named.emplace_back(j, V(j, k));
-    }
-    c.undetermined.push_back(std::move(named));
-  }
+  detail::ScaledRank rule = detail::scaledRank(c.scaled);
+  c.rank = rule.rank;
+  c.basis = rule.V.leftCols(c.rank);
+  c.undetermined = std::move(rule.undetermined);
   c.reduced_t.noalias() = c.basis.transpose() * c.scaled.transpose();
   return c;
 }
@@ -321,8 +307,7 @@ PlanValue evaluatePlan(const PlanCandidates& c, const std::vector<int>& indices)
   VecX s = VecX::Zero(r);
   s.head(svd.singularValues().size()) = svd.singularValues();
   // the rule's n is the parameter count, as for the whole identification Jacobian
-  const double tolerance = numericalRankTolerance(s[0], static_cast<double>(c.scaled.cols()));
-  while (v.rank < r && s[v.rank] > tolerance) ++v.rank;
+  v.rank = numericalRank(s, numericalRankTolerance(s[0], static_cast<double>(c.scaled.cols())));
   if (v.rank == r) {
     const double sum_log = s.array().log().sum();
     v.log_det = 2.0 * sum_log;

@@ -63,8 +63,9 @@ foreach(f ${installed})
 endforeach()
 # the headers: exactly the supported API (the internal check.hpp with its LP_ macros is not installed;
 # tests/consumer/CMakeLists.txt compiles each installed header alone)
-set(supported calibration.hpp convert.hpp ik.hpp jacobian.hpp joint.hpp kinematics.hpp model.hpp plan.hpp se3.hpp
-              singularity.hpp
+set(supported calibrate.hpp calibration.hpp convert.hpp cross_validation.hpp dh_uncertainty.hpp error_model.hpp
+              identifiability.hpp ik.hpp jacobian.hpp joint.hpp kinematics.hpp measure.hpp model.hpp plan.hpp
+              registration.hpp robust_loss.hpp se3.hpp singularity.hpp
               tolerances.hpp types.hpp)
 file(GLOB headers RELATIVE ${prefix}/${INSTALL_INCLUDEDIR}/lowpair ${prefix}/${INSTALL_INCLUDEDIR}/lowpair/*)
 list(SORT headers)

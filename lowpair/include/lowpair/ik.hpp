@@ -45,8 +45,8 @@
 #include <limits>
 #include <string>
 
-#include "lowpair/calibration.hpp"
 #include "lowpair/kinematics.hpp"
+#include "lowpair/measure.hpp"
 #include "lowpair/model.hpp"
 #include "lowpair/tolerances.hpp"
 #include "lowpair/types.hpp"

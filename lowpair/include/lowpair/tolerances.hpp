@@ -32,7 +32,7 @@ constexpr double kIllConditioned = 1e3;
 /// Rank tolerance factor (see the file comment).
 constexpr double kRankFactor = 1e3;
 /// The rank rule, the one behind every rank lowpair reports (manipulator Jacobians in singularity.cpp,
-/// identification Jacobians in calibration.cpp): a singular value counts when it is above
+/// identification Jacobians in identifiability.cpp, rank_rule.hpp): a singular value counts when it is above
 /// kRankFactor * n * eps * sigma_max, n the matrix's larger dimension that rounding grows with (the joints,
 /// at least 6, for a manipulator Jacobian; the parameters for an identification Jacobian, whose rows are
 /// averaged by the column scaling). A reduced problem keeps the n of the matrix it came from.

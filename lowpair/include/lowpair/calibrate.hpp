@@ -1,0 +1,114 @@
+#pragma once
+/// @file calibrate.hpp
+/// The fit: Levenberg-Marquardt in the error model's coordinates, robust reweighting, covariance and the
+/// verdict (Wu, Crawford, Roberts §VI; docs/calibration.md).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lowpair/error_model.hpp"
+#include "lowpair/identifiability.hpp"
+#include "lowpair/registration.hpp"
+#include "lowpair/robust_loss.hpp"
+
+namespace lowpair {
+
+/// One measurement's fit: position (length) and rotation (rad; NaN for points) errors, and the
+/// normalized residual `u = sqrt(|r|^2 / (rows / 3))` of its weighted residual r (position / sigma_position,
+/// rotation / sigma_rotation; with no stated noise, over the robust scale instead): `|e| / sigma` for a
+/// point, the root mean square of the two for a pose.
+struct MeasurementResidual {
+  double position = 0.0, rotation = 0.0, normalized = 0.0;
+  double weight = 1.0;   ///< the robust loss' weight at the result (1 for Squared)
+  bool outlier = false;  ///< normalized > CalibrationOptions::outlier_threshold
+};
+
+struct CalibrationOptions {
+  Measure measure = Measure::Pose;
+  bool free_pitch = false;
+  /// Measurement noise (standard deviation per coordinate): weights the residuals (position / sigma_position,
+  /// rotation / sigma_rotation). Unset: sigma_rotation = sigma_position / L when one is given; when neither
+  /// is, the ratio L and an a posteriori noise level (variance factor) are used for the covariance.
+  std::optional<double> sigma_position;  ///< length
+  std::optional<double> sigma_rotation;  ///< rad
+  int max_iterations = 100;
+  /// Measure::Targets: the targets (index = Measurement::target); unknown points are estimated.
+  std::vector<Target> targets;
+  /// Register the measurement frame in closed form before the fit (registerMeasurementFrame).
+  bool register_frame = true;
+  Loss loss = Loss::Squared;
+  double outlier_threshold = 5.0;  ///< normalized residual above which a measurement is flagged
+  ParameterSet parameters = ParameterSet::Full;
+  std::vector<std::string> parameter_names;  ///< ParameterSet::Named
+};
+
+/// The rule behind CalibrationResult::accepted (docs/calibration.md "The verdict").
+constexpr double kMaxVarianceFactor = 100.0;     ///< stated noise: residuals at most 10x the noise
+constexpr double kMaxRelativeRmsPosition = 0.01;  ///< no stated noise: RMS position at most 1 % of L
+constexpr double kMaxRmsRotation = 0.01;          ///< no stated noise: RMS rotation at most 0.01 rad
+constexpr double kMaxOutlierFraction = 0.25;      ///< robust losses: at most a quarter flagged
+
+/// Every field but the first two (no default: the calibrated model and its error model) has a default, so
+/// that a result is built as `CalibrationResult r{model, error_model}` and filled by field name.
+struct CalibrationResult {
+  PoeModel model;                    ///< calibrated
+  ErrorModel error_model;            ///< the local coordinates at the calibrated model
+  ParameterCount expected{};
+  RankAnalysis rank{};  ///< of the weighted identification Jacobian at the nominal (fixes the subspace)
+  ResidualStatistics before{}, after{};  ///< on the measurements
+  int iterations = 0;
+  bool converged = false;
+  double sigma_position = 0.0, sigma_rotation = 0.0;  ///< the weights used
+  bool noise_stated = false;  ///< false: covariance scaled by the a posteriori variance factor
+  double variance_factor = 1.0;  ///< `cost / (rows - rank)` (1 expected when the stated noise is right)
+  /// Covariance of the parameters (local coordinates at `model`), pseudo-inverse on the determined
+  /// subspace; an undetermined parameter has standard deviation +inf.
+  MatX covariance{};
+  VecX standard_deviation{};
+  /// The covariance's principal axes as one-standard-deviation perturbations (columns, parameter units):
+  /// `covariance = principal_axes * principal_axes^T`.
+  MatX principal_axes{};
+  /// Parameter directions the measurements do not determine (columns, parameter units; empty at full rank).
+  MatX undetermined_directions{};
+  /// Which weight was stated; the other of a stated pair is derived (sigma_rotation = sigma_position / L or
+  /// sigma_position = sigma_rotation L).
+  bool sigma_position_stated = false, sigma_rotation_stated = false;
+
+  Measure measure = Measure::Pose;
+  ParameterSet parameter_set = ParameterSet::Full;
+  /// The registration: the pose of the nominal's base frame in the measurement frame (identity when not
+  /// registered). `before` is the nominal placed there (with its targets as registered/estimated).
+  Registration registration{};
+  std::vector<Vec3> targets{};  ///< calibrated targets' points (tool frame of `model`)
+  Loss loss = Loss::Squared;
+  /// Robust losses: the noise unit of the normalized residuals: 1 (stated noise) or the a posteriori scale
+  /// from the median residual (`median u / median of chi with rows dof`), in weighted-residual units.
+  double robust_scale = 1.0;
+  bool robust_scale_from_median = false;
+  int reweightings = 0;  ///< IRLS passes
+  std::vector<MeasurementResidual> residuals{};  ///< one per measurement, in order
+  int outliers = 0;
+  /// The verdict: converged, and the residuals consistent with the stated noise (variance factor, over
+  /// the measurements not flagged for robust losses, at most kMaxVarianceFactor; at most a quarter flagged),
+  /// or without stated noise the RMS below 1 % of L and 0.01 rad. `reason` says why not (empty if accepted).
+  bool accepted = false;
+  std::string reason{};
+  double outlier_threshold = 5.0;  ///< CalibrationOptions::outlier_threshold
+  /// The estimate of every parameter (`error_model.parameters()` order and units): the sum of the accepted
+  /// steps from the registered nominal (`before`): exact for offsets, scales, pitches and targets' points;
+  /// to first order for the twists and the tool (the model moves by one `exp` per step, and composed
+  /// exponentials add only to first order). With `standard_deviation` it is the parameter table of a fit.
+  VecX estimate{};
+};
+
+/// Levenberg–Marquardt in the error model's coordinates (directions fixed at the nominal, re-centred at
+/// every iterate) on the determined subspace of the nominal: the weighted, column-scaled Jacobian at the
+/// nominal and the rank rule of analyzeRank fix the subspace once; every step lies in it, so undetermined
+/// directions are left at the nominal (a direction undetermined at the nominal can look determined a hair
+/// away from it, and fitting noise along it would be fitting nothing). @throws std::invalid_argument for measurements whose
+/// joint count differs from the model's or with non-finite numbers, or for no measurement.
+CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
+                            const CalibrationOptions& options = {});
+
+}  // namespace lowpair

@@ -1,0 +1,147 @@
+#pragma once
+/// @file error_model.hpp
+/// The error model of a POE model for calibration (Wu, Crawford, Roberts §V; docs/calibration.md).
+///
+/// Error model (type preserving): joint i's unit twist moves as `xi <- Ad(exp(eta)) xi` (this keeps |w|,
+/// w.v and w = 0, i.e. the joint type and pitch), a helical joint (or any revolute/helical joint with
+/// free pitch) gets a pitch increment `v <- v + dh w`, every joint a scale increment `scale <- scale + ds`,
+/// and the tool `T <- exp(eta_T) T`. Joint offsets are not parameters: they are absorbed (§V).
+///
+/// The identification parameters are local coordinates of that error model at a model, one per
+/// identifiable direction (so the parameter count is the paper's `5h + 4r + 2t + n + 6`):
+/// - revolute/helical joint with unit axis `w` through `c` (the line's point nearest the base origin) and
+///   unit vectors `u1, u2` perpendicular to `w` (`u1 = w x e`, `e` the base axis least aligned with w):
+///   `tilt1, tilt2` (rad) turn the line about `c + s u_k` (`eta = [u_k; c x u_k]`), `shift1, shift2`
+///   (length) move it along `u_k` (`eta = [0; u_k]`); `pitch` (length/rad) when helical or freed;
+/// - prismatic joint with unit direction `v`: `tilt1, tilt2` (rad) turn it about `u_k` (`eta = [u_k; 0]`);
+/// - every joint: `scale` (dimensionless, absolute increment of `scale`);
+/// - tool: `rx, ry, rz` (rad) turn it about base-parallel axes through the tool point, `x, y, z` (length)
+///   translate it (`eta_T = [r; p_T x r + t]`).
+/// Measurement rows per pose: `[dtheta (3, rad, base frame); dp (3, length)]` for full poses, `dp` for
+/// position-only measurements, where a model change moving the tool by the spatial twist `[dw; dv]` gives
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lowpair/convert.hpp"
+#include "lowpair/measure.hpp"
+#include "lowpair/model.hpp"
+
+namespace lowpair {
+
+/// The paper's count `5h + 4r + 2t + n + tool` (§V) with its breakdown.
+struct ParameterCount {
+  int helical = 0, revolute = 0, prismatic = 0;  ///< joints of each type (revolute with free pitch: helical)
+  int scales = 0;                                ///< n, one scale per joint
+  int tool = 6;  ///< 6 (full pose), 3 (position only) or 3k (k targets: their points; the tool frame is theirs)
+  int total() const { return 5 * helical + 4 * revolute + 2 * prismatic + scales + tool; }
+};
+
+/// @param free_pitch revolute joints get a pitch parameter (counted as helical)
+/// @param targets k, for Measure::Targets (tool: 3k)
+ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool free_pitch = false, int targets = 1);
+
+enum class ParameterKind {
+  Tilt, Shift, Pitch, Scale, ToolRotation, ToolTranslation,
+  Offset,                         ///< a joint offset (level `offsets`: not part of the minimal set, §V)
+  BaseRotation, BaseTranslation,  ///< the whole model moved in the measurement frame (level `offsets`)
+  TargetPoint                     ///< a target's point on the tool, tool-frame x, y, z
+};
+
+/// Which parameters a calibration fits (docs/calibration.md "Which parameters"):
+/// - Full: the minimal complete set (the count `5h + 4r + 2t + n + 6`, or `+ 3k` with k targets);
+/// - Lines: the joint lines (tilts, shifts, pitches) and the tool (or targets), no scales;
+/// - Offsets: the joint offsets, the base (the model moved as a whole: the measurement frame) and the tool
+///   (or targets); the base's turn about the first axis and the tool's about the last duplicate those
+///   joints' offsets (reported as undetermined, left where the registration put them);
+/// - Named: the parameters named in `names`, any of the three levels' (`j2.offset`, `base.rz`, `j3.tilt1`).
+enum class ParameterSet { Full, Lines, Offsets, Named };
+
+/// "full" / "lines" / "offsets" / "named".
+const char* parameterSetName(ParameterSet set);
+
+/// What an error model parameterizes.
+struct ErrorModelSpec {
+  bool free_pitch = false;          ///< revolute joints get a pitch parameter as well
+  ParameterSet set = ParameterSet::Full;
+  std::vector<std::string> names;   ///< ParameterSet::Named
+  /// Targets' points in the tool frame: with at least one, the tool's 6 parameters are replaced by 3 per
+  /// target (`target.NAME.x`, `.y`, `.z`, tool frame); names from `target_names` ("1", "2", ... when empty).
+  std::vector<Vec3> targets;
+  std::vector<std::string> target_names;
+};
+
+/// One identification parameter (a column of the identification Jacobian).
+struct Parameter {
+  ParameterKind kind = ParameterKind::Tilt;
+  int joint = -1;      ///< 0-based joint, -1 for the tool
+  int component = 0;   ///< 0/1 for tilt and shift, 0..2 (x, y, z) for the tool
+  std::string name;    ///< "j3.tilt1", "j3.shift2", "j3.pitch", "j3.scale", "j3.offset", "tool.rx", "tool.z",
+                       ///< "base.rx", "base.z", "target.smr_a.x" (1-based joints)
+  std::string unit;    ///< "rad", "length", "length/rad", "1"
+};
+
+/// The error model's local coordinates at one model (see the file comment).
+class ErrorModel {
+ public:
+  /// @param free_pitch give revolute joints a pitch parameter as well
+  explicit ErrorModel(const PoeModel& model, bool free_pitch = false);
+  /// @throws std::invalid_argument for a Named set naming a parameter the model does not have (or none)
+  ErrorModel(const PoeModel& model, const ErrorModelSpec& spec);
+
+  const PoeModel& model() const { return model_; }
+  bool freePitch() const { return spec_.free_pitch; }
+  const ErrorModelSpec& spec() const { return spec_; }
+  /// The targets' points (tool frame) at this model; empty without targets.
+  const std::vector<Vec3>& targets() const { return spec_.targets; }
+  const std::vector<Parameter>& parameters() const { return parameters_; }
+  int size() const { return static_cast<int>(parameters_.size()); }
+  /// The model moved by `delta` (one entry per parameter): `Ad(exp(eta))` per joint, pitch and scale
+  /// increments, `exp(eta_T)` on the tool. Joint names, offsets and ranges are kept; with free pitch a
+  /// joint's type follows its new pitch (revolute when |pitch| <= kPitchZero eps L, the pitch then 0).
+  /// @throws std::invalid_argument when a scale would become <= 0 or a number non-finite
+  PoeModel apply(const Eigen::Ref<const VecX>& delta) const;
+  /// apply() as data: the moved model, or nothing where apply throws (a scale through 0, a model beyond
+  /// the magnitude limits): a fit's trial step or a probe that leaves the valid models.
+  std::optional<PoeModel> tryApply(const Eigen::Ref<const VecX>& delta) const;
+  /// The targets' points moved by `delta` (tool frame).
+  std::vector<Vec3> applyTargets(const Eigen::Ref<const VecX>& delta) const;
+  /// The same parameters, their directions (the eta twists) kept from this model, at another model of the
+  /// same robot (a calibration iterate): the coordinates of every iterate then mean the same thing.
+  ErrorModel rebased(const PoeModel& model) const;
+  ErrorModel rebased(const PoeModel& model, const std::vector<Vec3>& targets) const;
+  /// Identification Jacobian at `q`: d(measured quantity)/d(parameters), 6 rows `[dtheta; dp]` (Pose) or
+  /// 3 rows `dp` (Position; Targets: of target `target`'s point), `size()` columns; units: rad and length
+  /// per parameter unit. Also returns the model's `T_base_tool(q)`.
+  Pose jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows, int target = -1) const;
+
+ private:
+  PoeModel model_;
+  ErrorModelSpec spec_;
+  std::vector<Parameter> all_;       // every candidate parameter, in column order of the full computation
+  std::vector<int> selected_;        // indices into all_ of the parameters
+  std::vector<Parameter> parameters_;
+  std::vector<std::array<Vec6, 4>> basis_;  // per joint: eta of tilt1, tilt2, shift1, shift2 (prismatic: 2)
+  Vec3 center_ = Vec3::Zero();              // the base parameters turn the model about this point
+  VecX expanded(const Eigen::Ref<const VecX>& delta) const;  // delta over all_ (0 where not selected)
+};
+
+/// The error model without local reduction: per joint the 6 coordinates of `eta` (base frame), the pitch
+/// (helical or freed), the scale and the offset; the tool's 6 coordinates of `eta_T`. Its columns are
+/// redundant by construction (2 per revolute/helical joint, 4 per prismatic joint, every offset); its rank
+/// is the number of identifiable parameters (what identifiability compares with the count).
+/// @return `6n + pitches + 2n + 6` columns, rows as ErrorModel::jacobian
+/// Measure::Targets: rows per pose and target (3 each), and 3 more columns per target (its point, tool frame).
+MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
+                            const std::vector<Vec3>& targets = {});
+
+/// The D-H parameterization of the same robot (poeToDh of the model): base `theta, d, alpha, a`, per
+/// joint `theta, d, alpha, a` (+ `pitch` when helical or freed) + `scale`, tool `theta, d`; analytic
+/// columns. @param names receives the column names ("base.theta", "j2.a", "tool.d", ...)
+MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
+                              std::vector<std::string>* names = nullptr, const std::vector<Vec3>& targets = {});
+
+
+}  // namespace lowpair

@@ -1,0 +1,42 @@
+#pragma once
+/// @file measure.hpp
+/// What a measurement observes of the tool (docs/calibration.md), and one measurement.
+
+#include <optional>
+#include <string>
+
+#include "lowpair/types.hpp"
+
+namespace lowpair {
+
+/// What a measurement observes of the tool: its frame, its origin, or points fixed on it (targets: a laser
+/// tracker's SMRs, several per pose, each at an unknown or known point of the tool).
+enum class Measure { Pose, Position, Targets };
+
+/// "pose" / "position" / "targets".
+const char* measureName(Measure measure);
+
+/// Rows per measurement: 6 for Pose (`[dtheta; dp]`), 3 otherwise.
+constexpr int rowsPerMeasurement(Measure measure) { return measure == Measure::Pose ? 6 : 3; }
+
+/// Rows per pose: one measurement (Pose, Position) or 3 per target (Targets: `targets` of them).
+constexpr int rowsPerPose(Measure measure, int targets) {
+  return measure == Measure::Targets ? 3 * targets : rowsPerMeasurement(measure);
+}
+
+/// One measurement: joint variables of the model and what was measured in the measurement frame (the base
+/// frame of the model being calibrated): the tool frame (Pose), its origin (Position: `T_base_tool.p`), or
+/// one target's point (Targets: `T_base_tool.p`, `target` its index).
+struct Measurement {
+  VecX q;
+  Pose T_base_tool;
+  int target = -1;  ///< Targets: index into the targets (CalibrationOptions::targets); -1 otherwise
+};
+
+/// A point fixed on the tool (an SMR): its name and, when known, its position in the tool frame (length).
+struct Target {
+  std::string name;
+  std::optional<Vec3> point_tool;
+};
+
+}  // namespace lowpair
