@@ -387,6 +387,10 @@ std::string verdict(const CalibrationResult& r, double L) {
   } else if (r.noise_stated && r.variance_factor > kMaxVarianceFactor) {
     why << "variance factor " << r.variance_factor << " > " << kMaxVarianceFactor << ": the residuals are "
         << std::sqrt(r.variance_factor) << " times the stated noise";
+  } else if (r.noise_stated && r.variance_factor < kMinVarianceFactor) {
+    why << "variance factor " << r.variance_factor << " < " << kMinVarianceFactor << ": the residuals are "
+        << std::sqrt(r.variance_factor) << " times the stated noise; the noise is read in the robot's length unit "
+        << "and rad: check its unit first (a noise in mm for a robot in m is 1000 times too large), then its size";
   } else if (!r.noise_stated) {
     const ResidualStatistics& a = r.after;
     if (a.rms_position > kMaxRelativeRmsPosition * L) {
