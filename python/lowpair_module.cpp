@@ -4,7 +4,7 @@
 // calibration planning, save and export. Every call computes what the CLI computes, with the same library and
 // harness functions, so the numbers are the CLI's (python/tests/ compares each result with the CLI's --json);
 // errors are lowpair.Error with the CLI's one-line message. A command's logic beyond its argument parsing lives
-// in the validation room (plan_report, ik_rows, simulation, calibration_inputs, calibration_run), which the CLI
+// in the commands room (plan_report, ik_rows, simulation, calibration_inputs, calibration_run), which the CLI
 // calls too; this file converts arrays and arguments and calls it.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -50,14 +50,15 @@
 #include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
 #include "mujoco/mujoco_robot.hpp"
-#include "validation/arguments.hpp"
-#include "validation/calibration_inputs.hpp"
-#include "validation/calibration_output.hpp"
-#include "validation/calibration_run.hpp"
-#include "validation/ik_rows.hpp"
-#include "validation/plan_report.hpp"
-#include "validation/simulation.hpp"
-#include "validation/sampling.hpp"
+#include "commands/arguments.hpp"
+#include "commands/calibration_inputs.hpp"
+#include "commands/calibration_output.hpp"
+#include "commands/calibration_run.hpp"
+#include "commands/ik_rows.hpp"
+#include "commands/plan_report.hpp"
+#include "commands/robot_source.hpp"
+#include "commands/simulation.hpp"
+#include "commands/sampling.hpp"
 
 namespace py = pybind11;
 using nlohmann::json;
@@ -67,11 +68,11 @@ namespace lowpair::python {
 namespace {
 
 // A bad argument (not a file): raised as lowpair.Error("SUBJECT: message"), as the CLI prints it; the error of
-// the validation room's shared checks, as in cli/commands.hpp.
-using UsageError = validation::UsageError;
+// the commands room's shared checks, as in cli/commands.hpp.
+using UsageError = commands::UsageError;
 
-// Python's spelling of an argument in the validation room's shared checks: "noise_position", "measure='targets'".
-validation::ArgumentSpelling pythonSpelling() {
+// Python's spelling of an argument in the commands room's shared checks: "noise_position", "measure='targets'".
+commands::ArgumentSpelling pythonSpelling() {
   return {[](const std::string& name) { return name; },
           [](const std::string& name, const std::string& value) { return name + "='" + value + "'"; }};
 }
@@ -79,7 +80,7 @@ validation::ArgumentSpelling pythonSpelling() {
 
 // A seed of the sampling streams, as the CLI's --seed takes it: a whole number in [0, 2^53].
 void checkSeed(long long seed) {
-  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+  if (seed < 0 || seed > commands::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
 }
 
 // nlohmann::json -> Python objects (numbers keep their double bits).
@@ -252,21 +253,6 @@ Data& threadData(const KinematicChain& chain, int dof) {
   thread_local std::unique_ptr<Data> data;
   if (!data || data->dof != dof) data = std::make_unique<Data>(chain);
   return *data;
-}
-
-// As cli/main.cpp loadRobot (its checks in this module's words): a robot file, or the chain of an MJCF (MuJoCo) / URDF (urdfdom) model to `tip`.
-io::RobotFile loadFile(const std::string& path, const std::optional<std::string>& tip,
-                       const std::optional<std::string>& base) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  const std::string tip_name = tip.value_or(""), base_name = base.value_or("");
-  if (ext != ".xml" && ext != ".urdf") {
-    if (!tip_name.empty() || !base_name.empty()) {
-      throw UsageError(path, "tip/base go with a model file (.xml or .urdf), not a robot file");
-    }
-    return io::readRobotFile(path);
-  }
-  if (tip_name.empty()) throw UsageError(path, "tip=NAME is required with a model file");
-  return mujoco::robotFileOfModel(path, tip_name, base_name);
 }
 
 std::string kindOf(const Robot& r, const std::optional<std::string>& model) {
@@ -578,34 +564,34 @@ struct IdentifiabilityResult {
 
 IdentifiabilityResult identifiability(const Robot& r, const std::string& measure_text, int poses, long long seed,
                                       bool free_pitch) {
-  const Measure measure = validation::parseMeasure(measure_text, pythonSpelling());
-  if (poses < 1 || poses > validation::kMaxIdentifiabilityPoses) {
-    throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxIdentifiabilityPoses) + "], got " +
+  const Measure measure = commands::parseMeasure(measure_text, pythonSpelling());
+  if (poses < 1 || poses > commands::kMaxIdentifiabilityPoses) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(commands::kMaxIdentifiabilityPoses) + "], got " +
                                   std::to_string(poses));
   }
   checkSeed(seed);
   const PoeModel& model = r.poe;
-  if (validation::identificationEntries(poses, model.dof(), 9.0) > validation::kMaxJacobianEntries) {
-    const bool robot = validation::identificationEntries(1, model.dof(), 9.0) > validation::kMaxJacobianEntries;
+  if (commands::identificationEntries(poses, model.dof(), 9.0) > commands::kMaxJacobianEntries) {
+    const bool robot = commands::identificationEntries(1, model.dof(), 9.0) > commands::kMaxJacobianEntries;
     throw UsageError(robot ? r.file.path : std::string("poses"),
                      std::to_string(poses) + " poses of a " + std::to_string(model.dof()) +
                          "-joint robot exceed the identification size limit (" +
-                         io::shortest(validation::kMaxJacobianEntries) +
+                         io::shortest(commands::kMaxJacobianEntries) +
                          " numbers: the Jacobian and the SVD's V, columns squared)");
   }
   const std::vector<Vec3> targets = measure == Measure::Targets ? fileTargets(r.file) : std::vector<Vec3>{};
   Identifiability id;
   {
     py::gil_scoped_release release;
-    const auto ranges = validation::samplingRanges(model);
+    const auto ranges = commands::samplingRanges(model);
     std::vector<VecX> q(static_cast<size_t>(poses), VecX(model.dof()));
     for (int i = 0; i < poses; ++i) {
-      validation::randomSample(static_cast<unsigned long long>(seed), static_cast<unsigned long long>(i), ranges,
+      commands::randomSample(static_cast<unsigned long long>(seed), static_cast<unsigned long long>(i), ranges,
                                q[static_cast<size_t>(i)]);
     }
     id = analyzeIdentifiability(model, q, measure, free_pitch, targets);
   }
-  json j = validation::identifiabilityJson(r.file, id);
+  json j = commands::identifiabilityJson(r.file, id);
   j["poses"] = poses;
   j["seed"] = seed;
   return IdentifiabilityResult{std::move(id), std::move(j)};
@@ -626,7 +612,7 @@ Mat3 quaternionRotation(double w, double x, double y, double z, const std::strin
 }
 
 struct Calibration {
-  validation::CalibrationReport report;
+  commands::CalibrationReport report;
   RobotPtr robot;
   json j;
 };
@@ -704,51 +690,51 @@ void warnUser(const std::string& text) {
 }
 
 // The joint values against the nominal's ranges, as `lowpair calibrate` checks a measurement file's
-// (validation::checkJointRanges): one beyond kFarOutsideRange range widths outside is a wrong column or unit,
+// (commands::checkJointRanges): one beyond kFarOutsideRange range widths outside is a wrong column or unit,
 // never fitted silently; nearer ones are UserWarnings (the first few, then their count).
 void checkRanges(const Robot& r, const io::MeasurementFile& m, const std::string& prefix) {
   const std::string subject = prefix + "q";
-  const int outside = validation::checkJointRanges(
+  const int outside = commands::checkJointRanges(
       r.poe, m.measurements, r.subject(),
-      [](const validation::OutsideRange& x) {
+      [](const commands::OutsideRange& x) {
         return "[" + std::to_string(x.row) + ", " + std::to_string(x.joint) + "]";
       },
       [&](const std::string& text) { throw UsageError(subject, text); },
       [&](const std::string& text) { warnUser(subject + ": " + text); });
-  if (outside > validation::kMaxRangeWarnings) {
+  if (outside > commands::kMaxRangeWarnings) {
     warnUser(subject + ": " + std::to_string(outside) + " joint values outside the ranges in all");
   }
 }
 
 Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::optional<io::MeasurementFile> held_out,
-                            const validation::CalibrationRequest& request) {
-  if (const auto problem = validation::calibrationSizeProblem(fit.measurements.size(), r.dof())) {
+                            const commands::CalibrationRequest& request) {
+  if (const auto problem = commands::calibrationSizeProblem(fit.measurements.size(), r.dof())) {
     throw UsageError("q", *problem);
   }
   checkRanges(r, fit, "");
   if (held_out) {
     checkRanges(r, *held_out, "validation_");
     // targets by name: the validation rows' indices mapped to the fit's
-    if (const auto unknown = validation::mapValidationTargets(*held_out, fit.target_names)) {
+    if (const auto unknown = commands::mapValidationTargets(*held_out, fit.target_names)) {
       throw UsageError("validation_targets", "target " + *unknown + " is not measured in the fit (targets)");
     }
   }
-  std::optional<validation::CalibrationReport> report;
+  std::optional<commands::CalibrationReport> report;
   {
     py::gil_scoped_release release;
-    report.emplace(validation::runCalibration(r.file, r.poe, std::move(fit), std::move(held_out), request,
+    report.emplace(commands::runCalibration(r.file, r.poe, std::move(fit), std::move(held_out), request,
                                               pythonSpelling()));
   }
   // the calibrated robot, as `calibrate --out` writes it
   io::RobotFile calibrated;
-  calibrated.name = validation::calibratedName(r.file);
+  calibrated.name = commands::calibratedName(r.file);
   calibrated.length_unit = r.file.length_unit;
   calibrated.angle_unit = r.file.angle_unit;
   calibrated.description = "calibrated by lowpair.calibrate (Python) from arrays";
   calibrated.poe = report->result.model;
-  calibrated.targets = validation::calibratedTargets(*report);
-  auto robot = std::make_shared<Robot>(std::move(calibrated), validation::calibrationProvenance(*report));
-  json j = validation::calibrationJson(*report);
+  calibrated.targets = commands::calibratedTargets(*report);
+  auto robot = std::make_shared<Robot>(std::move(calibrated), commands::calibrationProvenance(*report));
+  json j = commands::calibrationJson(*report);
   return Calibration{std::move(*report), std::move(robot), std::move(j)};
 }
 
@@ -780,7 +766,7 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
     held_out = measurementArrays(r, *validation_q, *validation_positions, validation_rotations, validation_targets,
                                  "validation_");
   }
-  const validation::CalibrationRequest request{noise_position, noise_rotation, free_pitch, loss, outlier_threshold,
+  const commands::CalibrationRequest request{noise_position, noise_rotation, free_pitch, loss, outlier_threshold,
                                                parameters,     select,         folds,      repeats};
   return calibrateArrays(r, std::move(fit), std::move(held_out), request);
 }
@@ -789,7 +775,7 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
 
 // The rows of `ik` or `compensate` and the JSON of the CLI's --json (cli/ik_commands.cpp) without its files.
 struct IkSolutions {
-  std::vector<validation::IkRow> rows;  // line: the 0-based row
+  std::vector<commands::IkRow> rows;  // line: the 0-based row
   json j;
 };
 
@@ -859,8 +845,8 @@ std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, s
 // k * seeds + s of the stream `seed`, the sampling convention), the first ok kept, else the best attempt.
 IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<InArray>& rotations,
                const std::optional<InArray>& q0, int seeds, long long seed) {
-  if (seeds < 1 || seeds > validation::kMaxIkSeeds) {
-    throw UsageError("seeds", "must be in [1, " + std::to_string(validation::kMaxIkSeeds) + "], got " +
+  if (seeds < 1 || seeds > commands::kMaxIkSeeds) {
+    throw UsageError("seeds", "must be in [1, " + std::to_string(commands::kMaxIkSeeds) + "], got " +
                                   std::to_string(seeds));
   }
   checkSeed(seed);
@@ -874,7 +860,7 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
   s.rows.reserve(targets.size());
   {
     py::gil_scoped_release release;
-    const std::vector<validation::Range> ranges = validation::samplingRanges(model);
+    const std::vector<commands::Range> ranges = commands::samplingRanges(model);
     Data data(model);
     IkWorkspace work(model);
     for (size_t k = 0; k < targets.size(); ++k) {
@@ -885,7 +871,7 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
                                               options, work),
                             -1, line});
         } else {
-          s.rows.push_back(validation::solveFromRandomSeeds(model, data, targets[k], k, seeds,
+          s.rows.push_back(commands::solveFromRandomSeeds(model, data, targets[k], k, seeds,
                                                             static_cast<unsigned long long>(seed), ranges, options, work,
                                                             line));
         }
@@ -902,8 +888,8 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
          {"seeds", given ? json("file") : json(seeds)},
          {"seed", seed},
          {"notes", json::array()},
-         {"counts", validation::ikCountsJson(s.rows)}};
-  s.j["rows"] = validation::ikRowsJson(s.rows, true);
+         {"counts", commands::ikCountsJson(s.rows)}};
+  s.j["rows"] = commands::ikRowsJson(s.rows, true);
   return s;
 }
 
@@ -931,7 +917,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
     py::gil_scoped_release release;
     std::vector<long long> lines(static_cast<size_t>(Q.rows()));
     for (size_t k = 0; k < lines.size(); ++k) lines[k] = static_cast<long long>(k);
-    s.rows = validation::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options);
+    s.rows = commands::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options);
   }
   s.j = {{"name", calibrated.file.name},
          {"source", calibrated.file.path},
@@ -939,8 +925,8 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
          {"q_file", "<arrays>"},
          {"length_unit", calibrated.file.length_unit},
          {"measure", measure},
-         {"counts", validation::ikCountsJson(s.rows)}};
-  s.j["rows"] = validation::ikRowsJson(s.rows, false);
+         {"counts", commands::ikCountsJson(s.rows)}};
+  s.j["rows"] = commands::ikRowsJson(s.rows, false);
   return s;
 }
 
@@ -948,7 +934,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
 
 // The JSON of `plan --json` without --out (the planned joint vectors are q), kept beside the report.
 struct PlanOutcome {
-  validation::PlanReport report;
+  commands::PlanReport report;
   json j;
 };
 
@@ -956,20 +942,20 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
                  const std::string& criterion_text, long long seed, std::optional<double> noise_position,
                  std::optional<double> noise_rotation, bool free_pitch) {
   // the checks the CLI's parser makes (CLI::Range, CLI::IsMember); the rest are the report's
-  if (poses < 1 || poses > validation::kMaxPlanPoses) {
-    throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxPlanPoses) + "], got " +
+  if (poses < 1 || poses > commands::kMaxPlanPoses) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(commands::kMaxPlanPoses) + "], got " +
                                   std::to_string(poses));
   }
-  if (candidate_count < 1 || candidate_count > validation::kMaxPlanCandidates) {
-    throw UsageError("candidates", "must be in [1, " + std::to_string(validation::kMaxPlanCandidates) + "], got " +
+  if (candidate_count < 1 || candidate_count > commands::kMaxPlanCandidates) {
+    throw UsageError("candidates", "must be in [1, " + std::to_string(commands::kMaxPlanCandidates) + "], got " +
                                        std::to_string(candidate_count));
   }
   checkSeed(seed);
   if (criterion_text != "D" && criterion_text != "O1") {
     throw UsageError("criterion", "expected 'D' or 'O1', got '" + criterion_text + "'");
   }
-  validation::PlanRequest request;
-  request.measure = validation::parseMeasure(measure_text, pythonSpelling());
+  commands::PlanRequest request;
+  request.measure = commands::parseMeasure(measure_text, pythonSpelling());
   request.criterion = criterion_text == "O1" ? PlanCriterion::O1 : PlanCriterion::D;
   request.poses = poses;
   request.candidates = candidate_count;
@@ -980,13 +966,13 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
   PlanOutcome o;
   {
     py::gil_scoped_release release;
-    o.report = validation::makePlanReport(r.file, request, pythonSpelling());
+    o.report = commands::makePlanReport(r.file, request, pythonSpelling());
   }
-  o.j = validation::planJson(o.report, "");
+  o.j = commands::planJson(o.report, "");
   return o;
 }
 
-// ----- simulate (validation/sampling.hpp; `lowpair simulate` of a robot file, cli/simulate_command.cpp) ----
+// ----- simulate (commands/sampling.hpp; `lowpair simulate` of a robot file, cli/simulate_command.cpp) ----
 
 struct Simulation {
   Measure measure = Measure::Pose;
@@ -1001,25 +987,25 @@ struct Simulation {
 
 // Measurements of the robot's tool by the library's POE FK (the truth `lowpair simulate` uses for a robot file):
 // at `poses` random joint vectors (sample k of the stream `seed`) or at the rows of q; in a measurement frame;
-// with the seeded noise and blunders of validation/sampling.hpp, so the same arguments give the CLI's numbers.
+// with the seeded noise and blunders of commands/sampling.hpp, so the same arguments give the CLI's numbers.
 Simulation simulate(const Robot& r, std::optional<int> poses, const std::optional<InArray>& q_arg, long long seed,
                     const std::string& measure_text, const std::optional<std::vector<std::string>>& targets,
                     const std::optional<std::vector<double>>& frame, double noise_position, double noise_rotation,
                     const std::optional<std::tuple<double, double>>& blunders) {
   if (poses.has_value() == q_arg.has_value()) throw UsageError("poses", "give poses=N or q=(N, n) joint values, one of them");
-  if (poses && (*poses < 1 || *poses > validation::kMaxSimulatedPoses)) {
-    throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxSimulatedPoses) + "], got " +
+  if (poses && (*poses < 1 || *poses > commands::kMaxSimulatedPoses)) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(commands::kMaxSimulatedPoses) + "], got " +
                                   std::to_string(*poses));
   }
   checkSeed(seed);
-  const Measure measure = validation::parseMeasure(measure_text, pythonSpelling());
-  validation::checkSimulationArguments(measure, noise_position, noise_rotation, targets.has_value(), pythonSpelling());
-  validation::MeasurementSetup setup;
+  const Measure measure = commands::parseMeasure(measure_text, pythonSpelling());
+  commands::checkSimulationArguments(measure, noise_position, noise_rotation, targets.has_value(), pythonSpelling());
+  commands::MeasurementSetup setup;
   setup.measure = measure;
   Simulation s;
   s.measure = measure;
   if (measure == Measure::Targets) {
-    s.target_names = validation::robotFileTargets(r.file.targets, targets, r.subject(), pythonSpelling(), setup.targets);
+    s.target_names = commands::robotFileTargets(r.file.targets, targets, r.subject(), pythonSpelling(), setup.targets);
   }
   if (frame) {
     if (frame->size() != 6) {
@@ -1030,7 +1016,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
       if (!(std::abs(x) <= kMaxMagnitude)) throw UsageError("frame", "'" + io::shortest(x) + "' is not finite or above 1e100");
     }
     const auto& f = *frame;
-    setup.T_frame_base = validation::measurementFrame(Vec3(f[0], f[1], f[2]), Vec3(f[3], f[4], f[5])).inverse();
+    setup.T_frame_base = commands::measurementFrame(Vec3(f[0], f[1], f[2]), Vec3(f[3], f[4], f[5])).inverse();
   }
   setup.sd_position = noise_position;
   setup.sd_rotation = noise_rotation;
@@ -1038,15 +1024,15 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   const std::optional<MatX> Q = q_arg ? std::optional<MatX>(jointMatrix(*q_arg, r.dof(), r.subject())) : std::nullopt;
   const long long count = Q ? static_cast<long long>(Q->rows()) : *poses;
   if (count == 0) throw UsageError("q", "no joint values");
-  const long long rows = validation::simulationRows(count, setup, Q ? "q" : "poses");
-  std::optional<validation::Blunders> blunder_set;
+  const long long rows = commands::simulationRows(count, setup, Q ? "q" : "poses");
+  std::optional<commands::Blunders> blunder_set;
   if (blunders) {
-    blunder_set = validation::checkBlunders(std::get<0>(*blunders), std::get<1>(*blunders), pythonSpelling());
-    validation::checkBlunderCount(*blunder_set, rows, pythonSpelling());
+    blunder_set = commands::checkBlunders(std::get<0>(*blunders), std::get<1>(*blunders), pythonSpelling());
+    commands::checkBlunderCount(*blunder_set, rows, pythonSpelling());
   }
-  validation::SimulationPoses sampled;
+  commands::SimulationPoses sampled;
   sampled.count = count;
-  sampled.ranges = validation::samplingRanges(model);
+  sampled.ranges = commands::samplingRanges(model);
   sampled.q_rows = Q ? &*Q : nullptr;
   sampled.given_row_beyond_reach = [](size_t k) {
     throw UsageError("q", "row " + std::to_string(k) + ": the tool at this row's q has a coordinate above 1e100 in "
@@ -1056,11 +1042,11 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
     py::gil_scoped_release release;
     Data data(model);
     // the truth of a robot file, as `lowpair simulate` measures it: the library's POE forward kinematics
-    const validation::TipPose tip_pose = [&](const VecX& q) {
+    const commands::TipPose tip_pose = [&](const VecX& q) {
       forwardKinematics(model, data, q);
       return data.T_base_tool;
     };
-    validation::SimulatedMeasurements m = validation::simulateMeasurements(
+    commands::SimulatedMeasurements m = commands::simulateMeasurements(
         tip_pose, setup, static_cast<unsigned long long>(seed), sampled, blunder_set, frame.has_value(), r.subject(),
         pythonSpelling());
     s.measurements = std::move(m.measurements);
@@ -1078,18 +1064,18 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   return s;
 }
 
-// ----- read_measurements (io/measurements.hpp; what `lowpair calibrate` reads, validation/calibration_inputs.hpp) --
+// ----- read_measurements (io/measurements.hpp; what `lowpair calibrate` reads, commands/calibration_inputs.hpp) --
 
 Simulation readMeasurementFile(const std::string& path, const Robot* robot) {
   io::MeasurementFile file;
-  validation::CalibrationMeasurements checked;
+  commands::CalibrationMeasurements checked;
   std::vector<std::string> warnings;  // emitted with the GIL held, before an error the reading ended in
   std::exception_ptr failure;
   {
     py::gil_scoped_release release;
     try {
       if (robot) {
-        checked = validation::readCalibrationMeasurements(path, robot->file, robot->subject(), robot->poe,
+        checked = commands::readCalibrationMeasurements(path, robot->file, robot->subject(), robot->poe,
                                                           [&](const std::string& w) { warnings.push_back(w); });
         file = std::move(checked.file);
       } else {
@@ -1582,64 +1568,64 @@ PYBIND11_MODULE(_lowpair, m) {
           "q",
           [](const IkSolutions& s) {
             const Eigen::Index n = s.rows.empty() ? 0 : s.rows.front().result.q.size();
-            return vectorRows(s.rows, n, [](const validation::IkRow& row) -> const VecX& { return row.result.q; });
+            return vectorRows(s.rows, n, [](const commands::IkRow& row) -> const VecX& { return row.result.q; });
           },
           "(N, n): the solutions (or each row's last iterate when not ok), rad / length_unit.")
       .def_property_readonly(
           "status",
           [](const IkSolutions& s) {
             std::vector<std::string> out;
-            for (const validation::IkRow& row : s.rows) out.push_back(ikStatusName(row.result.status));
+            for (const commands::IkRow& row : s.rows) out.push_back(ikStatusName(row.result.status));
             return out;
           },
           "list[str]: 'ok', 'out_of_range', 'singular', 'unreachable' or 'not_converged' per row (docs/ik.md).")
       .def_property_readonly(
           "ok",
           [](const IkSolutions& s) {
-            return perRow<bool>(s.rows, [](const validation::IkRow& row) { return row.result.status == IkStatus::Ok; });
+            return perRow<bool>(s.rows, [](const commands::IkRow& row) { return row.result.status == IkStatus::Ok; });
           },
           "(N,) bool: status == 'ok' (within 1e-10 L and 1e-10 rad, at a regular configuration).")
       .def_property_readonly(
           "iterations",
           [](const IkSolutions& s) {
-            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.result.iterations; });
+            return perRow<std::int64_t>(s.rows, [](const commands::IkRow& row) { return row.result.iterations; });
           },
           "(N,) int: iterations of the kept attempt.")
       .def_property_readonly(
           "position_error",
           [](const IkSolutions& s) {
-            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.position_error; });
+            return perRow<double>(s.rows, [](const commands::IkRow& row) { return row.result.position_error; });
           },
           "(N,): |p_target - p| at q (length_unit).")
       .def_property_readonly(
           "rotation_error",
           [](const IkSolutions& s) {
-            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.rotation_error; });
+            return perRow<double>(s.rows, [](const commands::IkRow& row) { return row.result.rotation_error; });
           },
           "(N,): the angle of R^T R_target at q (rad; 0 for positions).")
       .def_property_readonly(
           "rank",
           [](const IkSolutions& s) {
-            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.result.rank; });
+            return perRow<std::int64_t>(s.rows, [](const commands::IkRow& row) { return row.result.rank; });
           },
           "(N,) int: rank of the dimensionless task Jacobian at a converged q (-1 when not converged).")
       .def_property_readonly(
           "sigma_min",
           [](const IkSolutions& s) {
-            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.sigma_min; });
+            return perRow<double>(s.rows, [](const commands::IkRow& row) { return row.result.sigma_min; });
           },
           "(N,): its smallest singular value (NaN when not converged).")
       .def_property_readonly(
           "seed",
           [](const IkSolutions& s) {
-            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.seed; });
+            return perRow<std::int64_t>(s.rows, [](const commands::IkRow& row) { return row.seed; });
           },
           "(N,) int: the random seed s (0..seeds-1) the kept attempt started from; -1 for q0 (ik) and compensate.")
       .def_property_readonly(
           "reason",
           [](const IkSolutions& s) {
             std::vector<std::string> out;
-            for (const validation::IkRow& row : s.rows) out.push_back(row.result.reason);
+            for (const commands::IkRow& row : s.rows) out.push_back(row.result.reason);
             return out;
           },
           "list[str]: why a row is not ok, one sentence with the numbers ('' for ok rows).")
@@ -1647,7 +1633,7 @@ PYBIND11_MODULE(_lowpair, m) {
                              "dict status -> rows.")
       .def("__repr__", [](const IkSolutions& s) {
         long long ok = 0;
-        for (const validation::IkRow& row : s.rows) ok += row.result.status == IkStatus::Ok;
+        for (const commands::IkRow& row : s.rows) ok += row.result.status == IkStatus::Ok;
         return "<lowpair.IkSolutions " + std::to_string(s.rows.size()) + " rows, " + std::to_string(ok) + " ok>";
       });
 
@@ -1776,7 +1762,7 @@ PYBIND11_MODULE(_lowpair, m) {
         io::RobotFile file;
         {
           py::gil_scoped_release release;
-          file = loadFile(path, tip, base);
+          file = commands::loadRobot({path, tip.value_or(""), base.value_or("")}, pythonSpelling());
         }
         return std::make_shared<Robot>(std::move(file));
       },
