@@ -1,6 +1,6 @@
 // MuJoCo peers: mj_kinematics (FK) and mj_kinematics + mj_comPos + mj_jacSite (Jacobian) on the robots'
 // MJCF files, site "tool". qpos = qpos0 + x, x = scale (q + offset) of the robot file's POE joints (design.md
-// "MuJoCo facts", harness/validation: the same map `lowpair validate` uses).
+// "MuJoCo facts", harness/commands/sampling.hpp: the same map `lowpair validate` uses).
 #include <benchmark/benchmark.h>
 #include <mujoco/mujoco.h>
 

@@ -44,7 +44,7 @@ const char* fileStem(RobotId id) {
 }
 
 // The range q is drawn from: the joint's, else docs/conventions.md "Sampled joint values" (a turn, or
-// [-L, L] for a prismatic joint; harness/validation/sampling.hpp defaultRange).
+// [-L, L] for a prismatic joint; harness/commands/sampling.hpp defaultRange).
 std::array<double, 2> poolRange(const PoeModel& poe, int i) {
   const Joint& j = poe.joint(i);
   if (j.range) return *j.range;

@@ -1,6 +1,6 @@
 # ctest harness_rooms: no room of harness/ includes a header of a room above it
-# (io <- mujoco <- validation <- cli; docs/architecture.md). Run: cmake -DHARNESS=harness -P check_rooms.cmake
-set(rooms io mujoco validation cli)
+# (io <- mujoco <- commands <- validation <- cli; docs/architecture.md). Run: cmake -DHARNESS=harness -P check_rooms.cmake
+set(rooms io mujoco commands validation cli)
 set(failures "")
 foreach(room IN LISTS rooms)
   list(FIND rooms ${room} level)

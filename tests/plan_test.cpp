@@ -28,7 +28,7 @@ using namespace calibration_helpers;
 namespace {
 
 // Joint vectors uniform in each joint's range, or [-pi, pi] (revolute, helical) / [-L, L] (prismatic)
-// without one: the harness's sampling rule (harness/validation/sampling.hpp), drawn here from `rng`.
+// without one: the harness's sampling rule (harness/commands/sampling.hpp), drawn here from `rng`.
 std::vector<VecX> sampleInRanges(const PoeModel& model, int count, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<VecX> out;

@@ -24,6 +24,7 @@
 // the harness rooms this test reads through
 using namespace lowpair::io;
 using namespace lowpair::mujoco;
+using namespace lowpair::commands;
 using namespace lowpair::validation;
 
 namespace {

@@ -8,9 +8,9 @@
 #include <memory>
 
 #include "io/atomic_file.hpp"
-#include "validation/calibration_inputs.hpp"
-#include "validation/calibration_output.hpp"
-#include "validation/calibration_run.hpp"
+#include "commands/calibration_inputs.hpp"
+#include "commands/calibration_output.hpp"
+#include "commands/calibration_run.hpp"
 #include "lowpair/tolerances.hpp"
 #include "cli/commands.hpp"
 #include "lowpair/calibration.hpp"
@@ -24,12 +24,12 @@ namespace lowpair::cli {
 
 using namespace lowpair::io;  // the rooms below
 using namespace lowpair::mujoco;
+using namespace lowpair::commands;
 using namespace lowpair::validation;
 
 using nlohmann::json;
 
 namespace {
-
 
 // The robot file's targets' points, in order; Measure::Targets needs at least one.
 std::vector<Vec3> fileTargets(const RobotFile& file) {
@@ -41,19 +41,105 @@ std::vector<Vec3> fileTargets(const RobotFile& file) {
   return points;
 }
 
-}  // namespace
+struct IdentifiabilityOptions {
+  RobotSource robot;
+  std::string measure = "pose";
+  int poses = 50;
+  long long seed = 1;
+  bool as_json = false, free_pitch = false;
+};
 
-void addCalibrateCommands(CLI::App& app, Commands& commands) {
-  struct Options {
-    RobotSource robot;
-    std::string measure = "pose", measurements, validation, out;
-    int poses = 50;
-    long long seed = 1;
-    bool as_json = false, free_pitch = false;
-    CalibrationRequest calibration;  // calibrate's arguments beyond its files
+int runIdentifiability(const IdentifiabilityOptions& o) {
+  const RobotFile file = loadRobot(o.robot, cliSpelling());
+  const PoeModel model = file.poeModel();
+  const Measure measure = parseMeasure(o.measure, cliSpelling());
+  // the full error model has 8 columns per joint + pitches + 6; the D-H one 6 per joint + 6
+  if (identificationEntries(o.poses, model.dof(), 9.0) > kMaxJacobianEntries) {
+    // one pose over the limit: the robot is too long whatever --poses says
+    const bool robot = identificationEntries(1, model.dof(), 9.0) > kMaxJacobianEntries;
+    throw UsageError(robot ? file.path : std::string("--poses"),
+                     std::to_string(o.poses) + " poses of a " + std::to_string(model.dof()) +
+                                    "-joint robot exceed the identification size limit (" + shortest(kMaxJacobianEntries) +
+                                    " numbers: the Jacobian and the SVD's V, columns squared)");
+  }
+  const auto ranges = samplingRanges(model);
+  std::vector<VecX> q(static_cast<size_t>(o.poses), VecX(model.dof()));
+  for (int i = 0; i < o.poses; ++i) randomSample(static_cast<unsigned long long>(o.seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
+  const Identifiability id = analyzeIdentifiability(model, q, measure, o.free_pitch,
+                                                    measure == Measure::Targets ? fileTargets(file) : std::vector<Vec3>{});
+  if (o.as_json) {
+    json j = identifiabilityJson(file, id);
+    j["poses"] = o.poses;
+    j["seed"] = o.seed;
+    std::cout << jsonText(j) << "\n";
+  } else {
+    std::cout << "identifiability of " << robotLabel(file) << " from " << o.poses << " random "
+              << measureName(measure) << " measurements (seed " << o.seed << ")\n";
+    printIdentifiability(std::cout, id);
+  }
+  return 0;
+}
+
+struct CalibrateOptions {
+  RobotSource robot;
+  std::string measurements, validation, out;
+  bool as_json = false;
+  CalibrationRequest calibration;  // calibrate's arguments beyond its files
+};
+
+int runCalibrate(const CalibrateOptions& o) {
+  const RobotFile file = loadRobot(o.robot, cliSpelling());
+  const PoeModel nominal = file.poeModel();
+  std::vector<std::string> notes;
+  auto read = [&](const std::string& path) {
+    CalibrationMeasurements r = readCalibrationMeasurements(
+        path, file, file.path, nominal, [](const std::string& w) { std::cerr << "warning: " << w << "\n"; });
+    notes.insert(notes.end(), r.notes.begin(), r.notes.end());
+    return std::move(r.file);
   };
-  auto o = std::make_shared<Options>();
+  MeasurementFile fit = read(o.measurements);
+  if (const auto problem = calibrationSizeProblem(fit.measurements.size(), nominal.dof())) {
+    throw RobotFileError(fit.path + ": " + *problem +
+                         " (the Jacobian, 6 rows per measurement, and the SVD's V, columns squared: "
+                         "fit fewer measurements and put the rest in --validation; a robot this long cannot be fitted)");
+  }
+  std::optional<MeasurementFile> validation;
+  if (!o.validation.empty()) {
+    validation = read(o.validation);
+    if (validation->measure != fit.measure) {
+      throw RobotFileError(validation->path + ": " + measureName(validation->measure) + " measurements, but " +
+                           fit.path + " holds " + measureName(fit.measure) + " measurements");
+    }
+    // targets by name: the validation file's indices mapped to the fitting file's
+    if (const auto unknown = mapValidationTargets(*validation, fit.target_names)) {
+      throw RobotFileError(validation->path + ": target " + *unknown + " is not measured in " + fit.path);
+    }
+  }
+  CalibrationRequest request = o.calibration;
+  if (request.parameters && request.parameters->empty()) request.parameters.reset();  // --parameters "": the default
+  CalibrationReport report = runCalibration(file, nominal, std::move(fit), std::move(validation), request, cliSpelling());
+  report.notes = notes;
+  const CalibrationResult& result = report.result;
+  if (!o.out.empty() && result.accepted) {
+    writeFileAtomically(o.out, formatPoeRobotFile(result.model, file, calibratedName(file),
+                                                   "calibrated by lowpair calibrate from " + report.fit.path,
+                                                   calibrationProvenance(report), calibratedTargets(report)));
+  }
+  if (o.as_json) {
+    std::cout << jsonText(calibrationJson(report)) << "\n";
+  } else {
+    printCalibration(std::cout, report);
+  }
+  if (!result.accepted) {
+    std::cout.flush();
+    std::cerr << "error: " << rejectionText(report) << "\n";
+    return 1;
+  }
+  return 0;
+}
 
+void addIdentifiabilityCommand(CLI::App& app, Commands& commands) {
+  auto o = std::make_shared<IdentifiabilityOptions>();
   auto* ident = app.add_subcommand("identifiability",
                                    "rank of the identification Jacobian vs 5h+4r+2t+n+6, POE and D-H (Wu et al. §V)");
   addRobotArgument(*ident, o->robot);
@@ -64,37 +150,11 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
   ident->add_option("--seed", o->seed, "seed of the random poses (default 1)")->check(CLI::Range(0LL, kMaxSeed));
   ident->add_flag("--free-pitch", o->free_pitch, "give revolute joints a pitch parameter");
   ident->add_flag("--json", o->as_json, "print JSON");
-  commands.emplace_back(ident, [o] {
-    const RobotFile file = loadRobot(o->robot);
-    const PoeModel model = file.poeModel();
-    const Measure measure = parseMeasure(o->measure, cliSpelling());
-    // the full error model has 8 columns per joint + pitches + 6; the D-H one 6 per joint + 6
-    if (identificationEntries(o->poses, model.dof(), 9.0) > kMaxJacobianEntries) {
-      // one pose over the limit: the robot is too long whatever --poses says
-      const bool robot = identificationEntries(1, model.dof(), 9.0) > kMaxJacobianEntries;
-      throw UsageError(robot ? file.path : std::string("--poses"),
-                       std::to_string(o->poses) + " poses of a " + std::to_string(model.dof()) +
-                                      "-joint robot exceed the identification size limit (" + shortest(kMaxJacobianEntries) +
-                                      " numbers: the Jacobian and the SVD's V, columns squared)");
-    }
-    const auto ranges = samplingRanges(model);
-    std::vector<VecX> q(static_cast<size_t>(o->poses), VecX(model.dof()));
-    for (int i = 0; i < o->poses; ++i) randomSample(static_cast<unsigned long long>(o->seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
-    const Identifiability id = analyzeIdentifiability(model, q, measure, o->free_pitch,
-                                                      measure == Measure::Targets ? fileTargets(file) : std::vector<Vec3>{});
-    if (o->as_json) {
-      json j = identifiabilityJson(file, id);
-      j["poses"] = o->poses;
-      j["seed"] = o->seed;
-      std::cout << jsonText(j) << "\n";
-    } else {
-      std::cout << "identifiability of " << robotLabel(file) << " from " << o->poses << " random "
-                << measureName(measure) << " measurements (seed " << o->seed << ")\n";
-      printIdentifiability(std::cout, id);
-    }
-    return 0;
-  });
+  commands.emplace_back(ident, [o] { return runIdentifiability(*o); });
+}
 
+void addCalibrateCommand(CLI::App& app, Commands& commands) {
+  auto o = std::make_shared<CalibrateOptions>();
   auto* cal = app.add_subcommand("calibrate", "identify a POE model from measurements; calibrated D-H table with "
                                               "standard deviations");
   cal->add_option("NOMINAL", o->robot.path, "nominal robot file (.yaml), or a model (.xml MJCF, .urdf) with --tip")
@@ -126,56 +186,14 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(1, kMaxCrossValidationRepeats));
   cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml); only when the fit is accepted");
   cal->add_flag("--json", o->as_json, "print JSON");
-  commands.emplace_back(cal, [o] {
-    const RobotFile file = loadRobot(o->robot);
-    const PoeModel nominal = file.poeModel();
-    std::vector<std::string> notes;
-    auto read = [&](const std::string& path) {
-      CalibrationMeasurements r = readCalibrationMeasurements(
-          path, file, file.path, nominal, [](const std::string& w) { std::cerr << "warning: " << w << "\n"; });
-      notes.insert(notes.end(), r.notes.begin(), r.notes.end());
-      return std::move(r.file);
-    };
-    MeasurementFile fit = read(o->measurements);
-    if (const auto problem = calibrationSizeProblem(fit.measurements.size(), nominal.dof())) {
-      throw RobotFileError(fit.path + ": " + *problem +
-                           " (the Jacobian, 6 rows per measurement, and the SVD's V, columns squared: "
-                           "fit fewer measurements and put the rest in --validation; a robot this long cannot be fitted)");
-    }
-    std::optional<MeasurementFile> validation;
-    if (!o->validation.empty()) {
-      validation = read(o->validation);
-      if (validation->measure != fit.measure) {
-        throw RobotFileError(validation->path + ": " + measureName(validation->measure) + " measurements, but " +
-                             fit.path + " holds " + measureName(fit.measure) + " measurements");
-      }
-      // targets by name: the validation file's indices mapped to the fitting file's
-      if (const auto unknown = mapValidationTargets(*validation, fit.target_names)) {
-        throw RobotFileError(validation->path + ": target " + *unknown + " is not measured in " + fit.path);
-      }
-    }
-    CalibrationRequest request = o->calibration;
-    if (request.parameters && request.parameters->empty()) request.parameters.reset();  // --parameters "": the default
-    CalibrationReport report = runCalibration(file, nominal, std::move(fit), std::move(validation), request, cliSpelling());
-    report.notes = notes;
-    const CalibrationResult& result = report.result;
-    if (!o->out.empty() && result.accepted) {
-      writeFileAtomically(o->out, formatPoeRobotFile(result.model, file, calibratedName(file),
-                                                     "calibrated by lowpair calibrate from " + report.fit.path,
-                                                     calibrationProvenance(report), calibratedTargets(report)));
-    }
-    if (o->as_json) {
-      std::cout << jsonText(calibrationJson(report)) << "\n";
-    } else {
-      printCalibration(std::cout, report);
-    }
-    if (!result.accepted) {
-      std::cout.flush();
-      std::cerr << "error: " << rejectionText(report) << "\n";
-      return 1;
-    }
-    return 0;
-  });
+  commands.emplace_back(cal, [o] { return runCalibrate(*o); });
+}
+
+}  // namespace
+
+void addCalibrateCommands(CLI::App& app, Commands& commands) {
+  addIdentifiabilityCommand(app, commands);
+  addCalibrateCommand(app, commands);
 }
 
 }  // namespace lowpair::cli

@@ -16,7 +16,8 @@
 #include "lowpair/types.hpp"
 #include "io/output.hpp"
 #include "io/robot_file.hpp"
-#include "validation/arguments.hpp"
+#include "commands/arguments.hpp"
+#include "commands/robot_source.hpp"
 
 namespace lowpair::cli {
 
@@ -24,11 +25,11 @@ using Runner = std::function<int()>;
 using Commands = std::vector<std::pair<CLI::App*, Runner>>;
 
 /// A usage error about an argument (not a file): printed as "error: SUBJECT: message". Shared with the
-/// checks of the validation room, which the CLI and the Python module both call.
-using UsageError = validation::UsageError;
+/// checks of the commands room, which the CLI and the Python module both call.
+using UsageError = commands::UsageError;
 
 /// The CLI's spelling of an argument in the shared checks' messages: "--noise-position", "--measure targets".
-inline validation::ArgumentSpelling cliSpelling() {
+inline commands::ArgumentSpelling cliSpelling() {
   auto option = [](const std::string& name) {
     std::string flag = "--" + name;
     std::replace(flag.begin(), flag.end(), '_', '-');
@@ -40,18 +41,13 @@ inline validation::ArgumentSpelling cliSpelling() {
 /// Parses "Q1,Q2,..." into `dof` finite numbers. @throws UsageError (subject: `subject`)
 VecX parseJointVector(const std::string& text, int dof, const std::string& subject);
 
-/// Where a subcommand's robot comes from: a robot file (.yaml), or an MJCF (.xml) / URDF (.urdf) model
-/// whose chain from `base` (default: the world) to `tip` (a site or body) is extracted through MuJoCo.
-struct RobotSource {
-  std::string path, tip, base;
-};
+/// Where a subcommand's robot comes from, read by loadRobot(source, cliSpelling()) (commands/robot_source.hpp,
+/// the Python module's lowpair.load too).
+using commands::RobotSource;
+using commands::loadRobot;
 
 /// Registers ROBOT, --tip and --base on a subcommand.
 void addRobotArgument(CLI::App& sub, RobotSource& source);
-
-/// Reads the robot: a robot file, or the POE model extracted from a model file (scale 1, no unit).
-/// @throws io::RobotFileError, UsageError (a model file without --tip)
-io::RobotFile loadRobot(const RobotSource& source);
 
 void addConvertCommands(CLI::App& app, Commands& out);   // poe2dh, dh2poe, fk (convert_commands.cpp)
 void addJacobianCommands(CLI::App& app, Commands& out);  // jacobian, singular (jacobian_commands.cpp)

@@ -34,7 +34,7 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
                bool as_json) {
   std::vector<long long> lines;
   const MatX Q = readJointValues(o.q_file, file.dof(), robot_path, lines);
-  const Measure measure = validation::parseMeasure(o.measure, cliSpelling());
+  const Measure measure = commands::parseMeasure(o.measure, cliSpelling());
   std::vector<std::string> target_names;
   if (measure == Measure::Targets) {
     if (file.targets.empty()) {
@@ -128,7 +128,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
                      "treat axes with sin(angle) below this as parallel (default: rounding level 16 eps n); "
                      "larger values change the model and the FK check reports by how much");
   commands.emplace_back(poe2dh, [o] {
-    const RobotFile file = loadRobot(o->robot);
+    const RobotFile file = loadRobot(o->robot, cliSpelling());
     ConvertOptions options;
     options.parallel_threshold = o->parallel_threshold;
     const PoeModel poe = file.poeModel();
@@ -148,7 +148,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
   addRobotArgument(*dh2poe, o->robot);
   dh2poe->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(dh2poe, [o] {
-    const RobotFile file = loadRobot(o->robot);
+    const RobotFile file = loadRobot(o->robot, cliSpelling());
     const PoeModel m = file.poeModel();
     if (o->as_json) {
       std::cout << jsonText(poeJson(file, m)) << "\n";
@@ -178,7 +178,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     if (q_file_option->count() == 0 && (out_option->count() > 0 || measure_option->count() > 0)) {
       throw UsageError("fk", "--out and --measure go with --q-file");
     }
-    const RobotFile file = loadRobot(o->robot);
+    const RobotFile file = loadRobot(o->robot, cliSpelling());
     const std::string kind = o->model_kind == "file" ? (file.poe ? "poe" : "dh") : o->model_kind;
     if (q_file_option->count() > 0) return fkFromFile(file, o->robot.path, kind, *fk_file, o->as_json);
     const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);

@@ -44,7 +44,7 @@ std::string firstMappedJoint(const PoeModel& model) {
 
 int runExport(const ExportOptions& o) {
   const ExportFormat format = parseExportFormat(o.format);
-  const RobotFile file = loadRobot(o.robot);
+  const RobotFile file = loadRobot(o.robot, cliSpelling());
   const ExportedRobot exported = exportRobot(file, format, {provenance(o)});
   const char* what = format == ExportFormat::Urdf ? "URDF" : "MJCF";
   if (exported.joint_variables && o.out.empty()) {

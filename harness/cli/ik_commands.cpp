@@ -26,13 +26,13 @@
 #include "lowpair/ik.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/tolerances.hpp"
-#include "validation/ik_rows.hpp"
-#include "validation/sampling.hpp"
+#include "commands/ik_rows.hpp"
+#include "commands/sampling.hpp"
 
 namespace lowpair::cli {
 
 using namespace lowpair::io;  // the rooms below
-using namespace lowpair::validation;
+using namespace lowpair::commands;
 
 using nlohmann::json;
 
@@ -181,7 +181,7 @@ struct IkCommandOptions {
 };
 
 int runIk(const IkCommandOptions& o) {
-  const RobotFile file = loadRobot(o.robot);
+  const RobotFile file = loadRobot(o.robot, cliSpelling());
   const PoeModel model = file.poeModel();
   const int n = model.dof();
   JointTable table = readJointTable(o.poses, TableKind::Targets, n, o.robot.path);
@@ -261,11 +261,11 @@ struct CompensateOptions {
 RobotFile loadEither(const std::string& path, const RobotSource& like) {
   const std::string ext = std::filesystem::path(path).extension().string();
   const bool model_file = ext == ".xml" || ext == ".urdf";
-  return loadRobot(RobotSource{path, model_file ? like.tip : "", model_file ? like.base : ""});
+  return loadRobot(RobotSource{path, model_file ? like.tip : "", model_file ? like.base : ""}, cliSpelling());
 }
 
 int runCompensate(const CompensateOptions& o) {
-  const RobotFile calibrated_file = loadRobot(o.calibrated);
+  const RobotFile calibrated_file = loadRobot(o.calibrated, cliSpelling());
   const RobotFile nominal_file = loadEither(o.nominal, o.calibrated);
   const PoeModel calibrated = calibrated_file.poeModel(), nominal = nominal_file.poeModel();
   if (nominal.dof() != calibrated.dof()) {

@@ -83,7 +83,7 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
       ->check(CLI::IsMember({"spatial", "body", "geometric"}));
   jac->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(jac, [o] {
-    const RobotFile file = loadRobot(o->robot);
+    const RobotFile file = loadRobot(o->robot, cliSpelling());
     const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     const PoeModel model = file.poeModel();
     Data data(model);
@@ -127,7 +127,7 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
       ->required();
   sing->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(sing, [o] {
-    const RobotFile file = loadRobot(o->robot);
+    const RobotFile file = loadRobot(o->robot, cliSpelling());
     const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     SingularityOptions options;
     options.max_null_vectors = kPrintedNullVectors;

@@ -10,14 +10,11 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "mujoco/mujoco_robot.hpp"
 #include "io/one_line.hpp"
-#include "io/urdf_reader.hpp"
 
 namespace lowpair::cli {
 
 using namespace lowpair::io;  // the rooms below
-using namespace lowpair::mujoco;
 
 VecX parseJointVector(const std::string& text, int dof, const std::string& subject) {
   std::vector<double> values;
@@ -44,18 +41,6 @@ void addRobotArgument(CLI::App& sub, RobotSource& source) {
   sub.add_option("ROBOT", source.path, "robot file (.yaml), or a model (.xml MJCF, .urdf) with --tip")->required();
   sub.add_option("--tip", source.tip, "model file: the tip site or body");
   sub.add_option("--base", source.base, "model file: the base body (default: the world)");
-}
-
-RobotFile loadRobot(const RobotSource& source) {
-  const std::string ext = std::filesystem::path(source.path).extension().string();
-  if (ext != ".xml" && ext != ".urdf") {
-    if (!source.tip.empty() || !source.base.empty()) {
-      throw UsageError(source.path, "--tip/--base go with a model file (.xml or .urdf), not a robot file");
-    }
-    return readRobotFile(source.path);
-  }
-  if (source.tip.empty()) throw UsageError(source.path, "--tip NAME is required with a model file");
-  return robotFileOfModel(source.path, source.tip, source.base);
 }
 
 namespace {

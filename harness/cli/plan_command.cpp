@@ -12,14 +12,14 @@
 #include "cli/commands.hpp"
 #include "io/atomic_file.hpp"
 #include "io/output.hpp"
-#include "validation/calibration_output.hpp"
-#include "validation/plan_report.hpp"
-#include "validation/sampling.hpp"
+#include "commands/calibration_output.hpp"
+#include "commands/plan_report.hpp"
+#include "commands/sampling.hpp"
 
 namespace lowpair::cli {
 
 using namespace lowpair::io;  // the rooms below
-using namespace lowpair::validation;
+using namespace lowpair::commands;
 
 namespace {
 
@@ -189,7 +189,7 @@ void addPlanCommand(CLI::App& app, Commands& commands) {
     request.free_pitch = o->free_pitch;
     request.noise_position = o->noise_position;
     request.noise_rotation = o->noise_rotation;
-    const PlanReport r = makePlanReport(loadRobot(o->robot), request, cliSpelling());
+    const PlanReport r = makePlanReport(loadRobot(o->robot, cliSpelling()), request, cliSpelling());
     if (!o->out.empty()) writeFileAtomically(o->out, qFileText(r));
     if (o->as_json) {
       std::cout << jsonText(planJson(r, o->out)) << "\n";

@@ -4,7 +4,7 @@
 // Measurements of the tool frame, its origin or points fixed on it (measurements.hpp) at N random joint
 // vectors, or at the joint vectors of a CSV (`lowpair plan --out`, a measurement file: its q1..qn columns):
 // from the library's FK of a robot file, or from MuJoCo (the ground truth) for a model file's chain; in a
-// measurement frame (a tracker's), with optional Gaussian noise and blunders (validation/sampling.hpp). The
+// measurement frame (a tracker's), with optional Gaussian noise and blunders (commands/sampling.hpp). The
 // noise of row k depends only on (seed, k), whichever way the joint vectors came.
 #include <algorithm>
 #include <charconv>
@@ -25,13 +25,14 @@
 #include "io/measurements.hpp"
 #include "mujoco/mujoco_robot.hpp"
 #include "io/output.hpp"
-#include "validation/simulation.hpp"
+#include "commands/simulation.hpp"
 #include "validation/validate.hpp"
 
 namespace lowpair::cli {
 
 using namespace lowpair::io;  // the rooms below
 using namespace lowpair::mujoco;
+using namespace lowpair::commands;
 using namespace lowpair::validation;
 
 namespace fs = std::filesystem;
@@ -65,7 +66,7 @@ struct Truth {
 };
 
 Truth robotFileTruth(const SimulateOptions& o) {
-  const RobotFile file = loadRobot(o.robot);
+  const RobotFile file = loadRobot(o.robot, cliSpelling());
   auto model = std::make_shared<const PoeModel>(file.poeModel());
   auto data = std::make_shared<Data>(*model);
   Truth truth;

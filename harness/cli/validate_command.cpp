@@ -19,6 +19,7 @@ namespace lowpair::cli {
 
 using namespace lowpair::io;  // the rooms below
 using namespace lowpair::mujoco;
+using namespace lowpair::commands;
 using namespace lowpair::validation;
 
 namespace fs = std::filesystem;

@@ -7,7 +7,7 @@
 #include <optional>
 #include <sstream>
 
-#include "validation/calibration_output.hpp"
+#include "commands/calibration_output.hpp"
 #include "lowpair/kinematics.hpp"
 #include "io/output.hpp"
 #include "io/robot_file.hpp"
@@ -16,6 +16,7 @@
 namespace lowpair::validation {
 
 using namespace lowpair::io;  // the rooms below
+using namespace lowpair::commands;
 using namespace lowpair::mujoco;
 
 namespace {
@@ -213,10 +214,12 @@ CompensationResult compensateCase(const CalibrationCase& config, const PoeModel&
 
 }  // namespace
 
-CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const CalibrationCase& config,
-                                         const MujocoRobot& robot, const SampledVariable& sampled) {
-  const RobotFile nominal_file = readRobotFile(config.nominal);
-  const PoeModel nominal = nominal_file.poeModel();
+namespace {
+
+// The case against its nominal before anything is measured: the chain's joints, the length unit, the noise
+// and the size of the identification Jacobian. @throws io::RobotFileError naming the scenario and the case
+void checkCase(const Scenario& scenario, const CalibrationCase& config, const RobotFile& nominal_file,
+               const PoeModel& nominal, const MujocoRobot& robot, const SampledVariable& sampled) {
   if (nominal.dof() != robot.dof()) {
     throw RobotFileError(config.nominal + ": has " + std::to_string(nominal.dof()) + " joints but the chain to '" +
                          scenario.tip + "' in " + scenario.model + " has " + std::to_string(robot.dof()) +
@@ -245,79 +248,32 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': " + std::to_string(config.poses) +
                          " poses of a " + std::to_string(nominal.dof()) + "-joint robot exceed the Jacobian size limit");
   }
-  const std::string where = scenario.name + ", calibration '" + config.name + "'";
-  MeasurementSetup setup;
-  try {
-    setup = caseMeasurementSetup(config, robot, true);
-  } catch (const RobotFileError& e) {  // a target that is no site fixed to the tip: name the case
-    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': targets: " + e.what());
-  }
-  MeasurementSetup noise_free = setup;
-  noise_free.sd_position = noise_free.sd_rotation = 0.0;
-  MujocoRobot::Evaluator mujoco(robot);
-  std::optional<CasePlanResult> plan;
-  std::vector<VecX> fit_q;
-  if (config.plan) {
-    plan = planCase(scenario, config, nominal_file, nominal, sampled.ranges, fit_q);
-  } else {
-    fit_q = randomSamples(config.seed, 0, config.poses, sampled.ranges);
-  }
-  MeasurementFile fit = measuredAt(config, setup, mujoco, sampled.motions, fit_q, where + ": simulated measurements");
-  const std::vector<size_t> blunders = addBlunders(config.seed, config.blunders, config.blunder_size, fit.measurements);
-  const std::vector<VecX> validation_q = randomSamples(
-      config.seed, static_cast<unsigned long long>(config.firstValidationSample()), config.validation_poses, sampled.ranges);
-  const std::optional<MeasurementFile> validation = measureAt(config, noise_free, mujoco, sampled.motions, validation_q,
-                                                              static_cast<unsigned long long>(config.firstValidationSample()),
-                                                              where + ": noise-free validation measurements");
+}
 
+// calibrate's options for the case: its measure, loss and noise, and its targets (a nominal's point of the
+// same name starts the estimate).
+CalibrationOptions caseOptions(const CalibrationCase& config, const RobotFile& nominal_file) {
   CalibrationOptions options;
-  options.measure = measure;
+  options.measure = config.measure();
   options.free_pitch = config.free_pitch;
   options.loss = config.loss;
   if (config.noise_position > 0) options.sigma_position = config.noise_position;
   if (config.noise_rotation > 0) options.sigma_rotation = config.noise_rotation;
-  for (const std::string& name : config.targets) {  // a nominal's point of the same name starts the estimate
+  for (const std::string& name : config.targets) {
     Target t{name, std::nullopt};
     for (const Target& known : nominal_file.targets) {
       if (known.name == name) t.point_tool = known.point_tool;
     }
     options.targets.push_back(t);
   }
-  const auto start = std::chrono::steady_clock::now();
-  const CalibrationResult result = calibrate(nominal, fit.measurements, options);
-  const DhUncertainty dh = dhUncertainty(result);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return options;
+}
 
-  CalibrationCaseResult out;
-  out.config = config;
-  out.rank = result.rank.rank;
-  out.expected = result.expected.total();
-  out.iterations = result.iterations;
-  out.converged = result.converged;
-  out.seconds = seconds;
-  out.fit_before = result.before;
-  out.fit_after = result.after;
-  // validation in the measurement frame: the nominal where the registration put it (before), the calibrated
-  // model (after), each with its targets' points
-  std::vector<std::string> fit_targets;
-  for (const Target& t : options.targets) fit_targets.push_back(t.name);
-  const std::vector<Measurement> held_out = targetsByName(*validation, fit_targets);
-  const PoeModel registered = movedModel(nominal, result.registration.T_meas_base);
-  out.validation_before = residualStatistics(registered, held_out, measure, result.registration.targets);
-  out.validation_after = residualStatistics(result.model, held_out, measure, result.targets);
-  out.validation_position_before = positionErrors(registered, held_out, measure, result.registration.targets);
-  out.validation_position_after = positionErrors(result.model, held_out, measure, result.targets);
-  out.blunders = blunders;
-  out.plan = std::move(plan);
-  if (config.compensation) {
-    out.compensation = compensateCase(config, nominal, result, setup, mujoco, sampled.motions, validation_q);
-  }
-  for (size_t k = 0; k < result.residuals.size(); ++k) {
-    const bool blunder = std::binary_search(blunders.begin(), blunders.end(), k);
-    if (blunder && !result.residuals[k].outlier) out.missed_blunders.push_back(k);
-    if (!blunder && result.residuals[k].outlier) out.false_outliers.push_back(k);
-  }
-
+// The case's acceptance on `out` (filled but for pass and failures) against the fit `result` of `fit`, whose
+// measurements `blunders` were moved.
+void checkAcceptance(const CalibrationCase& config, const RobotFile& nominal_file, const CalibrationResult& result,
+                     const MeasurementFile& fit, const std::vector<size_t>& blunders, CalibrationCaseResult& out) {
+  const Measure measure = config.measure();
   // acceptance: never pass on a number that was not measured (NaN fails every comparison below)
   auto require = [&](bool ok, const std::string& what) {
     if (!ok) {
@@ -369,6 +325,78 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
     require(out.false_outliers.empty(), std::to_string(out.false_outliers.size()) +
                                             " measurements flagged without a blunder: " + listed(fit, out.false_outliers));
   }
+}
+
+}  // namespace
+
+CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const CalibrationCase& config,
+                                         const MujocoRobot& robot, const SampledVariable& sampled) {
+  const RobotFile nominal_file = readRobotFile(config.nominal);
+  const PoeModel nominal = nominal_file.poeModel();
+  checkCase(scenario, config, nominal_file, nominal, robot, sampled);
+  const Measure measure = config.measure();
+  const std::string where = scenario.name + ", calibration '" + config.name + "'";
+  MeasurementSetup setup;
+  try {
+    setup = caseMeasurementSetup(config, robot, true);
+  } catch (const RobotFileError& e) {  // a target that is no site fixed to the tip: name the case
+    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': targets: " + e.what());
+  }
+  MeasurementSetup noise_free = setup;
+  noise_free.sd_position = noise_free.sd_rotation = 0.0;
+  MujocoRobot::Evaluator mujoco(robot);
+  std::optional<CasePlanResult> plan;
+  std::vector<VecX> fit_q;
+  if (config.plan) {
+    plan = planCase(scenario, config, nominal_file, nominal, sampled.ranges, fit_q);
+  } else {
+    fit_q = randomSamples(config.seed, 0, config.poses, sampled.ranges);
+  }
+  MeasurementFile fit = measuredAt(config, setup, mujoco, sampled.motions, fit_q, where + ": simulated measurements");
+  const std::vector<size_t> blunders = addBlunders(config.seed, config.blunders, config.blunder_size, fit.measurements);
+  const std::vector<VecX> validation_q = randomSamples(
+      config.seed, static_cast<unsigned long long>(config.firstValidationSample()), config.validation_poses, sampled.ranges);
+  const std::optional<MeasurementFile> validation = measureAt(config, noise_free, mujoco, sampled.motions, validation_q,
+                                                              static_cast<unsigned long long>(config.firstValidationSample()),
+                                                              where + ": noise-free validation measurements");
+
+  const CalibrationOptions options = caseOptions(config, nominal_file);
+  const auto start = std::chrono::steady_clock::now();
+  const CalibrationResult result = calibrate(nominal, fit.measurements, options);
+  const DhUncertainty dh = dhUncertainty(result);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  CalibrationCaseResult out;
+  out.config = config;
+  out.rank = result.rank.rank;
+  out.expected = result.expected.total();
+  out.iterations = result.iterations;
+  out.converged = result.converged;
+  out.seconds = seconds;
+  out.fit_before = result.before;
+  out.fit_after = result.after;
+  // validation in the measurement frame: the nominal where the registration put it (before), the calibrated
+  // model (after), each with its targets' points
+  std::vector<std::string> fit_targets;
+  for (const Target& t : options.targets) fit_targets.push_back(t.name);
+  const std::vector<Measurement> held_out = targetsByName(*validation, fit_targets);
+  const PoeModel registered = movedModel(nominal, result.registration.T_meas_base);
+  out.validation_before = residualStatistics(registered, held_out, measure, result.registration.targets);
+  out.validation_after = residualStatistics(result.model, held_out, measure, result.targets);
+  out.validation_position_before = positionErrors(registered, held_out, measure, result.registration.targets);
+  out.validation_position_after = positionErrors(result.model, held_out, measure, result.targets);
+  out.blunders = blunders;
+  out.plan = std::move(plan);
+  if (config.compensation) {
+    out.compensation = compensateCase(config, nominal, result, setup, mujoco, sampled.motions, validation_q);
+  }
+  for (size_t k = 0; k < result.residuals.size(); ++k) {
+    const bool blunder = std::binary_search(blunders.begin(), blunders.end(), k);
+    if (blunder && !result.residuals[k].outlier) out.missed_blunders.push_back(k);
+    if (!blunder && result.residuals[k].outlier) out.false_outliers.push_back(k);
+  }
+
+  checkAcceptance(config, nominal_file, result, fit, blunders, out);
   // (a rank below the count is not a failure: position measurements of a tool point on the last axis, for
   // one, cannot see that axis; calibrate's text and JSON name the undetermined directions)
   out.report = std::make_shared<const CalibrationReport>(

@@ -16,8 +16,8 @@
 #include "lowpair/plan.hpp"
 #include "mujoco/mujoco_robot.hpp"
 #include "io/measurements.hpp"
-#include "validation/calibration_output.hpp"
-#include "validation/sampling.hpp"
+#include "commands/calibration_output.hpp"
+#include "commands/sampling.hpp"
 #include "validation/scenario.hpp"
 
 namespace lowpair::validation {
@@ -65,9 +65,9 @@ struct CalibrationCaseResult {
   ResidualStatistics fit_before, fit_after, validation_before, validation_after;
   /// Position error (length) of every validation measurement before and after, for the report's picture.
   std::vector<double> validation_position_before, validation_position_after;
-  /// The calibration as `lowpair calibrate` reports it for the same data (renderers: calibration_output.hpp);
+  /// The calibration as `lowpair calibrate` reports it for the same data (renderers: commands/calibration_output.hpp);
   /// its result's residuals are those of the fitting measurements, in order.
-  std::shared_ptr<const CalibrationReport> report;
+  std::shared_ptr<const commands::CalibrationReport> report;
   /// The fitting measurements given a blunder (0-based, increasing), those of them not flagged as outliers,
   /// and the measurements flagged without one.
   std::vector<size_t> blunders, missed_blunders, false_outliers;
@@ -77,24 +77,24 @@ struct CalibrationCaseResult {
   std::vector<std::string> failures;  ///< the acceptance criteria that failed, in words
 };
 
-/// The case's measurement set-up (sampling.hpp): its measure, its frame, its noise when `noisy` (validation
+/// The case's measurement set-up (commands/sampling.hpp): its measure, its frame, its noise when `noisy` (validation
 /// measurements are noise-free), and its targets' points in the tip frame (MuJoCo sites, robot.siteInTip).
 /// @throws io::RobotFileError for a target that is no site of the model fixed to the tip
-MeasurementSetup caseMeasurementSetup(const CalibrationCase& c, const mujoco::MujocoRobot& robot, bool noisy);
+commands::MeasurementSetup caseMeasurementSetup(const CalibrationCase& c, const mujoco::MujocoRobot& robot, bool noisy);
 
-/// Poses first .. first+count-1 of the case's stream (sampling.hpp: randomSample with the case's seed over
+/// Poses first .. first+count-1 of the case's stream (commands/sampling.hpp: randomSample with the case's seed over
 /// `ranges`), measured by MuJoCo and taken as `setup` says (appendMeasurements: frame, targets, noise): what
 /// `lowpair simulate` writes for the same model, joint variable, seed, measure, frame and noise when first = 0.
 /// (Blunders are added by the caller: addBlunders with the case's seed.)
-io::MeasurementFile simulatedMeasurements(const CalibrationCase& c, const MeasurementSetup& setup,
+io::MeasurementFile simulatedMeasurements(const CalibrationCase& c, const commands::MeasurementSetup& setup,
                                           mujoco::MujocoRobot::Evaluator& mujoco,
-                                          const std::vector<JointMotion>& variables, const std::vector<Range>& ranges,
+                                          const std::vector<JointMotion>& variables, const std::vector<commands::Range>& ranges,
                                           int first, int count, std::string label);
 
 /// The joint vectors `q` measured by MuJoCo and taken as `setup` says, pose k with the noise of row k of the
 /// case's stream (appendMeasurements): what `lowpair simulate --q-file` writes for the same q, model, joint
 /// variable, seed, measure, frame and noise.
-io::MeasurementFile measuredAt(const CalibrationCase& c, const MeasurementSetup& setup,
+io::MeasurementFile measuredAt(const CalibrationCase& c, const commands::MeasurementSetup& setup,
                                mujoco::MujocoRobot::Evaluator& mujoco, const std::vector<JointMotion>& variables,
                                const std::vector<VecX>& q, std::string label);
 
@@ -102,6 +102,6 @@ io::MeasurementFile measuredAt(const CalibrationCase& c, const MeasurementSetup&
 /// @throws io::RobotFileError for a nominal robot file that cannot be read, does not match the chain, or is
 /// in another length unit than the measurements
 CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const CalibrationCase& config,
-                                         const mujoco::MujocoRobot& robot, const SampledVariable& sampled);
+                                         const mujoco::MujocoRobot& robot, const commands::SampledVariable& sampled);
 
 }  // namespace lowpair::validation

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <set>
 
-#include "validation/calibration_output.hpp"
+#include "commands/calibration_output.hpp"
 #include "io/robot_file.hpp"
 #include "io/yaml_reader.hpp"
 #include "lowpair/tolerances.hpp"
@@ -15,6 +15,7 @@
 namespace lowpair::validation {
 
 using namespace lowpair::io;  // the rooms below
+using namespace lowpair::commands;
 
 namespace fs = std::filesystem;
 

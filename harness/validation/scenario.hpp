@@ -10,8 +10,8 @@
 
 #include "lowpair/calibration.hpp"
 #include "lowpair/plan.hpp"
-#include "validation/plan_report.hpp"  // a case's plan: the limits of `lowpair plan` (kMaxPlanCandidates, ...)
-#include "validation/sampling.hpp"
+#include "commands/plan_report.hpp"  // a case's plan: the limits of `lowpair plan` (kMaxPlanCandidates, ...)
+#include "commands/sampling.hpp"
 
 namespace lowpair::validation {
 
@@ -36,7 +36,7 @@ constexpr int kMaxSamples = 100000000;
 /// SEED --candidates M` draws when the nominal's ranges are the scenario's).
 struct CasePlan {
   PlanCriterion criterion = PlanCriterion::D;
-  int candidates = kDefaultPlanCandidates;
+  int candidates = commands::kDefaultPlanCandidates;
 };
 
 /// `compensate: {tolerance: T, allowed_not_ok: K}`: the validation joint vectors taken as a nominal program,
@@ -73,7 +73,7 @@ struct CalibrationCase {
   std::vector<std::string> targets;
   /// `frame: {rotation: [rx, ry, rz], translation: [x, y, z]}`: the measurement frame's pose relative to the
   /// model's base (rotation vector, rad; translation, length): every measurement is expressed in it
-  /// (sampling.hpp measurementFrame). Unset: the base frame.
+  /// (commands/sampling.hpp measurementFrame). Unset: the base frame.
   std::optional<std::array<double, 6>> frame;
   long long blunders = 0;     ///< `blunders: {count, size}`: fitting measurements moved by `blunder_size` (addBlunders)
   double blunder_size = 0.0;  ///< length

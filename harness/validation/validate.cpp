@@ -24,6 +24,7 @@
 namespace lowpair::validation {
 
 using namespace lowpair::io;  // the rooms below
+using namespace lowpair::commands;
 using namespace lowpair::mujoco;
 
 namespace fs = std::filesystem;
@@ -103,7 +104,7 @@ Setup prepare(const Scenario& scenario) {
   const PoeModel& poe = *setup.poe;
   const double L = setup.L = poe.lengthScale();
 
-  // the sampled variable (a joint_variables robot file's q, or MuJoCo's own) and its ranges: sampling.hpp
+  // the sampled variable (a joint_variables robot file's q, or MuJoCo's own) and its ranges: commands/sampling.hpp
   setup.sampled =
       sampledVariable(robot, scenario.joint_variables, scenario.model, scenario.tip, scenario.ranges, scenario.path);
 

@@ -25,7 +25,7 @@
 #include "lowpair/model.hpp"
 #include "lowpair/types.hpp"
 #include "io/robot_file.hpp"
-#include "validation/sampling.hpp"
+#include "commands/sampling.hpp"
 #include "validation/scenario.hpp"
 
 namespace lowpair::validation {

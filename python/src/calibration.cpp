@@ -12,16 +12,16 @@
 #include "io/output.hpp"
 #include "lowpair/calibration.hpp"
 #include "robot.hpp"
-#include "validation/calibration_inputs.hpp"
-#include "validation/calibration_output.hpp"
-#include "validation/calibration_run.hpp"
+#include "commands/calibration_inputs.hpp"
+#include "commands/calibration_output.hpp"
+#include "commands/calibration_run.hpp"
 
 namespace lowpair::python {
 
 namespace {
 
 struct Calibration {
-  validation::CalibrationReport report;
+  commands::CalibrationReport report;
   RobotPtr robot;
   json j;
 };
@@ -94,51 +94,51 @@ io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const In
 }
 
 // The joint values against the nominal's ranges, as `lowpair calibrate` checks a measurement file's
-// (validation::checkJointRanges): one beyond kFarOutsideRange range widths outside is a wrong column or unit,
+// (commands::checkJointRanges): one beyond kFarOutsideRange range widths outside is a wrong column or unit,
 // never fitted silently; nearer ones are UserWarnings (the first few, then their count).
 void checkRanges(const Robot& r, const io::MeasurementFile& m, const std::string& prefix) {
   const std::string subject = prefix + "q";
-  const int outside = validation::checkJointRanges(
+  const int outside = commands::checkJointRanges(
       r.poe, m.measurements, r.subject(),
-      [](const validation::OutsideRange& x) {
+      [](const commands::OutsideRange& x) {
         return "[" + std::to_string(x.row) + ", " + std::to_string(x.joint) + "]";
       },
       [&](const std::string& text) { throw UsageError(subject, text); },
       [&](const std::string& text) { warnUser(subject + ": " + text); });
-  if (outside > validation::kMaxRangeWarnings) {
+  if (outside > commands::kMaxRangeWarnings) {
     warnUser(subject + ": " + std::to_string(outside) + " joint values outside the ranges in all");
   }
 }
 
 Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::optional<io::MeasurementFile> held_out,
-                            const validation::CalibrationRequest& request) {
-  if (const auto problem = validation::calibrationSizeProblem(fit.measurements.size(), r.dof())) {
+                            const commands::CalibrationRequest& request) {
+  if (const auto problem = commands::calibrationSizeProblem(fit.measurements.size(), r.dof())) {
     throw UsageError("q", *problem);
   }
   checkRanges(r, fit, "");
   if (held_out) {
     checkRanges(r, *held_out, "validation_");
     // targets by name: the validation rows' indices mapped to the fit's
-    if (const auto unknown = validation::mapValidationTargets(*held_out, fit.target_names)) {
+    if (const auto unknown = commands::mapValidationTargets(*held_out, fit.target_names)) {
       throw UsageError("validation_targets", "target " + *unknown + " is not measured in the fit (targets)");
     }
   }
-  std::optional<validation::CalibrationReport> report;
+  std::optional<commands::CalibrationReport> report;
   {
     py::gil_scoped_release release;
-    report.emplace(validation::runCalibration(r.file, r.poe, std::move(fit), std::move(held_out), request,
+    report.emplace(commands::runCalibration(r.file, r.poe, std::move(fit), std::move(held_out), request,
                                               pythonSpelling()));
   }
   // the calibrated robot, as `calibrate --out` writes it
   io::RobotFile calibrated;
-  calibrated.name = validation::calibratedName(r.file);
+  calibrated.name = commands::calibratedName(r.file);
   calibrated.length_unit = r.file.length_unit;
   calibrated.angle_unit = r.file.angle_unit;
   calibrated.description = "calibrated by lowpair.calibrate (Python) from arrays";
   calibrated.poe = report->result.model;
-  calibrated.targets = validation::calibratedTargets(*report);
-  auto robot = std::make_shared<Robot>(std::move(calibrated), validation::calibrationProvenance(*report));
-  json j = validation::calibrationJson(*report);
+  calibrated.targets = commands::calibratedTargets(*report);
+  auto robot = std::make_shared<Robot>(std::move(calibrated), commands::calibrationProvenance(*report));
+  json j = commands::calibrationJson(*report);
   return Calibration{std::move(*report), std::move(robot), std::move(j)};
 }
 
@@ -170,7 +170,7 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
     held_out = measurementArrays(r, *validation_q, *validation_positions, validation_rotations, validation_targets,
                                  "validation_");
   }
-  const validation::CalibrationRequest request{noise_position, noise_rotation, free_pitch, loss, outlier_threshold,
+  const commands::CalibrationRequest request{noise_position, noise_rotation, free_pitch, loss, outlier_threshold,
                                                parameters,     select,         folds,      repeats};
   return calibrateArrays(r, std::move(fit), std::move(held_out), request);
 }

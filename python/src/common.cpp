@@ -6,17 +6,17 @@
 
 #include "io/measurements.hpp"
 #include "io/output.hpp"
-#include "validation/sampling.hpp"
+#include "commands/sampling.hpp"
 
 namespace lowpair::python {
 
-validation::ArgumentSpelling pythonSpelling() {
+commands::ArgumentSpelling pythonSpelling() {
   return {[](const std::string& name) { return name; },
           [](const std::string& name, const std::string& value) { return name + "='" + value + "'"; }};
 }
 
 void checkSeed(long long seed) {
-  if (seed < 0 || seed > validation::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
+  if (seed < 0 || seed > commands::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
 }
 
 py::object toPython(const json& j) {

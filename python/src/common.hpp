@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lowpair/types.hpp"
-#include "validation/arguments.hpp"
+#include "commands/arguments.hpp"
 
 namespace py = pybind11;
 
@@ -22,11 +22,11 @@ namespace lowpair::python {
 using nlohmann::json;
 
 // A bad argument (not a file): raised as lowpair.Error("SUBJECT: message"), as the CLI prints it; the error of
-// the validation room's shared checks, as in cli/commands.hpp.
-using UsageError = validation::UsageError;
+// the commands room's shared checks, as in cli/commands.hpp.
+using UsageError = commands::UsageError;
 
-// Python's spelling of an argument in the validation room's shared checks: "noise_position", "measure='targets'".
-validation::ArgumentSpelling pythonSpelling();
+// Python's spelling of an argument in the commands room's shared checks: "noise_position", "measure='targets'".
+commands::ArgumentSpelling pythonSpelling();
 
 // A seed of the sampling streams, as the CLI's --seed takes it: a whole number in [0, 2^53].
 void checkSeed(long long seed);

@@ -17,15 +17,15 @@
 #include "io/output.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/tolerances.hpp"
-#include "validation/calibration_inputs.hpp"
-#include "validation/sampling.hpp"
-#include "validation/simulation.hpp"
+#include "commands/calibration_inputs.hpp"
+#include "commands/sampling.hpp"
+#include "commands/simulation.hpp"
 
 namespace lowpair::python {
 
 namespace {
 
-// ----- simulate (validation/sampling.hpp; `lowpair simulate` of a robot file, cli/simulate_command.cpp) ----
+// ----- simulate (commands/sampling.hpp; `lowpair simulate` of a robot file, cli/simulate_command.cpp) ----
 
 struct Simulation {
   Measure measure = Measure::Pose;
@@ -41,26 +41,26 @@ struct Simulation {
 
 // Measurements of the robot's tool by the library's POE FK (the truth `lowpair simulate` uses for a robot file):
 // at `poses` random joint vectors (sample k of the stream `seed`) or at the rows of q; in a measurement frame;
-// with the seeded noise and blunders of validation/sampling.hpp, so the same arguments give the CLI's numbers.
+// with the seeded noise and blunders of commands/sampling.hpp, so the same arguments give the CLI's numbers.
 Simulation simulate(const Robot& r, std::optional<int> poses, const std::optional<InArray>& q_arg, long long seed,
                     const std::string& measure_text, const std::optional<std::vector<std::string>>& targets,
                     const std::optional<std::vector<double>>& frame, double noise_position, double noise_rotation,
                     const std::optional<std::tuple<double, double>>& blunders) {
   if (poses.has_value() == q_arg.has_value()) throw UsageError("poses", "give poses=N or q=(N, n) joint values, one of them");
-  if (poses && (*poses < 1 || *poses > validation::kMaxSimulatedPoses)) {
-    throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxSimulatedPoses) + "], got " +
+  if (poses && (*poses < 1 || *poses > commands::kMaxSimulatedPoses)) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(commands::kMaxSimulatedPoses) + "], got " +
                                   std::to_string(*poses));
   }
   checkSeed(seed);
-  const Measure measure = validation::parseMeasure(measure_text, pythonSpelling());
-  validation::checkSimulationArguments(measure, noise_position, noise_rotation, targets.has_value(), pythonSpelling());
-  validation::MeasurementSetup setup;
+  const Measure measure = commands::parseMeasure(measure_text, pythonSpelling());
+  commands::checkSimulationArguments(measure, noise_position, noise_rotation, targets.has_value(), pythonSpelling());
+  commands::MeasurementSetup setup;
   setup.measure = measure;
   Simulation s;
   s.measure = measure;
   s.dof = r.dof();
   if (measure == Measure::Targets) {
-    s.target_names = validation::robotFileTargets(r.file.targets, targets, r.subject(), pythonSpelling(), setup.targets);
+    s.target_names = commands::robotFileTargets(r.file.targets, targets, r.subject(), pythonSpelling(), setup.targets);
   }
   if (frame) {
     if (frame->size() != 6) {
@@ -71,7 +71,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
       if (!(std::abs(x) <= kMaxMagnitude)) throw UsageError("frame", "'" + io::shortest(x) + "' is not finite or above 1e100");
     }
     const auto& f = *frame;
-    setup.T_frame_base = validation::measurementFrame(Vec3(f[0], f[1], f[2]), Vec3(f[3], f[4], f[5])).inverse();
+    setup.T_frame_base = commands::measurementFrame(Vec3(f[0], f[1], f[2]), Vec3(f[3], f[4], f[5])).inverse();
   }
   setup.sd_position = noise_position;
   setup.sd_rotation = noise_rotation;
@@ -79,15 +79,15 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   const std::optional<MatX> Q = q_arg ? std::optional<MatX>(jointMatrix(*q_arg, r.dof(), r.subject())) : std::nullopt;
   const long long count = Q ? static_cast<long long>(Q->rows()) : *poses;
   if (count == 0) throw UsageError("q", "no joint values");
-  const long long rows = validation::simulationRows(count, setup, Q ? "q" : "poses");
-  std::optional<validation::Blunders> blunder_set;
+  const long long rows = commands::simulationRows(count, setup, Q ? "q" : "poses");
+  std::optional<commands::Blunders> blunder_set;
   if (blunders) {
-    blunder_set = validation::checkBlunders(std::get<0>(*blunders), std::get<1>(*blunders), pythonSpelling());
-    validation::checkBlunderCount(*blunder_set, rows, pythonSpelling());
+    blunder_set = commands::checkBlunders(std::get<0>(*blunders), std::get<1>(*blunders), pythonSpelling());
+    commands::checkBlunderCount(*blunder_set, rows, pythonSpelling());
   }
-  validation::SimulationPoses sampled;
+  commands::SimulationPoses sampled;
   sampled.count = count;
-  sampled.ranges = validation::samplingRanges(model);
+  sampled.ranges = commands::samplingRanges(model);
   sampled.q_rows = Q ? &*Q : nullptr;
   sampled.given_row_beyond_reach = [](size_t k) {
     throw UsageError("q", "row " + std::to_string(k) + ": the tool at this row's q has a coordinate above 1e100 in "
@@ -97,11 +97,11 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
     py::gil_scoped_release release;
     Data data(model);
     // the truth of a robot file, as `lowpair simulate` measures it: the library's POE forward kinematics
-    const validation::TipPose tip_pose = [&](const VecX& q) {
+    const commands::TipPose tip_pose = [&](const VecX& q) {
       forwardKinematics(model, data, q);
       return data.T_base_tool;
     };
-    validation::SimulatedMeasurements m = validation::simulateMeasurements(
+    commands::SimulatedMeasurements m = commands::simulateMeasurements(
         tip_pose, setup, static_cast<unsigned long long>(seed), sampled, blunder_set, frame.has_value(), r.subject(),
         pythonSpelling());
     s.measurements = std::move(m.measurements);
@@ -119,18 +119,18 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   return s;
 }
 
-// ----- read_measurements (io/measurements.hpp; what `lowpair calibrate` reads, validation/calibration_inputs.hpp) --
+// ----- read_measurements (io/measurements.hpp; what `lowpair calibrate` reads, commands/calibration_inputs.hpp) --
 
 Simulation readMeasurementFile(const std::string& path, const Robot* robot) {
   io::MeasurementFile file;
-  validation::CalibrationMeasurements checked;
+  commands::CalibrationMeasurements checked;
   std::vector<std::string> warnings;  // emitted with the GIL held, before an error the reading ended in
   std::exception_ptr failure;
   {
     py::gil_scoped_release release;
     try {
       if (robot) {
-        checked = validation::readCalibrationMeasurements(path, robot->file, robot->subject(), robot->poe,
+        checked = commands::readCalibrationMeasurements(path, robot->file, robot->subject(), robot->poe,
                                                           [&](const std::string& w) { warnings.push_back(w); });
         file = std::move(checked.file);
       } else {

@@ -8,8 +8,8 @@
 #include "io/output.hpp"
 #include "lowpair/calibration.hpp"
 #include "robot.hpp"
-#include "validation/calibration_output.hpp"
-#include "validation/sampling.hpp"
+#include "commands/calibration_output.hpp"
+#include "commands/sampling.hpp"
 
 namespace lowpair::python {
 
@@ -32,34 +32,34 @@ struct IdentifiabilityResult {
 
 IdentifiabilityResult identifiability(const Robot& r, const std::string& measure_text, int poses, long long seed,
                                       bool free_pitch) {
-  const Measure measure = validation::parseMeasure(measure_text, pythonSpelling());
-  if (poses < 1 || poses > validation::kMaxIdentifiabilityPoses) {
-    throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxIdentifiabilityPoses) + "], got " +
+  const Measure measure = commands::parseMeasure(measure_text, pythonSpelling());
+  if (poses < 1 || poses > commands::kMaxIdentifiabilityPoses) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(commands::kMaxIdentifiabilityPoses) + "], got " +
                                   std::to_string(poses));
   }
   checkSeed(seed);
   const PoeModel& model = r.poe;
-  if (validation::identificationEntries(poses, model.dof(), 9.0) > validation::kMaxJacobianEntries) {
-    const bool robot = validation::identificationEntries(1, model.dof(), 9.0) > validation::kMaxJacobianEntries;
+  if (commands::identificationEntries(poses, model.dof(), 9.0) > commands::kMaxJacobianEntries) {
+    const bool robot = commands::identificationEntries(1, model.dof(), 9.0) > commands::kMaxJacobianEntries;
     throw UsageError(robot ? r.file.path : std::string("poses"),
                      std::to_string(poses) + " poses of a " + std::to_string(model.dof()) +
                          "-joint robot exceed the identification size limit (" +
-                         io::shortest(validation::kMaxJacobianEntries) +
+                         io::shortest(commands::kMaxJacobianEntries) +
                          " numbers: the Jacobian and the SVD's V, columns squared)");
   }
   const std::vector<Vec3> targets = measure == Measure::Targets ? fileTargets(r.file) : std::vector<Vec3>{};
   Identifiability id;
   {
     py::gil_scoped_release release;
-    const auto ranges = validation::samplingRanges(model);
+    const auto ranges = commands::samplingRanges(model);
     std::vector<VecX> q(static_cast<size_t>(poses), VecX(model.dof()));
     for (int i = 0; i < poses; ++i) {
-      validation::randomSample(static_cast<unsigned long long>(seed), static_cast<unsigned long long>(i), ranges,
+      commands::randomSample(static_cast<unsigned long long>(seed), static_cast<unsigned long long>(i), ranges,
                                q[static_cast<size_t>(i)]);
     }
     id = analyzeIdentifiability(model, q, measure, free_pitch, targets);
   }
-  json j = validation::identifiabilityJson(r.file, id);
+  json j = commands::identifiabilityJson(r.file, id);
   j["poses"] = poses;
   j["seed"] = seed;
   return IdentifiabilityResult{std::move(id), std::move(j)};

@@ -10,8 +10,8 @@
 #include "lowpair/ik.hpp"
 #include "lowpair/kinematics.hpp"
 #include "robot.hpp"
-#include "validation/ik_rows.hpp"
-#include "validation/sampling.hpp"
+#include "commands/ik_rows.hpp"
+#include "commands/sampling.hpp"
 
 namespace lowpair::python {
 
@@ -21,7 +21,7 @@ namespace {
 
 // The rows of `ik` or `compensate` and the JSON of the CLI's --json (cli/ik_commands.cpp) without its files.
 struct IkSolutions {
-  std::vector<validation::IkRow> rows;  // line: the 0-based row
+  std::vector<commands::IkRow> rows;  // line: the 0-based row
   json j;                               // the JSON without "rows": to_dict() builds them when asked (1 KB a row)
   bool with_seed = false;               // ik's rows name their seed, compensate's do not
 };
@@ -101,8 +101,8 @@ std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, s
 // k * seeds + s of the stream `seed`, the sampling convention), the first ok kept, else the best attempt.
 IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<InArray>& rotations,
                const std::optional<InArray>& q0, int seeds, long long seed) {
-  if (seeds < 1 || seeds > validation::kMaxIkSeeds) {
-    throw UsageError("seeds", "must be in [1, " + std::to_string(validation::kMaxIkSeeds) + "], got " +
+  if (seeds < 1 || seeds > commands::kMaxIkSeeds) {
+    throw UsageError("seeds", "must be in [1, " + std::to_string(commands::kMaxIkSeeds) + "], got " +
                                   std::to_string(seeds));
   }
   checkSeed(seed);
@@ -117,7 +117,7 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
   s.rows.reserve(targets.size());
   {
     py::gil_scoped_release release;
-    const std::vector<validation::Range> ranges = validation::samplingRanges(model);
+    const std::vector<commands::Range> ranges = commands::samplingRanges(model);
     Data data(model);
     IkWorkspace work(model);
     for (size_t k = 0; k < targets.size(); ++k) {
@@ -128,7 +128,7 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
                                               options, work),
                             -1, line});
         } else {
-          s.rows.push_back(validation::solveFromRandomSeeds(model, data, targets[k], k, seeds,
+          s.rows.push_back(commands::solveFromRandomSeeds(model, data, targets[k], k, seeds,
                                                             static_cast<unsigned long long>(seed), ranges, options, work,
                                                             line));
         }
@@ -145,7 +145,7 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
          {"seeds", given ? json("file") : json(seeds)},
          {"seed", seed},
          {"notes", json::array()},
-         {"counts", validation::ikCountsJson(s.rows)}};
+         {"counts", commands::ikCountsJson(s.rows)}};
   s.with_seed = true;
   return s;
 }
@@ -175,7 +175,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
     py::gil_scoped_release release;
     std::vector<long long> lines(static_cast<size_t>(Q.rows()));
     for (size_t k = 0; k < lines.size(); ++k) lines[k] = static_cast<long long>(k);
-    s.rows = validation::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options);
+    s.rows = commands::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options);
   }
   s.j = {{"name", calibrated.file.name},
          {"source", calibrated.file.path},
@@ -183,7 +183,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
          {"q_file", "<arrays>"},
          {"length_unit", calibrated.file.length_unit},
          {"measure", measure},
-         {"counts", validation::ikCountsJson(s.rows)}};
+         {"counts", commands::ikCountsJson(s.rows)}};
   return s;
 }
 
@@ -200,7 +200,7 @@ void exposeIk(py::module_& m) {
              // 700 MB limit did), where Python's own allocations raise MemoryError
              py::dict out = toPython(s.j);
              py::list rows;
-             for (const validation::IkRow& row : s.rows) rows.append(toPython(validation::ikRowJson(row, s.with_seed)));
+             for (const commands::IkRow& row : s.rows) rows.append(toPython(commands::ikRowJson(row, s.with_seed)));
              out["rows"] = std::move(rows);
              return out;
            },
@@ -211,64 +211,64 @@ void exposeIk(py::module_& m) {
           "q",
           [](const IkSolutions& s) {
             const Eigen::Index n = s.rows.empty() ? 0 : s.rows.front().result.q.size();
-            return vectorRows(s.rows, n, [](const validation::IkRow& row) -> const VecX& { return row.result.q; });
+            return vectorRows(s.rows, n, [](const commands::IkRow& row) -> const VecX& { return row.result.q; });
           },
           "(N, n): the solutions (or each row's last iterate when not ok), rad / length_unit.")
       .def_property_readonly(
           "status",
           [](const IkSolutions& s) {
             std::vector<std::string> out;
-            for (const validation::IkRow& row : s.rows) out.push_back(ikStatusName(row.result.status));
+            for (const commands::IkRow& row : s.rows) out.push_back(ikStatusName(row.result.status));
             return out;
           },
           "list[str]: 'ok', 'out_of_range', 'singular', 'unreachable' or 'not_converged' per row (docs/ik.md).")
       .def_property_readonly(
           "ok",
           [](const IkSolutions& s) {
-            return perRow<bool>(s.rows, [](const validation::IkRow& row) { return row.result.status == IkStatus::Ok; });
+            return perRow<bool>(s.rows, [](const commands::IkRow& row) { return row.result.status == IkStatus::Ok; });
           },
           "(N,) bool: status == 'ok' (within 1e-10 L and 1e-10 rad, at a regular configuration).")
       .def_property_readonly(
           "iterations",
           [](const IkSolutions& s) {
-            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.result.iterations; });
+            return perRow<std::int64_t>(s.rows, [](const commands::IkRow& row) { return row.result.iterations; });
           },
           "(N,) int: iterations of the kept attempt.")
       .def_property_readonly(
           "position_error",
           [](const IkSolutions& s) {
-            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.position_error; });
+            return perRow<double>(s.rows, [](const commands::IkRow& row) { return row.result.position_error; });
           },
           "(N,): |p_target - p| at q (length_unit).")
       .def_property_readonly(
           "rotation_error",
           [](const IkSolutions& s) {
-            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.rotation_error; });
+            return perRow<double>(s.rows, [](const commands::IkRow& row) { return row.result.rotation_error; });
           },
           "(N,): the angle of R^T R_target at q (rad; 0 for positions).")
       .def_property_readonly(
           "rank",
           [](const IkSolutions& s) {
-            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.result.rank; });
+            return perRow<std::int64_t>(s.rows, [](const commands::IkRow& row) { return row.result.rank; });
           },
           "(N,) int: rank of the dimensionless task Jacobian at a converged q (-1 when not converged).")
       .def_property_readonly(
           "sigma_min",
           [](const IkSolutions& s) {
-            return perRow<double>(s.rows, [](const validation::IkRow& row) { return row.result.sigma_min; });
+            return perRow<double>(s.rows, [](const commands::IkRow& row) { return row.result.sigma_min; });
           },
           "(N,): its smallest singular value (NaN when not converged).")
       .def_property_readonly(
           "seed",
           [](const IkSolutions& s) {
-            return perRow<std::int64_t>(s.rows, [](const validation::IkRow& row) { return row.seed; });
+            return perRow<std::int64_t>(s.rows, [](const commands::IkRow& row) { return row.seed; });
           },
           "(N,) int: the random seed s (0..seeds-1) the kept attempt started from; -1 for q0 (ik) and compensate.")
       .def_property_readonly(
           "reason",
           [](const IkSolutions& s) {
             std::vector<std::string> out;
-            for (const validation::IkRow& row : s.rows) out.push_back(row.result.reason);
+            for (const commands::IkRow& row : s.rows) out.push_back(row.result.reason);
             return out;
           },
           "list[str]: why a row is not ok, one sentence with the numbers ('' for ok rows).")
@@ -276,7 +276,7 @@ void exposeIk(py::module_& m) {
                              "dict status -> rows.")
       .def("__repr__", [](const IkSolutions& s) {
         long long ok = 0;
-        for (const validation::IkRow& row : s.rows) ok += row.result.status == IkStatus::Ok;
+        for (const commands::IkRow& row : s.rows) ok += row.result.status == IkStatus::Ok;
         return "<lowpair.IkSolutions " + std::to_string(s.rows.size()) + " rows, " + std::to_string(ok) + " ok>";
       });
   m.def("ik", &ik, py::arg("robot"), py::arg("targets"), py::arg("rotations") = py::none(), py::arg("q0") = py::none(),

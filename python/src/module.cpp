@@ -4,7 +4,7 @@
 // calibration planning, save and export. Every call computes what the CLI computes, with the same library and
 // harness functions, so the numbers are the CLI's (python/tests/ compares each result with the CLI's --json);
 // errors are lowpair.Error with the CLI's one-line message. A command's logic beyond its argument parsing lives
-// in the validation room (plan_report, ik_rows, simulation, calibration_inputs, calibration_run), which the CLI
+// in the commands room (plan_report, ik_rows, simulation, calibration_inputs, calibration_run), which the CLI
 // calls too; the files of python/src/ convert arrays and arguments and call it, one topic per file binding its
 // classes and functions (expose.hpp). This one makes the module, its error type and the translation of C++
 // exceptions into it.

@@ -7,8 +7,8 @@
 #include "io/output.hpp"
 #include "lowpair/plan.hpp"
 #include "robot.hpp"
-#include "validation/plan_report.hpp"
-#include "validation/sampling.hpp"
+#include "commands/plan_report.hpp"
+#include "commands/sampling.hpp"
 
 namespace lowpair::python {
 
@@ -18,7 +18,7 @@ namespace {
 
 // The JSON of `plan --json` without --out (the planned joint vectors are q), kept beside the report.
 struct PlanOutcome {
-  validation::PlanReport report;
+  commands::PlanReport report;
   json j;
 };
 
@@ -26,20 +26,20 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
                  const std::string& criterion_text, long long seed, std::optional<double> noise_position,
                  std::optional<double> noise_rotation, bool free_pitch) {
   // the checks the CLI's parser makes (CLI::Range, CLI::IsMember); the rest are the report's
-  if (poses < 1 || poses > validation::kMaxPlanPoses) {
-    throw UsageError("poses", "must be in [1, " + std::to_string(validation::kMaxPlanPoses) + "], got " +
+  if (poses < 1 || poses > commands::kMaxPlanPoses) {
+    throw UsageError("poses", "must be in [1, " + std::to_string(commands::kMaxPlanPoses) + "], got " +
                                   std::to_string(poses));
   }
-  if (candidate_count < 1 || candidate_count > validation::kMaxPlanCandidates) {
-    throw UsageError("candidates", "must be in [1, " + std::to_string(validation::kMaxPlanCandidates) + "], got " +
+  if (candidate_count < 1 || candidate_count > commands::kMaxPlanCandidates) {
+    throw UsageError("candidates", "must be in [1, " + std::to_string(commands::kMaxPlanCandidates) + "], got " +
                                        std::to_string(candidate_count));
   }
   checkSeed(seed);
   if (criterion_text != "D" && criterion_text != "O1") {
     throw UsageError("criterion", "expected 'D' or 'O1', got '" + criterion_text + "'");
   }
-  validation::PlanRequest request;
-  request.measure = validation::parseMeasure(measure_text, pythonSpelling());
+  commands::PlanRequest request;
+  request.measure = commands::parseMeasure(measure_text, pythonSpelling());
   request.criterion = criterion_text == "O1" ? PlanCriterion::O1 : PlanCriterion::D;
   request.poses = poses;
   request.candidates = candidate_count;
@@ -50,9 +50,9 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
   PlanOutcome o;
   {
     py::gil_scoped_release release;
-    o.report = validation::makePlanReport(r.file, request, pythonSpelling());
+    o.report = commands::makePlanReport(r.file, request, pythonSpelling());
   }
-  o.j = validation::planJson(o.report, "");
+  o.j = commands::planJson(o.report, "");
   return o;
 }
 

@@ -10,26 +10,12 @@
 #include "expose.hpp"
 #include "files.hpp"
 #include "kinematics.hpp"
+#include "commands/robot_source.hpp"
 #include "mujoco/mujoco_robot.hpp"
 
 namespace lowpair::python {
 
 namespace {
-
-// As cli/main.cpp loadRobot (its checks in this module's words): a robot file, or the chain of an MJCF (MuJoCo) / URDF (urdfdom) model to `tip`.
-io::RobotFile loadFile(const std::string& path, const std::optional<std::string>& tip,
-                       const std::optional<std::string>& base) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  const std::string tip_name = tip.value_or(""), base_name = base.value_or("");
-  if (ext != ".xml" && ext != ".urdf") {
-    if (!tip_name.empty() || !base_name.empty()) {
-      throw UsageError(path, "tip/base go with a model file (.xml or .urdf), not a robot file");
-    }
-    return io::readRobotFile(path);
-  }
-  if (tip_name.empty()) throw UsageError(path, "tip=NAME is required with a model file");
-  return mujoco::robotFileOfModel(path, tip_name, base_name);
-}
 
 py::array_t<double> rangesArray(const Robot& r) {
   py::array_t<double> out({static_cast<py::ssize_t>(r.dof()), py::ssize_t{2}});
@@ -134,7 +120,7 @@ void exposeRobot(py::module_& m) {
         io::RobotFile file;
         {
           py::gil_scoped_release release;
-          file = loadFile(path, tip, base);
+          file = commands::loadRobot({path, tip.value_or(""), base.value_or("")}, pythonSpelling());
         }
         return std::make_shared<Robot>(std::move(file));
       },

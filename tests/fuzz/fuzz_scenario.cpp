@@ -13,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     const lowpair::validation::Scenario s = lowpair::validation::readScenario(file.write(data, size));
     FUZZ_CHECK(s.samples >= 0 && s.samples <= lowpair::validation::kMaxSamples);
-    FUZZ_CHECK(s.seed <= static_cast<unsigned long long>(lowpair::validation::kMaxSeed));
+    FUZZ_CHECK(s.seed <= static_cast<unsigned long long>(lowpair::commands::kMaxSeed));
     for (const auto& r : s.ranges) FUZZ_CHECK(std::isfinite(r[0]) && std::isfinite(r[1]));
     FUZZ_CHECK(std::isfinite(s.tol_rotation) && std::isfinite(s.tol_translation) &&
                std::isfinite(s.tol_jacobian_rotation) && std::isfinite(s.tol_jacobian_translation));

@@ -1,5 +1,5 @@
 // The checks and the measurement loop of `simulate` for the CLI and the Python module (simulation.hpp).
-#include "validation/simulation.hpp"
+#include "commands/simulation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "io/output.hpp"
 #include "lowpair/tolerances.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 namespace {
 
@@ -158,4 +158,4 @@ SimulatedMeasurements simulateMeasurements(const TipPose& tip_pose, const Measur
   return s;
 }
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

@@ -1,12 +1,12 @@
 // The rows of `ik` and `compensate` for the CLI and the Python module (ik_rows.hpp).
-#include "validation/ik_rows.hpp"
+#include "commands/ik_rows.hpp"
 
 #include <array>
 #include <cmath>
 
 #include "io/output.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 using nlohmann::json;
 
@@ -79,4 +79,4 @@ json ikCountsJson(const std::vector<IkRow>& rows) {
   return j;
 }
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

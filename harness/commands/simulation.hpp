@@ -10,10 +10,10 @@
 
 #include "io/measurements.hpp"
 #include "io/robot_file.hpp"
-#include "validation/arguments.hpp"
-#include "validation/sampling.hpp"
+#include "commands/arguments.hpp"
+#include "commands/sampling.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 /// Upper bound on the random poses of a simulation (the CLI's --poses, Python's poses=).
 constexpr int kMaxSimulatedPoses = 1000000;
@@ -81,4 +81,4 @@ SimulatedMeasurements simulateMeasurements(const TipPose& tip_pose, const Measur
                                            const std::optional<Blunders>& blunders, bool in_frame,
                                            const std::string& robot_subject, const ArgumentSpelling& spelling);
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

@@ -1,5 +1,5 @@
 // The report of `lowpair plan` for the CLI and the Python module (plan_report.hpp).
-#include "validation/plan_report.hpp"
+#include "commands/plan_report.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,11 +7,11 @@
 
 #include "io/output.hpp"
 #include "lowpair/tolerances.hpp"
-#include "validation/calibration_inputs.hpp"
-#include "validation/calibration_output.hpp"
-#include "validation/sampling.hpp"
+#include "commands/calibration_inputs.hpp"
+#include "commands/calibration_output.hpp"
+#include "commands/sampling.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 using nlohmann::json;
 
@@ -74,7 +74,7 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
                          io::shortest(kMaxPlanEntries) + " numbers, held about four times): fewer candidates");
   }
 
-  // candidates: the sampling convention (validation/sampling.hpp), stream `seed`, samples 0..M-1
+  // candidates: the sampling convention (commands/sampling.hpp), stream `seed`, samples 0..M-1
   const auto ranges = samplingRanges(model);
   std::vector<VecX> candidates(static_cast<size_t>(request.candidates), VecX(model.dof()));
   for (int i = 0; i < request.candidates; ++i) {
@@ -189,4 +189,4 @@ json planJson(const PlanReport& r, const std::string& out_path) {
   return o;
 }
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

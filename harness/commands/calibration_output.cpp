@@ -1,4 +1,6 @@
-#include "validation/calibration_output.hpp"
+// `lowpair calibrate`: the report computed once (makeCalibrationReport), its text, JSON, provenance lines and
+// rejection line (calibration_output.hpp).
+#include "commands/calibration_output.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,71 +9,23 @@
 #include <sstream>
 
 #include "lowpair/se3.hpp"
+#include "commands/calibration_output_parts.hpp"
 #include "io/output.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 using namespace lowpair::io;  // the rooms below
+using namespace detail;
 
 using nlohmann::json;
 
 namespace {
 
-constexpr double kDeg = 180.0 / M_PI;
 // A variance factor below this draws a warning (the noise overstated 2x or more).
 constexpr double kVarianceFactorLow = 0.25;
 // Above the chi-square bound: the 99.9 % quantile of chi^2_f / f for f residual degrees of freedom, by the
 // normal approximation 1 + 3.09 sqrt(2 / f) (a correct noise model exceeds it once in a thousand fits).
 double chiSquareBound(double f) { return 1.0 + 3.09 * std::sqrt(2.0 / std::max(f, 1.0)); }
-
-std::string lengthUnit(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
-
-std::string pitchUnit(const RobotFile& file) { return lengthUnit(file) + "/" + file.angle_unit; }
-
-// "1.2e-05", or "undetermined" for +inf
-std::string deviation(double sd) {
-  if (!std::isfinite(sd)) return "undetermined";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2g", sd);
-  return buf;
-}
-
-// A residual statistic to 3 significant digits ("0.00802", "1.2e-15" -> "1.2e-15"): comparable at a glance.
-std::string residual(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
-
-std::vector<std::string> parameterNames(const std::vector<Parameter>& parameters) {
-  std::vector<std::string> names;
-  for (const Parameter& p : parameters) names.push_back(p.name);
-  return names;
-}
-
-json undeterminedJson(const RankAnalysis& a, const std::vector<std::string>& names) {
-  json out = json::array();
-  for (const auto& direction : a.undetermined) {
-    json terms = json::array();
-    for (const auto& [column, coefficient] : direction) {
-      terms.push_back({{"parameter", names[static_cast<size_t>(column)]}, {"coefficient", coefficient}});
-    }
-    out.push_back(terms);
-  }
-  return out;
-}
-
-json countJson(const ParameterCount& c) {
-  return {{"revolute", c.revolute}, {"prismatic", c.prismatic}, {"helical", c.helical}, {"scales", c.scales},
-          {"tool", c.tool}};
-}
-
-std::string countFormula(const ParameterCount& c) {
-  std::ostringstream s;
-  s << "5h + 4r + 2t + n + " << c.tool << " = 5x" << c.helical << " + 4x" << c.revolute << " + 2x" << c.prismatic
-    << " + " << c.scales << " + " << c.tool << " = " << c.total();
-  return s.str();
-}
 
 // The residual degrees of freedom behind a variance factor: rows (of the measurements not flagged, for a
 // robust loss) minus the determined parameters.
@@ -104,89 +58,6 @@ json statisticsJson(const ResidualStatistics& s, Measure measure) {
           {"rms_rotation", rotation ? json(s.rms_rotation) : json(nullptr)},
           {"max_rotation", rotation ? json(s.max_rotation) : json(nullptr)}};
 }
-
-void printUndetermined(std::ostream& out, const std::string& what, const RankAnalysis& a,
-                       const std::vector<std::string>& names) {
-  if (a.undetermined.empty()) {
-    out << what << ": every parameter is determined\n";
-    return;
-  }
-  out << what << ": " << a.undetermined.size() << " direction(s) not determined (null vectors of the column-scaled "
-      << "Jacobian):\n";
-  for (size_t k = 0; k < a.undetermined.size(); ++k) {
-    out << "  " << k + 1 << ": " << directionText(a.undetermined[k], names) << "\n";
-  }
-}
-
-}  // namespace
-
-std::string directionText(const std::vector<std::pair<int, double>>& direction, const std::vector<std::string>& names) {
-  constexpr size_t kMaxTerms = 6;
-  auto terms = direction;
-  std::sort(terms.begin(), terms.end(), [](const auto& a, const auto& b) { return std::abs(a.second) > std::abs(b.second); });
-  std::ostringstream s;
-  for (size_t k = 0; k < terms.size() && k < kMaxTerms; ++k) {
-    const double c = terms[k].second;
-    s << (k == 0 ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + ")) << fixed(std::abs(c), 2) << " "
-      << names[static_cast<size_t>(terms[k].first)];
-  }
-  if (terms.size() > kMaxTerms) s << " + ... (" << terms.size() - kMaxTerms << " more)";
-  return s.str();
-}
-
-// --- identifiability --------------------------------------------------------------------------------------
-
-json identifiabilityJson(const RobotFile& file, const Identifiability& id) {
-  const std::vector<std::string> names = parameterNames(id.parameters);
-  json o;
-  auto obs = json::object();
-  for (int k = 0; k < 5; ++k) obs["O" + std::to_string(k + 1)] = id.poe.observability[static_cast<size_t>(k)];
-  o["name"] = robotLabel(file);
-  o["source"] = file.path;
-  o["measure"] = measureName(id.measure);
-  o["free_pitch"] = id.free_pitch;
-  o["joints"] = countJson(id.expected);
-  o["expected"] = id.expected.total();
-  o["rank"] = id.poe.rank;
-  o["parameters"] = names;
-  o["singular_values"] = toVector(id.poe.singular_values);
-  o["rank_tolerance"] = id.poe.tolerance;
-  o["condition"] = finiteOrNull(id.poe.condition);
-  o["observability"] = obs;
-  o["undetermined"] = undeterminedJson(id.poe, names);
-  o["full_model"] = {{"rank", id.full_model_rank}, {"columns", id.full_model_columns}};
-  o["dh"] = {{"rank", id.dh.rank},
-             {"condition", finiteOrNull(id.dh.condition)},
-             {"parameters", id.dh_parameters},
-             {"singular_values", toVector(id.dh.singular_values)},
-             {"undetermined", undeterminedJson(id.dh, id.dh_parameters)}};
-  return o;
-}
-
-void printIdentifiability(std::ostream& out, const Identifiability& id) {
-  const std::vector<std::string> names = parameterNames(id.parameters);
-  auto cond = [](double c) { return std::isfinite(c) ? fixed(c, 2) : std::string("inf"); };
-  out << "expected (Wu et al. §V):  " << countFormula(id.expected) << (id.free_pitch ? "  (free pitch: revolute counted as helical)" : "") << "\n";
-  out << "POE, minimal parameters:  rank " << id.poe.rank << " of " << id.poe.columns << ", condition "
-      << cond(id.poe.condition) << "\n";
-  out << "POE, full error model:    rank " << id.full_model_rank << " of " << id.full_model_columns
-      << " columns (6 per joint + pitch + scale + offset, 6 tool: redundant by construction)\n";
-  out << "D-H parameterization:     rank " << id.dh.rank << " of " << id.dh.columns << ", condition "
-      << cond(id.dh.condition) << "\n";
-  out << "observability (POE):      O1 " << deviation(id.poe.observability[0]) << "  O2 "
-      << deviation(id.poe.observability[1]) << "  O3 " << deviation(id.poe.observability[2]) << "  O4 "
-      << deviation(id.poe.observability[3]) << "  O5 " << deviation(id.poe.observability[4]) << "\n";
-  out << "rank rule: singular values of the column-scaled Jacobian (position rows / L) above 1000 cols eps sigma_1 "
-         "(POE: "
-      << deviation(id.poe.tolerance) << "); smallest POE " << deviation(id.poe.singular_values.minCoeff())
-      << ", D-H " << deviation(id.dh.singular_values.minCoeff()) << "\n";
-  printUndetermined(out, "POE", id.poe, names);
-  printUndetermined(out, "D-H", id.dh, id.dh_parameters);
-}
-
-// --- calibrate -------------------------------------------------------------------------------------------
-
-namespace {
 
 std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
@@ -334,92 +205,6 @@ std::string rejectionText(const CalibrationReport& r) {
   return s.str();
 }
 
-void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const DhUncertainty& dh,
-                           const std::string& deviations_title) {
-  const DhModel& m = dh.conversion.model;
-  const std::string u = lengthUnit(file);
-  char line[256];
-  const int ld = io::dhLengthDecimals(dh.conversion.size);
-  const std::string pu = pitchUnit(file);
-  const double pitch_factor = file.angleFactor();
-  auto header = [&] {
-    std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s\n", "row", "joint", "theta(deg)",
-                  ("d(" + u + ")").c_str(), "alpha(deg)", ("a(" + u + ")").c_str(), ("pitch(" + pu + ")").c_str(), "scale");
-    out << line;
-  };
-  auto tableRow = [&](const std::string& label, const std::string& type, const std::array<std::string, 6>& e) {
-    std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s\n", label.c_str(), type.c_str(),
-                  e[0].c_str(), e[1].c_str(), e[2].c_str(), e[3].c_str(), e[4].c_str(), e[5].c_str());
-    std::string text = line;
-    text.erase(text.find_last_not_of(" \n") + 1);  // no trailing blanks where a row has no pitch or scale
-    out << text << "\n";
-  };
-  auto values = [&](const DhParams& v) -> std::array<std::string, 6> {
-    return {fixed(v.theta * kDeg, io::kDhAngleDecimals), fixed(v.d, ld), fixed(v.alpha * kDeg, io::kDhAngleDecimals),
-            fixed(v.a, ld), "", ""};
-  };
-  header();
-  tableRow("base", "", values(m.base()));
-  for (int i = 0; i < m.dof(); ++i) {
-    const DhJoint& j = m.joint(i);
-    auto e = values(j.link);
-    if (j.type == JointType::Helical) e[4] = fixed(j.pitch * pitch_factor, 8);
-    char scale[32];
-    std::snprintf(scale, sizeof scale, "%.9g", j.scale);
-    e[5] = scale;
-    tableRow(std::to_string(i + 1), jointTypeName(j.type), e);
-  }
-  tableRow("tool", "", {fixed(m.toolTheta() * kDeg, io::kDhAngleDecimals), fixed(m.toolD(), ld), "", "", "", ""});
-
-  // "fixed": set by the convention (a row placed by a prismatic axis has a = d = 0), not measured
-  auto sdOf = [](double sd, double factor, bool is_fixed) { return is_fixed ? std::string("fixed") : deviation(sd * factor); };
-  auto deviations = [&](const DhParams& sd, const DhUncertainty::Fixed& f) -> std::array<std::string, 6> {
-    return {sdOf(sd.theta, kDeg, false), sdOf(sd.d, 1.0, f.d), sdOf(sd.alpha, kDeg, false), sdOf(sd.a, 1.0, f.a), "", ""};
-  };
-  out << "\n" << deviations_title << " (same units; fixed: set by the D-H convention):\n";
-  header();
-  tableRow("base", "", deviations(dh.base, dh.base_fixed));
-  for (int i = 0; i < m.dof(); ++i) {
-    const auto k = static_cast<size_t>(i);
-    auto e = deviations(dh.links[k], dh.links_fixed[k]);
-    if (m.joint(i).type == JointType::Helical) e[4] = deviation(dh.pitch[k] * pitch_factor);
-    e[5] = deviation(dh.scale[k]);
-    tableRow(std::to_string(i + 1), jointTypeName(m.joint(i).type), e);
-  }
-  tableRow("tool", "", {deviation(dh.tool_theta * kDeg), deviation(dh.tool_d), "", "", "", ""});
-}
-
-json dhUncertaintyJson(const DhUncertainty& dh) {
-  // (`fixed`: the entries the D-H convention sets, standard deviation 0)
-  auto row = [](const DhParams& v, const DhParams& sd, const DhUncertainty::Fixed& f) {
-    json fixed = json::array();
-    if (f.d) fixed.push_back("d");
-    if (f.a) fixed.push_back("a");
-    return json{{"theta", v.theta}, {"d", v.d}, {"alpha", v.alpha}, {"a", v.a},
-                {"sd", {{"theta", finiteOrNull(sd.theta)}, {"d", finiteOrNull(sd.d)}, {"alpha", finiteOrNull(sd.alpha)},
-                        {"a", finiteOrNull(sd.a)}}},
-                {"fixed", fixed}};
-  };
-  const DhModel& m = dh.conversion.model;
-  json joints = json::array();
-  for (int i = 0; i < m.dof(); ++i) {
-    const auto k = static_cast<size_t>(i);
-    json j = row(m.joint(i).link, dh.links[k], dh.links_fixed[k]);
-    j["type"] = jointTypeName(m.joint(i).type);
-    if (m.joint(i).type == JointType::Helical) {  // (docs/file_formats.md: pitch on helical rows only)
-      j["pitch"] = m.joint(i).pitch;
-      j["sd"]["pitch"] = finiteOrNull(dh.pitch[k]);
-    }
-    j["scale"] = m.joint(i).scale;
-    j["sd"]["scale"] = finiteOrNull(dh.scale[k]);
-    joints.push_back(j);
-  }
-  return {{"base", row(m.base(), dh.base, dh.base_fixed)},
-          {"joints", joints},
-          {"tool", {{"theta", m.toolTheta()}, {"d", m.toolD()},
-                    {"sd", {{"theta", finiteOrNull(dh.tool_theta)}, {"d", finiteOrNull(dh.tool_d)}}}}}};
-}
-
 json calibrationJson(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   json o;
@@ -538,10 +323,13 @@ json calibrationJson(const CalibrationReport& r) {
   return o;
 }
 
-void printCalibration(std::ostream& out, const CalibrationReport& r) {
+namespace {
+
+// The fit's inputs and how it went: measurements, noise, parameters, the cross-validated choice, the measurement
+// frame, targets, loss and outliers, convergence.
+void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   const std::string u = lengthUnit(r.nominal);
-  const PoeModel& nominal = *r.registered_nominal;  // in the measurement frame, as the calibrated model
   out << "calibration of " << robotLabel(r.nominal) << " (" << r.nominal.path << ") from " << r.fit.measurements.size()
       << " " << (r.fit.measure == Measure::Targets ? "target" : measureName(r.fit.measure)) << " measurements ("
       << r.fit.path << ")\n";
@@ -606,7 +394,12 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   for (const std::string& note : r.notes) out << "note: " << note << "\n";
   out << (c.converged ? "converged" : "NOT converged") << " after " << c.iterations << " iterations ("
       << fixed(r.seconds, 3) << " s)\n\n";
+}
 
+// The residual table (measurements and validation, before and after) and the worst measurements.
+void printResidualTable(std::ostream& out, const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  const std::string u = lengthUnit(r.nominal);
   char line[256];
   std::snprintf(line, sizeof line, "%-22s %16s %16s %16s %16s\n", "residuals", ("rms pos (" + u + ")").c_str(),
                 ("max pos (" + u + ")").c_str(), "rms rot (rad)", "max rot (rad)");
@@ -647,7 +440,14 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
     out << ", normalized " << residual(m.normalized) << ", weight " << residual(m.weight) << (m.outlier ? "  OUTLIER" : "")
         << "\n";
   }
+}
 
+// The change per joint against the nominal in the measurement frame, and the tool's or the targets'.
+void printJointChanges(std::ostream& out, const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  const std::string u = lengthUnit(r.nominal);
+  const PoeModel& nominal = *r.registered_nominal;  // in the measurement frame, as the calibrated model
+  char line[256];
   out << "\nchange per joint (calibrated vs the nominal in the measurement frame):\n";
   std::snprintf(line, sizeof line, "%-8s %-10s %14s %16s %18s %14s\n", "joint", "type", "tilt (rad)",
                 ("shift (" + u + ")").c_str(), ("pitch (" + pitchUnit(r.nominal) + ")").c_str(), "scale");
@@ -685,7 +485,15 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
           << " (moved " << fixed((p - c.registration.targets[t]).norm(), 6) << " from its start)\n";
     }
   }
+}
 
+}  // namespace
+
+void printCalibration(std::ostream& out, const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  printCalibrationSetup(out, r);
+  printResidualTable(out, r);
+  printJointChanges(out, r);
   out << "\ncalibrated D-H table (standard D-H, Wu et al. eq. 10; as poe2dh prints it):\n";
   printDhWithDeviations(out, r.nominal, r.dh, "standard deviations of the calibrated D-H table");
   out << "(standard deviations: the parameter covariance "
@@ -698,4 +506,4 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   out << "\nverdict: " << (c.accepted ? "accepted" : "REJECTED: " + c.reason) << "\n";
 }
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

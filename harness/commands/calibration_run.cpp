@@ -1,13 +1,13 @@
 // The fit of calibrate for the CLI and the Python module (calibration_run.hpp).
-#include "validation/calibration_run.hpp"
+#include "commands/calibration_run.hpp"
 
 #include <chrono>
 #include <filesystem>
 
 #include "io/output.hpp"
-#include "validation/calibration_inputs.hpp"
+#include "commands/calibration_inputs.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 std::optional<std::string> calibrationSizeProblem(size_t measurements, int dof) {
   if (measurements <= static_cast<size_t>(kMaxCalibrationMeasurements) &&
@@ -80,4 +80,4 @@ std::string calibratedName(const io::RobotFile& nominal) {
   return (nominal.name.empty() ? std::filesystem::path(nominal.path).stem().string() : nominal.name) + "-calibrated";
 }
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

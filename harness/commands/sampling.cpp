@@ -1,5 +1,5 @@
 // The sampling unit (sampling.hpp): range rule, random streams, sampled variable, worker pool.
-#include "validation/sampling.hpp"
+#include "commands/sampling.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "io/robot_file.hpp"
 #include "lowpair/se3.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 using namespace lowpair::io;  // the rooms below
 using namespace lowpair::mujoco;
@@ -252,4 +252,4 @@ int runWorkers(int threads, const std::function<void(int)>& work, const ThreadSt
   return started;
 }
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

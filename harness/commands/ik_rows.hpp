@@ -9,9 +9,9 @@
 
 #include "lowpair/ik.hpp"
 #include "lowpair/kinematics.hpp"
-#include "validation/sampling.hpp"
+#include "commands/sampling.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 /// Upper bound on the random seeds per row of `ik` (the CLI's --seeds, Python's seeds=); at least 1.
 constexpr int kMaxIkSeeds = 1000;
@@ -28,7 +28,7 @@ struct IkRow {
 bool betterIkAttempt(const IkResult& a, const IkResult& b, double L);
 
 /// Solves row `row` from up to `seeds` random seeds, sample row * seeds + s of the stream `seed`
-/// (validation/sampling.hpp): the first ok attempt is kept, else the best (betterIkAttempt).
+/// (commands/sampling.hpp): the first ok attempt is kept, else the best (betterIkAttempt).
 /// @param ranges samplingRanges(model)
 /// @throws std::invalid_argument as inverseKinematics does
 IkRow solveFromRandomSeeds(const PoeModel& model, Data& data, const Pose& target, size_t row, int seeds,
@@ -50,4 +50,4 @@ nlohmann::json ikRowsJson(const std::vector<IkRow>& rows, bool with_seed);
 /// The `counts` of the same JSON: the rows per status, every status named.
 nlohmann::json ikCountsJson(const std::vector<IkRow>& rows);
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

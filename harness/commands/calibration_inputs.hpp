@@ -14,9 +14,9 @@
 #include "io/measurements.hpp"
 #include "io/robot_file.hpp"
 #include "lowpair/calibration.hpp"
-#include "validation/arguments.hpp"
+#include "commands/arguments.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 /// A joint value beyond this many range widths outside the nominal's range is a wrong column or unit: never
 /// fitted silently.
@@ -82,4 +82,4 @@ std::optional<std::string> mapValidationTargets(io::MeasurementFile& validation,
 /// (the fit estimates it).
 std::vector<Target> nominalTargets(const io::RobotFile& nominal, const std::vector<std::string>& names);
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

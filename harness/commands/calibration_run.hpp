@@ -10,10 +10,10 @@
 #include "io/measurements.hpp"
 #include "io/robot_file.hpp"
 #include "lowpair/calibration.hpp"
-#include "validation/arguments.hpp"
-#include "validation/calibration_output.hpp"
+#include "commands/arguments.hpp"
+#include "commands/calibration_output.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 /// The arguments of a calibration beyond its measurements, as the CLI's options and Python's keywords give
 /// them (named in messages by their Python names, as an ArgumentSpelling spells them).
@@ -47,4 +47,4 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
 /// The name of the robot a calibration of `nominal` makes: its name (else its file's stem) + "-calibrated".
 std::string calibratedName(const io::RobotFile& nominal);
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

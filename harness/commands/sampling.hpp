@@ -18,7 +18,7 @@
 #include "lowpair/types.hpp"
 #include "mujoco/mujoco_robot.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 using Range = std::array<double, 2>;
 
@@ -119,4 +119,4 @@ using ThreadStarter = std::function<std::thread(std::function<void()>)>;
 /// @return the number of workers that ran (>= 1)
 int runWorkers(int threads, const std::function<void(int)>& work, const ThreadStarter& start = {});
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

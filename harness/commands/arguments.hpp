@@ -10,7 +10,7 @@
 
 #include "lowpair/calibration.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 /// A usage error about an argument (not a file): printed as "error: SUBJECT: message" by the CLI, raised as
 /// lowpair.Error("SUBJECT: message") by Python. SUBJECT is the argument as the front end spells it, or a file.
@@ -40,4 +40,4 @@ inline Measure parseMeasure(const std::string& text, const ArgumentSpelling& spe
   throw UsageError(spelling.name("measure"), "expected 'pose', 'position' or 'targets', got '" + text + "'");
 }
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

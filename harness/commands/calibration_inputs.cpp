@@ -1,5 +1,5 @@
 // The checks and derivations of calibrate's inputs for the CLI and the Python module (calibration_inputs.hpp).
-#include "validation/calibration_inputs.hpp"
+#include "commands/calibration_inputs.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "io/output.hpp"
 #include "lowpair/tolerances.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 std::vector<OutsideRange> jointValuesOutsideRanges(const PoeModel& nominal, const std::vector<Measurement>& measurements) {
   std::vector<OutsideRange> out;
@@ -133,4 +133,4 @@ std::vector<Target> nominalTargets(const io::RobotFile& nominal, const std::vect
   return targets;
 }
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

@@ -13,7 +13,7 @@
 #include "io/measurements.hpp"
 #include "io/robot_file.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 /// Upper bound on `identifiability --poses` (the Jacobian has 6 rows per pose).
 constexpr int kMaxIdentifiabilityPoses = 10000;
@@ -97,4 +97,4 @@ std::string rejectionText(const CalibrationReport& report);
 /// "0.71 j6.scale - 0.50 j5.tilt1 + ..." (the largest coefficients first, at most six terms).
 std::string directionText(const std::vector<std::pair<int, double>>& direction, const std::vector<std::string>& names);
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

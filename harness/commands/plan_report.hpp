@@ -12,9 +12,9 @@
 #include "io/robot_file.hpp"
 #include "lowpair/calibration.hpp"
 #include "lowpair/plan.hpp"
-#include "validation/arguments.hpp"
+#include "commands/arguments.hpp"
 
-namespace lowpair::validation {
+namespace lowpair::commands {
 
 /// Upper bounds of `plan`: the poses chosen, the candidates, and the numbers of their blocks (candidates x
 /// rows x parameters): the blocks are held about four times (scaled, the SVD's copy, in the determined
@@ -59,11 +59,11 @@ struct PlanReport {
 };
 
 /// Checks the request against the robot (targets to measure, poses <= candidates, the noise, the size limit),
-/// then plans: candidates are samples 0..M-1 of the stream `seed` (validation/sampling.hpp), the random sets
+/// then plans: candidates are samples 0..M-1 of the stream `seed` (commands/sampling.hpp), the random sets
 /// come from the same seed. @throws UsageError naming the argument as `spelling` spells it, or the robot file
 PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request, const ArgumentSpelling& spelling);
 
 /// The JSON of `plan --json`; `out_path`: where the planned joint vectors were written ("" for none: null).
 nlohmann::json planJson(const PlanReport& report, const std::string& out_path);
 
-}  // namespace lowpair::validation
+}  // namespace lowpair::commands

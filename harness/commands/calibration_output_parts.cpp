@@ -1,0 +1,63 @@
+// What identifiability, calibrate and the D-H table with standard deviations share in their wording
+// (calibration_output_parts.hpp).
+#include "commands/calibration_output_parts.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace lowpair::commands::detail {
+
+using io::RobotFile;
+using nlohmann::json;
+
+std::string lengthUnit(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
+
+std::string pitchUnit(const RobotFile& file) { return lengthUnit(file) + "/" + file.angle_unit; }
+
+// "1.2e-05", or "undetermined" for +inf
+std::string deviation(double sd) {
+  if (!std::isfinite(sd)) return "undetermined";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", sd);
+  return buf;
+}
+
+// A residual statistic to 3 significant digits ("0.00802", "1.2e-15" -> "1.2e-15"): comparable at a glance.
+std::string residual(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+std::vector<std::string> parameterNames(const std::vector<Parameter>& parameters) {
+  std::vector<std::string> names;
+  for (const Parameter& p : parameters) names.push_back(p.name);
+  return names;
+}
+
+json undeterminedJson(const RankAnalysis& a, const std::vector<std::string>& names) {
+  json out = json::array();
+  for (const auto& direction : a.undetermined) {
+    json terms = json::array();
+    for (const auto& [column, coefficient] : direction) {
+      terms.push_back({{"parameter", names[static_cast<size_t>(column)]}, {"coefficient", coefficient}});
+    }
+    out.push_back(terms);
+  }
+  return out;
+}
+
+json countJson(const ParameterCount& c) {
+  return {{"revolute", c.revolute}, {"prismatic", c.prismatic}, {"helical", c.helical}, {"scales", c.scales},
+          {"tool", c.tool}};
+}
+
+std::string countFormula(const ParameterCount& c) {
+  std::ostringstream s;
+  s << "5h + 4r + 2t + n + " << c.tool << " = 5x" << c.helical << " + 4x" << c.revolute << " + 2x" << c.prismatic
+    << " + " << c.scales << " + " << c.tool << " = " << c.total();
+  return s.str();
+}
+
+}  // namespace lowpair::commands::detail

@@ -1,0 +1,33 @@
+#pragma once
+/// @file calibration_output_parts.hpp
+/// Wording the text and JSON of identifiability, calibrate and the D-H table with standard deviations share
+/// (calibration_output.cpp, identifiability_output.cpp, dh_output.cpp); internal to the commands room.
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "lowpair/calibration.hpp"
+#include "io/robot_file.hpp"
+
+namespace lowpair::commands::detail {
+
+constexpr double kDeg = 180.0 / M_PI;
+
+/// The robot file's length unit, or "length" when it states none.
+std::string lengthUnit(const io::RobotFile& file);
+/// "mm/deg": the unit of a pitch in the robot file.
+std::string pitchUnit(const io::RobotFile& file);
+/// "1.2e-05", or "undetermined" for +inf
+std::string deviation(double sd);
+/// A residual statistic to 3 significant digits ("0.00802", "1.2e-15"): comparable at a glance.
+std::string residual(double x);
+std::vector<std::string> parameterNames(const std::vector<Parameter>& parameters);
+/// The undetermined directions, each a list of {parameter, coefficient}.
+nlohmann::json undeterminedJson(const RankAnalysis& a, const std::vector<std::string>& names);
+nlohmann::json countJson(const ParameterCount& c);
+/// "5h + 4r + 2t + n + 6 = 5x0 + 4x6 + 2x0 + 6 + 6 = 36"
+std::string countFormula(const ParameterCount& c);
+
+}  // namespace lowpair::commands::detail
