@@ -297,47 +297,40 @@ IkWorkspace::IkWorkspace(int n)
 
 IkWorkspace::IkWorkspace(const PoeModel& model) : IkWorkspace(model.dof()) {}
 
-const IkResult& inverseKinematics(const PoeModel& model, Data& data, const Pose& T_target,
-                                  const Eigen::Ref<const VecX>& q_seed, const IkOptions& options, IkWorkspace& work) {
-  checkCall("inverseKinematics", model, data, q_seed, options, work);
-  const bool pose = options.measure == Measure::Pose;
-  LP_CHECK(T_target.p.allFinite() && (!pose || T_target.R.allFinite()), "inverseKinematics: the target is not finite");
-  if (pose) {
-    const double defect = (T_target.R.transpose() * T_target.R - Mat3::Identity()).cwiseAbs().maxCoeff();
-    LP_CHECK(defect <= kRotationOrthonormal && T_target.R.determinant() > 0.0,
-             "inverseKinematics: the target rotation is not a rotation (|R^T R - I| = " << defect << ")");
-  }
-  const int n = model.dof(), m = taskRows(options.measure);
-  const double L = model.lengthScale();
-  const double tol_p = options.position_tolerance * L, tol_r = options.rotation_tolerance;
-  auto within = [&](const Errors& e) { return e.position <= tol_p && (!pose || e.rotation <= tol_r); };
+namespace {
 
-  IkResult& result = work.result;
-  result.status = IkStatus::NotConverged;
-  result.q = q_seed;
-  result.iterations = 0;
-  result.rank = -1;
-  result.sigma_min = std::numeric_limits<double>::quiet_NaN();
-  result.joint = -1;
-  result.reason.clear();
-  result.converged = false;
-  if (options.ranges == RangePolicy::Clamp) projectIntoRanges(model, result.q);
+enum class IkStop { Converged, Limit, Stationary, Blocked, Stalled };
 
-  const Reach reach = reachBound(model, options.point_tool);
-  result.reach = reach.radius;
-  Errors e = evaluate(model, data, result.q, T_target, options, L, work.J, work.r);
-  const double distance = (T_target.p - reach.center).norm();
-  if (distance > reach.radius * (1.0 + kIkReachRounding * (n + 1)) + tol_p) {
-    result.position_error = e.position;
-    result.rotation_error = e.rotation;
-    result.status = IkStatus::Unreachable;
-    setReason(result, "the target point is %.6g from joint 1's axis, beyond the chain's reach %.6g (its link lengths "
-              "and slides added up)", distance, reach.radius);
-    return result;
-  }
+// One inverseKinematics call: the task, its tolerances and the workspace, and the steps of the solve.
+struct IkSolve {
+  const PoeModel& model;
+  Data& data;
+  const Pose& T_target;
+  const IkOptions& options;
+  IkWorkspace& work;
+  IkResult& result;
+  bool pose;
+  int n, m;
+  double L, tol_p, tol_r;
 
-  // the descent direction g = J^T r and its size relative to |J|_F |r|, all joints and without the blocked ones
-  auto stationarity = [&](bool projected) {
+  IkSolve(const PoeModel& model_, Data& data_, const Pose& T_target_, const IkOptions& options_, IkWorkspace& work_)
+      : model(model_),
+        data(data_),
+        T_target(T_target_),
+        options(options_),
+        work(work_),
+        result(work_.result),
+        pose(options_.measure == Measure::Pose),
+        n(model_.dof()),
+        m(taskRows(options_.measure)),
+        L(model_.lengthScale()),
+        tol_p(options_.position_tolerance * L),
+        tol_r(options_.rotation_tolerance) {}
+
+  bool within(const Errors& e) const { return e.position <= tol_p && (!pose || e.rotation <= tol_r); }
+
+  // the descent direction g = J^T r and its size relative to |J|_F |r|, all joints or without the blocked ones
+  double stationarity(bool projected) {
     VecX& g = work.gradient;
     g.noalias() = work.J.topRows(m).transpose().lazyProduct(work.r.head(m));
     if (projected) {
@@ -347,8 +340,10 @@ const IkResult& inverseKinematics(const PoeModel& model, Data& data, const Pose&
     }
     const double scale = work.J.topRows(m).norm() * work.r.head(m).norm();
     return scale > 0.0 ? g.norm() / scale : 0.0;
-  };
-  auto anyBlocked = [&]() {
+  }
+
+  // the blocked joint with the largest descent component, or -1
+  int anyBlocked() {
     work.gradient.noalias() = work.J.topRows(m).transpose().lazyProduct(work.r.head(m));
     int worst = -1;
     for (int i = 0; i < n; ++i) {
@@ -358,54 +353,71 @@ const IkResult& inverseKinematics(const PoeModel& model, Data& data, const Pose&
       }
     }
     return worst;
-  };
-
-  enum class Stop { Converged, Limit, Stationary, Blocked, Stalled };
-  Stop stop = Stop::Limit;
-  double mu = options.damping;
-  bool data_at_q = true;  // data holds the FK and Jacobian at result.q (not at a rejected trial)
-  const bool clamp = options.ranges == RangePolicy::Clamp;
-  while (true) {
-    if (within(e)) {
-      stop = Stop::Converged;
-      break;
-    }
-    if (result.iterations >= options.max_iterations) {
-      stop = Stop::Limit;
-      break;
-    }
-    if (stationarity(false) <= kIkStationary) {
-      stop = Stop::Stationary;
-      break;
-    }
-    if (clamp && anyBlocked() >= 0 && stationarity(true) <= kIkStationary) {
-      stop = Stop::Blocked;
-      break;
-    }
-    ++result.iterations;
-    if (!dampedStep(model, result.q, work.J, work.r, m, mu, options, L, work)) {
-      mu = std::max(10.0 * mu, kEps * work.J.topRows(m).squaredNorm());
-      continue;
-    }
-    if (work.q_trial == result.q) {
-      stop = Stop::Stalled;
-      break;
-    }
-    const Errors trial = evaluate(model, data, work.q_trial, T_target, options, L, work.J_trial, work.r_trial);
-    data_at_q = trial.cost < e.cost;
-    if (data_at_q) {
-      result.q.swap(work.q_trial);
-      work.J.swap(work.J_trial);
-      work.r = work.r_trial;
-      e = trial;
-      mu /= 10.0;
-    } else {
-      mu = std::max(10.0 * mu, kEps * work.J.topRows(m).squaredNorm());
-    }
   }
-  if (!data_at_q) computeJacobians(model, data, result.q);  // the last trial was rejected
 
-  if (stop == Stop::Converged && options.ranges == RangePolicy::Report) {
+  void start(const Eigen::Ref<const VecX>& q_seed) {
+    result.status = IkStatus::NotConverged;
+    result.q = q_seed;
+    result.iterations = 0;
+    result.rank = -1;
+    result.sigma_min = std::numeric_limits<double>::quiet_NaN();
+    result.joint = -1;
+    result.reason.clear();
+    result.converged = false;
+    if (options.ranges == RangePolicy::Clamp) projectIntoRanges(model, result.q);
+  }
+
+  // Damped least squares from result.q until a stop; `e` the errors at result.q on return, the data at result.q.
+  IkStop descend(Errors& e) {
+    IkStop stop = IkStop::Limit;
+    double mu = options.damping;
+    bool data_at_q = true;  // data holds the FK and Jacobian at result.q (not at a rejected trial)
+    const bool clamp = options.ranges == RangePolicy::Clamp;
+    while (true) {
+      if (within(e)) {
+        stop = IkStop::Converged;
+        break;
+      }
+      if (result.iterations >= options.max_iterations) {
+        stop = IkStop::Limit;
+        break;
+      }
+      if (stationarity(false) <= kIkStationary) {
+        stop = IkStop::Stationary;
+        break;
+      }
+      if (clamp && anyBlocked() >= 0 && stationarity(true) <= kIkStationary) {
+        stop = IkStop::Blocked;
+        break;
+      }
+      ++result.iterations;
+      if (!dampedStep(model, result.q, work.J, work.r, m, mu, options, L, work)) {
+        mu = std::max(10.0 * mu, kEps * work.J.topRows(m).squaredNorm());
+        continue;
+      }
+      if (work.q_trial == result.q) {
+        stop = IkStop::Stalled;
+        break;
+      }
+      const Errors trial = evaluate(model, data, work.q_trial, T_target, options, L, work.J_trial, work.r_trial);
+      data_at_q = trial.cost < e.cost;
+      if (data_at_q) {
+        result.q.swap(work.q_trial);
+        work.J.swap(work.J_trial);
+        work.r = work.r_trial;
+        e = trial;
+        mu /= 10.0;
+      } else {
+        mu = std::max(10.0 * mu, kEps * work.J.topRows(m).squaredNorm());
+      }
+    }
+    if (!data_at_q) computeJacobians(model, data, result.q);  // the last trial was rejected
+    return stop;
+  }
+
+  // RangePolicy::Report after convergence: joints outside their ranges wrapped by whole turns where possible (the
+  // same pose, measured again), else the first one named in result.joint.
+  IkStop wrapIntoRanges(IkStop stop, Errors& e) {
     bool wrapped = false;
     for (int i = 0; i < n && result.joint < 0; ++i) {
       const Joint& joint = model.joint(i);
@@ -416,25 +428,24 @@ const IkResult& inverseKinematics(const PoeModel& model, Data& data, const Pose&
         result.joint = i;
       }
     }
-    if (wrapped) {  // whole turns: the same pose to rounding, measured again
+    if (wrapped) {
       e = evaluate(model, data, result.q, T_target, options, L, work.J, work.r);
-      if (!within(e)) stop = Stop::Limit;
+      if (!within(e)) stop = IkStop::Limit;
     }
+    return stop;
   }
-  result.position_error = e.position;
-  result.rotation_error = e.rotation;
-  result.converged = stop == Stop::Converged;
 
-  if (result.converged) {
+  // A converged solution: out of range, singular (dimensionless task Jacobian) or ok.
+  void classifyConverged() {
     if (result.joint >= 0) {
       const auto& range = *model.joint(result.joint).range;
       result.status = IkStatus::OutOfRange;
       setReason(result, "the solution has joint %d = %.6g outside its range [%.6g, %.6g]", result.joint + 1,
                 result.q[result.joint], range[0], range[1]);
-      return result;
+      return;
     }
     result.status = IkStatus::Ok;
-    if (!options.check_singularity) return result;
+    if (!options.check_singularity) return;
     SmallVec sigma;
     taskSingularValues(work.J, m, work.qr, sigma);
     const Eigen::Index c = sigma.size();
@@ -449,30 +460,75 @@ const IkResult& inverseKinematics(const PoeModel& model, Data& data, const Pose&
       setReason(result, "the solution is singular: the dimensionless task Jacobian has sigma_min %.3g <= %.3g "
                 "(sigma_max %.3g, rank %d of %d)", result.sigma_min, threshold, sigma_max, result.rank, static_cast<int>(c));
     }
+  }
+
+  // A solve that stopped short: unreachable (stationary), held at a limit, or not converged.
+  void classifyStopped(IkStop stop, const Errors& e) {
+    const double gamma = stationarity(false);
+    const int held = options.ranges == RangePolicy::Clamp ? anyBlocked() : -1;
+    const char* where = stop == IkStop::Limit     ? "the iteration limit"
+                        : stop == IkStop::Stalled ? "no step changing q"
+                                                  : "a stationary point";
+    if (gamma <= kIkStationary) {
+      result.status = IkStatus::Unreachable;
+      setReason(result, "stopped at a stationary point of the error (position %.3g, rotation %.3g rad): no joint motion "
+                "reduces it; the target is outside the workspace or needs another seed", e.position, e.rotation);
+    } else if (held >= 0) {
+      result.status = IkStatus::OutOfRange;
+      result.joint = held;
+      setReason(result, "joint %d is held at its range limit %.6g and the error (position %.3g, rotation %.3g rad) "
+                "decreases beyond it (stopped at %s after %d iterations)", held + 1, result.q[held], e.position,
+                e.rotation, where, result.iterations);
+    } else if (stop == IkStop::Stalled) {
+      result.status = IkStatus::NotConverged;
+      setReason(result, "no step changes q any more at position error %.3g, rotation %.3g rad: the tolerances are "
+                "below the error's rounding floor here", e.position, e.rotation);
+    } else {
+      result.status = IkStatus::NotConverged;
+      setReason(result, "%d iterations without converging (position error %.3g, rotation %.3g rad)", result.iterations,
+                e.position, e.rotation);
+    }
+  }
+};
+
+}  // namespace
+
+const IkResult& inverseKinematics(const PoeModel& model, Data& data, const Pose& T_target,
+                                  const Eigen::Ref<const VecX>& q_seed, const IkOptions& options, IkWorkspace& work) {
+  checkCall("inverseKinematics", model, data, q_seed, options, work);
+  const bool pose = options.measure == Measure::Pose;
+  LP_CHECK(T_target.p.allFinite() && (!pose || T_target.R.allFinite()), "inverseKinematics: the target is not finite");
+  if (pose) {
+    const double defect = (T_target.R.transpose() * T_target.R - Mat3::Identity()).cwiseAbs().maxCoeff();
+    LP_CHECK(defect <= kRotationOrthonormal && T_target.R.determinant() > 0.0,
+             "inverseKinematics: the target rotation is not a rotation (|R^T R - I| = " << defect << ")");
+  }
+  IkSolve solve(model, data, T_target, options, work);
+  IkResult& result = solve.result;
+  solve.start(q_seed);
+
+  const Reach reach = reachBound(model, options.point_tool);
+  result.reach = reach.radius;
+  Errors e = evaluate(model, data, result.q, T_target, options, solve.L, work.J, work.r);
+  const double distance = (T_target.p - reach.center).norm();
+  if (distance > reach.radius * (1.0 + kIkReachRounding * (solve.n + 1)) + solve.tol_p) {
+    result.position_error = e.position;
+    result.rotation_error = e.rotation;
+    result.status = IkStatus::Unreachable;
+    setReason(result, "the target point is %.6g from joint 1's axis, beyond the chain's reach %.6g (its link lengths "
+              "and slides added up)", distance, reach.radius);
     return result;
   }
 
-  const double gamma = stationarity(false);
-  const int held = clamp ? anyBlocked() : -1;
-  const char* where = stop == Stop::Limit ? "the iteration limit" : stop == Stop::Stalled ? "no step changing q" : "a stationary point";
-  if (gamma <= kIkStationary) {
-    result.status = IkStatus::Unreachable;
-    setReason(result, "stopped at a stationary point of the error (position %.3g, rotation %.3g rad): no joint motion "
-              "reduces it; the target is outside the workspace or needs another seed", e.position, e.rotation);
-  } else if (held >= 0) {
-    result.status = IkStatus::OutOfRange;
-    result.joint = held;
-    setReason(result, "joint %d is held at its range limit %.6g and the error (position %.3g, rotation %.3g rad) "
-              "decreases beyond it (stopped at %s after %d iterations)", held + 1, result.q[held], e.position,
-              e.rotation, where, result.iterations);
-  } else if (stop == Stop::Stalled) {
-    result.status = IkStatus::NotConverged;
-    setReason(result, "no step changes q any more at position error %.3g, rotation %.3g rad: the tolerances are "
-              "below the error's rounding floor here", e.position, e.rotation);
+  IkStop stop = solve.descend(e);
+  if (stop == IkStop::Converged && options.ranges == RangePolicy::Report) stop = solve.wrapIntoRanges(stop, e);
+  result.position_error = e.position;
+  result.rotation_error = e.rotation;
+  result.converged = stop == IkStop::Converged;
+  if (result.converged) {
+    solve.classifyConverged();
   } else {
-    result.status = IkStatus::NotConverged;
-    setReason(result, "%d iterations without converging (position error %.3g, rotation %.3g rad)", result.iterations,
-              e.position, e.rotation);
+    solve.classifyStopped(stop, e);
   }
   return result;
 }
