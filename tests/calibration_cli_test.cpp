@@ -27,6 +27,8 @@ using csv_test::Csv;
 using csv_test::parseCsv;
 using csv_test::Quaternion;
 using csv_test::Row;
+using csv_test::rearranged;
+using csv_test::replaced;
 using csv_test::split;
 using Mat3 = std::array<std::array<double, 3>, 3>;
 
@@ -589,6 +591,83 @@ TEST(Calibrate, MeasurementsInAnotherLengthUnitAreConverted) {
   const CliRun r = runCli("calibrate " + shellQuote(urdf) + " --tip tool --measurements " + shellQuote(metres) + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(nlohmann::json::parse(r.out)["converged"].get<bool>()) << r.out;
+}
+
+// ---- columns by name (docs/calibration.md "Measurement files (CSV)") -------------------------------------
+
+namespace {
+
+// `calibrate --json` of the measurements `path`, with the path replaced by MEASUREMENTS and the run time
+// removed.
+nlohmann::json calibrationJson(const std::string& path) {
+  const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(path) +
+                          " --noise-position 0.01 --noise-rotation 1e-5 --free-pitch --json");
+  EXPECT_EQ(r.status, 0) << path << "\n" << r.err;
+  nlohmann::json j = nlohmann::json::parse(replaced(r.out, path, "MEASUREMENTS"));
+  j.erase("seconds");
+  return j;
+}
+
+}  // namespace
+
+// The same measurements with their columns shuffled, the robot's joint names as headers, the quaternion in
+// ROS's order (qx,qy,qz,qw) or an extra column calibrate to the same result bit for bit.
+TEST(Calibrate, ColumnsAreFoundByNameInAnyOrder) {
+  const std::string canonical =
+      simulateTo("canonical.csv", shellQuote(kActualYaml) + " --poses 40 --seed 9 --noise-position 0.01 --noise-rotation 1e-5");
+  std::ifstream in(canonical);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  auto same = [](const std::string& name) { return std::pair<std::string, std::string>{name, name}; };
+  const std::string shuffled = writeScratchFile(
+      "shuffled.csv", rearranged(text, {same("qy"), same("x"), same("q3"), same("qz"), same("q1"), same("z"), same("q6"),
+                                        same("qw"), same("q2"), same("y"), same("q5"), same("qx"), same("q4")}));
+  // the nominal's joints are named j1..j6
+  const std::string named = writeScratchFile(
+      "named.csv", rearranged(text, {{"q1", "j1"}, {"q2", "j2"}, {"q3", "j3"}, {"q4", "j4"}, {"q5", "j5"}, {"q6", "j6"},
+                                     same("x"), same("y"), same("z"), same("qw"), same("qx"), same("qy"), same("qz")}));
+  const std::string ros = writeScratchFile(
+      "ros.csv", rearranged(text, {same("q1"), same("q2"), same("q3"), same("q4"), same("q5"), same("q6"), same("x"),
+                                   same("y"), same("z"), same("qx"), same("qy"), same("qz"), same("qw")}));
+  const nlohmann::json expected = calibrationJson(canonical);
+  ASSERT_TRUE(expected["accepted"].get<bool>());
+  ASSERT_EQ(expected["notes"].size(), 0u);
+  EXPECT_EQ(calibrationJson(shuffled), expected);
+  EXPECT_EQ(calibrationJson(named), expected);
+  EXPECT_EQ(calibrationJson(ros), expected);
+  // an unknown column: ignored, one note names it (text: a `note:` line; JSON: notes)
+  const std::string extra = writeScratchFile(
+      "extra.csv", rearranged(text, {same("q1"), same("q2"), same("q3"), same("q4"), same("q5"), same("q6"), {"", "operator"},
+                                     same("x"), same("y"), same("z"), same("qw"), same("qx"), same("qy"), same("qz")}));
+  nlohmann::json with_extra = calibrationJson(extra);
+  const int header_line = static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find("\nq1")), '\n')) + 2;
+  ASSERT_EQ(with_extra["notes"].size(), 1u);
+  EXPECT_EQ(with_extra["notes"][0], "MEASUREMENTS:" + std::to_string(header_line) +
+                                        ": ignored the column 'operator' (not a column lowpair reads)");
+  with_extra["notes"] = nlohmann::json::array();
+  EXPECT_EQ(with_extra, expected);
+  const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(extra) +
+                          " --noise-position 0.01 --noise-rotation 1e-5 --free-pitch");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("note: " + extra + ":" + std::to_string(header_line) + ": ignored the column 'operator'"),
+            std::string::npos) << r.out;
+}
+
+// A missing, repeated or misspelt column, or both joint spellings: exit 2, one line naming it.
+TEST(CalibrateRejects, MissingRepeatedOrMixedColumns) {
+  const std::string base = "calibrate " + shellQuote(kNominal) + " --measurements ";
+  const std::string row = "0,0,0,0,0,0,1,2,3\n";
+  auto bad = [&](const std::string& name, const std::string& header, const std::string& what) {
+    const std::string path = writeScratchFile(name, "# c\n" + header + "\n" + row);
+    expectRejected(base + shellQuote(path), path + ":2: " + what, path);
+  };
+  bad("no_q4.csv", "q1,q2,q3,q5,q6,q7,x,y,z", "missing column 'q4'");
+  bad("no_j4.csv", "j1,j2,j3,j5,j6,x,y,z,t", "missing column 'j4'");
+  bad("no_y.csv", "j1,j2,j3,j4,j5,j6,x,z,t", "missing column 'y'");
+  bad("two_x.csv", "q1,q2,q3,q4,q5,x,y,z,x", "column 'x' repeats (columns 6 and 9)");
+  bad("two_j2.csv", "j1,j2,j3,j4,j5,j2,x,y,z", "column 'j2' repeats (columns 2 and 6)");
+  bad("mixed.csv", "q1,q2,q3,j4,j5,j6,x,y,z", "joint columns 'q1' and 'j4': q1..qn or the robot's joint names, not both");
+  bad("case.csv", "q1,q2,q3,q4,q5,q6,X,y,z", "unexpected column 'X'");
+  bad("case_joint.csv", "J1,j2,j3,j4,j5,j6,x,y,z", "unexpected column 'J1'");
 }
 
 // ---- tracker data (docs/calibration.md "Tracker data") --------------------------------------------------

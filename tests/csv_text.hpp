@@ -23,6 +23,35 @@ inline std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
+// `text` (a CSV lowpair writes) with its columns rearranged: column k of the result is the source column named
+// columns[k].first (empty: a column holding "operator-7" on every row), headed columns[k].second.
+inline std::string rearranged(const std::string& text, const std::vector<std::pair<std::string, std::string>>& columns) {
+  std::istringstream in(text);
+  std::string out, line;
+  std::vector<std::string> header;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') {
+      out += line + "\n";
+      continue;
+    }
+    const std::vector<std::string> fields = split(line);
+    if (header.empty()) header = fields;
+    for (size_t k = 0; k < columns.size(); ++k) {
+      const auto it = std::find(header.begin(), header.end(), columns[k].first);
+      const std::string value = columns[k].first.empty() ? "operator-7" : fields[static_cast<size_t>(it - header.begin())];
+      out += (k ? "," : "") + (fields == header ? columns[k].second : value);
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+// `text` with every occurrence of `from` replaced by `to` (a file's path in a command's output).
+inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+  return text;
+}
+
 // One data row of a measurement CSV (pose, position or target measurements), with its file line.
 struct Row {
   std::vector<double> q;

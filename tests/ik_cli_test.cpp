@@ -21,6 +21,8 @@ namespace {
 using namespace lowpair_test;
 using nlohmann::json;
 using Csv = csv_test::Table;
+using csv_test::rearranged;
+using csv_test::replaced;
 using csv_test::split;
 
 Csv parseCsv(const std::string& text) { return csv_test::parseTable(text); }
@@ -223,6 +225,30 @@ TEST(IkCli, RowSeedsAndPositionTargets) {
   }
 }
 
+// fk --q-file and ik --poses find their columns by name (csv_columns.hpp): the robot's joint names in another
+// order, a quaternion in ROS's order (qx,qy,qz,qw) and an extra column give the same output bit for bit
+// (apart from the file's path), and the extra column is named in one note.
+TEST(IkCli, ColumnsAreFoundByName) {
+  const std::string q_file = simulated(kPuma, 5, 24, "names_q.csv");  // puma560_corke's joints are j1..j6
+  const std::string q_text = ok("simulate " + kPuma + " --poses 5 --seed 24").out;
+  const std::string named_q = writeScratchFile(
+      "names_q_named.csv", rearranged(q_text, {{"q6", "j6"}, {"q5", "j5"}, {"", "operator"}, {"q4", "j4"}, {"q3", "j3"},
+                                               {"q2", "j2"}, {"q1", "j1"}, {"x", "x"}}));
+  const CliRun fk = ok("fk " + kPuma + " --q-file " + q_file), fk_named = runCli("fk " + kPuma + " --q-file " + named_q);
+  EXPECT_EQ(fk_named.status, 0) << fk_named.err;
+  EXPECT_EQ(replaced(fk_named.out, named_q, q_file), fk.out);
+  EXPECT_EQ(fk_named.err, "note: " + named_q + ":" + std::to_string(std::count(q_text.begin(), q_text.begin() + static_cast<std::ptrdiff_t>(q_text.find("\nq1")), '\n') + 2) +
+                              ": ignored the column 'operator' (not a column lowpair reads)\n");
+  const std::string poses = writeScratchFile("names_poses.csv", fk.out);
+  const std::string ros = writeScratchFile(
+      "names_poses_ros.csv", rearranged(fk.out, {{"x", "x"}, {"y", "y"}, {"z", "z"}, {"qx", "qx"}, {"qy", "qy"}, {"qz", "qz"},
+                                                 {"qw", "qw"}, {"q1", "j1"}, {"q2", "j2"}, {"q3", "j3"}, {"q4", "j4"},
+                                                 {"q5", "j5"}, {"q6", "j6"}}));
+  const CliRun ik = ok("ik " + kPuma + " --poses " + poses + " --json"), ik_ros = ok("ik " + kPuma + " --poses " + ros + " --json");
+  EXPECT_EQ(replaced(ik_ros.out, ros, poses), ik.out);
+  EXPECT_EQ(json::parse(ik.out)["seeds"], "file");
+}
+
 TEST(IkCli, UnreachableRowIsReportedAndExitsOne) {
   const std::string poses = writeScratchFile("ik_unreachable.csv",
                                              "# length_unit: m\nx,y,z,qw,qx,qy,qz\n"
@@ -312,8 +338,9 @@ TEST(IkCliInput, BadPosesFiles) {
   const std::string base = "ik " + kPuma + " --poses ";
   auto file = [](const std::string& name, const std::string& text) { return writeScratchFile(name, text); };
   expectRejected(base + scratch() + "/no_such.csv", "cannot open file");
-  expectRejected(base + file("ik_bad_header.csv", "x,y\n1,2\n"), ":1: 2 columns after the joint columns");
-  expectRejected(base + file("ik_bad_column.csv", "x,y,w\n1,2,3\n"), ":1: unexpected column 'w'");
+  expectRejected(base + file("ik_bad_header.csv", "x,y\n1,2\n"), ":1: missing column 'z'");
+  expectRejected(base + file("ik_bad_column.csv", "x,y,Z\n1,2,3\n"), ":1: unexpected column 'Z'");
+  expectRejected(base + file("ik_two_x.csv", "x,y,z,x\n1,2,3,4\n"), ":1: column 'x' repeats (columns 1 and 4)");
   expectRejected(base + file("ik_bad_dof.csv", "q1,q2,x,y,z\n0,0,1,2,3\n"), ":1: has 2 joint columns but");
   expectRejected(base + file("ik_bad_number.csv", "# c\nx,y,z\n1,abc,3\n"), ":3: 'abc' is not a number");
   expectRejected(base + file("ik_hex.csv", "x,y,z\n0x1p-3,0,0\n"), "is not a decimal number");

@@ -17,6 +17,8 @@
 #include <string>
 
 #include "io/atomic_file.hpp"
+#include "io/csv_columns.hpp"
+#include "io/joint_table.hpp"
 #include "lowpair/se3.hpp"
 #include "io/measurements.hpp"
 #include "io/robot_file.hpp"
@@ -302,13 +304,13 @@ TEST(MeasurementCsv, ErrorsNameFileAndLine) {
       {"# c\n\n" + header + good + good + good + "0,0,0,0,0,0,1,2,3,1,0,0\n", ":7: expected 13 numbers, got 12"},
       {header + "0,0,0,0,0,0,1,2,3,1,0,0,0,0\n", ":2: expected 13 numbers, got 14"},
       {header + good + "\n", ""},
-      {"q1,foo,x,y,z\n", ":1: unexpected column 'foo' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
-      {"x,y,z\n", ":1: unexpected column 'x' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
-      {"q1,q3,x,y,z\n", ":1: unexpected column 'q3' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,foo,x,y,z\n", ": no measurements"},  // foo is ignored (csv_columns.hpp)
+      {"x,y,z\n", ":1: no joint columns (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,q3,x,y,z\n", ":1: missing column 'q2' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
       {"q1,x,y\n", ":1: missing column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
       {"q1,x,y,z,qw,qx,qy\n", ":1: missing column 'qz' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
-      {"q1,x,y,z,qw,qx,qy,qz,extra\n", ":1: unexpected column 'extra' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
-      {"q1,x,z,y\n", ":1: unexpected column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,x,y,z,qw,qx,qy,qz,extra\n", ": no measurements"},
+      {"q1,x,z,y\n", ": no measurements"},
       {header + good + "\n\n0,0,abc,0,0,0,1,2,3,1,0,0,0\n", ":5: 'abc' is not a number"},
       {header + "0,0,,0,0,0,1,2,3,1,0,0,0\n", ":2: '' is not a number"},
       {header + "0,0,1.5x,0,0,0,1,2,3,1,0,0,0\n", ":2: '1.5x' is not a number"},
@@ -332,6 +334,141 @@ TEST(MeasurementCsv, ErrorsNameFileAndLine) {
     const std::string path = writeText("m.csv", c.text);
     EXPECT_EQ(readError(path), c.error.empty() ? "" : path + c.error) << c.text;
   }
+}
+
+// Columns by name (csv_columns.hpp): shuffled, the robot's joint names, a quaternion in ROS's order
+// (qx,qy,qz,qw) and extra columns give the numbers of the canonical file bit for bit.
+TEST(MeasurementCsv, ColumnsAreFoundByNameInAnyOrder) {
+  const std::vector<std::string> names{"shoulder", "elbow"};
+  const std::string rows[] = {"0.25,-1.5,100.125,-2e-3,3.5,0.6,0,0.8,0", "1e-7,2.75,-4,5,6.0625,0.5,0.5,-0.5,0.5"};
+  auto file = [&](const std::string& name, const std::string& header, const std::vector<int>& order) {
+    std::string text = "# c\n" + header + "\n";
+    for (const std::string& row : rows) {
+      std::vector<std::string> f;
+      std::stringstream in(row);
+      for (std::string x; std::getline(in, x, ',');) f.push_back(x);
+      for (size_t k = 0; k < order.size(); ++k) text += (k ? "," : "") + (order[k] < 0 ? std::string("any text") : f[static_cast<size_t>(order[k])]);
+      text += "\n";
+    }
+    return writeText(name, text);
+  };
+  const MeasurementFile canonical = readMeasurements(file("c.csv", "q1,q2,x,y,z,qw,qx,qy,qz", {0, 1, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_TRUE(canonical.notes.empty());
+  const MeasurementFile others[] = {
+      readMeasurements(file("s.csv", "qz,x,q2,qw,z,q1,qy,y,qx", {8, 2, 1, 5, 4, 0, 7, 3, 6})),
+      readMeasurements(file("n.csv", "elbow,shoulder,x,y,z,qw,qx,qy,qz", {1, 0, 2, 3, 4, 5, 6, 7, 8}), {}, names),
+      readMeasurements(file("r.csv", "q1,q2,x,y,z,qx,qy,qz,qw", {0, 1, 2, 3, 4, 6, 7, 8, 5})),
+      readMeasurements(file("e.csv", "time,q1,q2,x,y,z,qw,qx,qy,qz,comment", {-1, 0, 1, 2, 3, 4, 5, 6, 7, 8, -1}), {}, names),
+  };
+  for (const MeasurementFile& m : others) {
+    EXPECT_EQ(m.measure, Measure::Pose) << m.path;
+    EXPECT_EQ(m.dof, 2) << m.path;
+    ASSERT_EQ(m.measurements.size(), canonical.measurements.size()) << m.path;
+    EXPECT_EQ(m.lines, canonical.lines) << m.path;
+    for (size_t k = 0; k < m.measurements.size(); ++k) {
+      EXPECT_EQ(m.measurements[k].q, canonical.measurements[k].q) << m.path;
+      EXPECT_EQ(m.measurements[k].T_base_tool.p, canonical.measurements[k].T_base_tool.p) << m.path;
+      EXPECT_EQ(m.measurements[k].T_base_tool.R, canonical.measurements[k].T_base_tool.R) << m.path;
+    }
+  }
+  EXPECT_EQ(canonical.measurements[1].q[0], 1e-7);  // q1 is the first number of the row in every file
+  // the ignored columns: one note with the header's line
+  EXPECT_EQ(others[3].notes, std::vector<std::string>{others[3].path + ":2: ignored the columns 'time', 'comment' (not a column lowpair reads)"});
+  // a target file with its columns shuffled
+  const MeasurementFile targets = readMeasurements(writeText("t.csv", "x,target,q2,y,z,q1\n1,smr,0.5,2,3,-0.5\n"));
+  EXPECT_EQ(targets.measure, Measure::Targets);
+  EXPECT_EQ(targets.target_names, std::vector<std::string>{"smr"});
+  EXPECT_EQ(targets.measurements[0].q, (VecX(2) << -0.5, 0.5).finished());
+  EXPECT_EQ(targets.measurements[0].T_base_tool.p, Vec3(1, 2, 3));
+}
+
+TEST(MeasurementCsv, MissingRepeatedMixedOrMisspeltColumnsAreNamed) {
+  const std::vector<std::string> names{"shoulder", "elbow"};
+  const std::string expected = " (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)";
+  struct Case {
+    std::string header, error;
+  };
+  const Case cases[] = {
+      {"q2,x,y,z", ":2: missing column 'q1'" + expected},
+      {"elbow,x,y,z", ":2: missing column 'shoulder'" + expected},
+      {"q1,x,y,z,qx,qy,qz", ":2: missing column 'qw'" + expected},
+      {"q1,y,z,qw,qx,qy,qz", ":2: missing column 'x'" + expected},
+      {"q1,comment", ":2: missing column 'x'" + expected},
+      {"q1,qw,qx,qy,qz", ":2: missing column 'x'" + expected},
+      {"q1,x,y,z,y", ":2: column 'y' repeats (columns 3 and 5)"},
+      {"q1,q2,q1,x,y,z", ":2: column 'q1' repeats (columns 1 and 3)"},
+      {"q1,x,y,z,qw,qx,qy,qz,qw", ":2: column 'qw' repeats (columns 5 and 9)"},
+      {"q1,target,x,y,z,target", ":2: column 'target' repeats (columns 2 and 6)"},
+      {"shoulder,elbow,x,shoulder,y,z", ":2: column 'shoulder' repeats (columns 1 and 4)"},
+      {"shoulder,q2,x,y,z", ":2: joint columns 'shoulder' and 'q2': q1..qn or the robot's joint names, not both"},
+      {"x,y,z,q1,elbow", ":2: joint columns 'q1' and 'elbow': q1..qn or the robot's joint names, not both"},
+      {"Q1,x,y,z", ":2: unexpected column 'Q1'" + expected},
+      {"q1,x,Y,z", ":2: unexpected column 'Y'" + expected},
+      {"q1,x,y,z,QW,qx,qy,qz", ":2: unexpected column 'QW'" + expected},
+      {"Shoulder,elbow,x,y,z", ":2: unexpected column 'Shoulder'" + expected},
+      {"q0,q1,x,y,z", ":2: unexpected column 'q0'" + expected},
+      {"q01,x,y,z", ":2: unexpected column 'q01'" + expected},
+      {"q1,q1001,x,y,z", ":2: more than 1000 joint columns"},
+      {"q1,q99999999999999999999,x,y,z", ":2: more than 1000 joint columns"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = writeText("bad.csv", "# c\n" + c.header + "\n");
+    std::string error;
+    try {
+      readMeasurements(path, {}, names);
+    } catch (const RobotFileError& e) {
+      error = e.what();
+    }
+    EXPECT_EQ(error, path + c.error) << c.header;
+  }
+  // without the robot's names, a name is just another column, ignored
+  const MeasurementFile file = readMeasurements(writeText("ignored.csv", "shoulder,q1,x,y,z\nup,1,2,3,4\n"));
+  EXPECT_EQ(file.notes.size(), 1u);
+  EXPECT_EQ(file.measurements[0].q[0], 1.0);
+}
+
+// Joint names a header may use: every joint named, distinct, none a column name of the rule in any case.
+TEST(CsvColumns, UsableJointNames) {
+  const std::vector<std::string> good{"base", "shoulder", "elbow"};
+  EXPECT_EQ(csvJointNames(good), good);
+  for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
+           {"base", ""}, {"a", "a"}, {"a", "X"}, {"a", "Target"}, {"a", "q2"}, {"a", "Qw"}, {"q01", "b"}}) {
+    EXPECT_TRUE(csvJointNames(bad).empty()) << bad[1];
+  }
+}
+
+// The joint tables of fk/simulate/compensate --q-file and ik --poses follow the same rule.
+TEST(JointTableCsv, ColumnsAreFoundByName) {
+  const std::vector<std::string> names{"shoulder", "elbow"};
+  const JointTable joints = readJointTable(writeText("q.csv", "t,elbow,x,shoulder\n0.5,2,9,1\n"), TableKind::Joints, 2, "robot",
+                                           names);
+  EXPECT_EQ(joints.q, (std::vector<double>{1, 2}));
+  EXPECT_EQ(joints.notes, std::vector<std::string>{joints.path + ":1: ignored the column 't' (not a column lowpair reads)"});
+  const JointTable canonical = readJointTable(writeText("p.csv", "q1,q2,x,y,z,qw,qx,qy,qz\n1,2,3,4,5,0.6,0,0.8,0\n"),
+                                              TableKind::Targets, 2, "robot");
+  const JointTable ros = readJointTable(writeText("r.csv", "frame,qx,qy,qz,qw,z,y,x,elbow,shoulder\nf1,0,0.8,0,0.6,5,4,3,2,1\n"),
+                                        TableKind::Targets, 2, "robot", names);
+  EXPECT_TRUE(canonical.notes.empty());
+  EXPECT_EQ(ros.notes.size(), 1u);
+  EXPECT_TRUE(ros.pose);
+  EXPECT_EQ(ros.q, canonical.q);
+  EXPECT_EQ(ros.targets[0].p, canonical.targets[0].p);
+  EXPECT_EQ(ros.targets[0].R, canonical.targets[0].R);
+  auto error = [&](const std::string& text, TableKind kind) {
+    const std::string path = writeText("bad.csv", text);
+    try {
+      readJointTable(path, kind, 2, "robot", names);
+    } catch (const RobotFileError& e) {
+      return std::string(e.what()).substr(path.size());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error("x,y,z\n", TableKind::Joints), ":1: no joint columns (expected q1..qn or the robot's joint names, and any other columns)");
+  EXPECT_EQ(error("q1,elbow\n", TableKind::Joints), ":1: joint columns 'q1' and 'elbow': q1..qn or the robot's joint names, not both");
+  EXPECT_EQ(error("q1,q2,x,x\n", TableKind::Joints), ":1: column 'x' repeats (columns 3 and 4)");
+  EXPECT_EQ(error("x,y,qw\n", TableKind::Targets), ":1: missing column 'z' (expected [q1..qn,]x,y,z or [q1..qn,]x,y,z,qw,qx,qy,qz)");
+  EXPECT_EQ(error("x,y,z,target\n", TableKind::Targets), ":1: unexpected column 'target' (expected [q1..qn,]x,y,z or [q1..qn,]x,y,z,qw,qx,qy,qz)");
+  EXPECT_EQ(error("elbow,x,y,z\n", TableKind::Targets), ":1: missing column 'shoulder' (expected [q1..qn,]x,y,z or [q1..qn,]x,y,z,qw,qx,qy,qz)");
 }
 
 TEST(MeasurementCsv, FileErrors) {
@@ -487,11 +624,11 @@ TEST(MeasurementCsv, TargetsErrorsNameFileAndLine) {
       {header + "0,0,smr,1,2,nan\n", ":2: 'nan' is not a finite number"},
       {header + "0,0,1,2,3\n", ":2: expected 6 fields, got 5"},
       {header + "0,0,smr,1,2,3,4\n", ":2: expected 6 fields, got 7"},
-      // the header: target between the joints and x,y,z, and nothing after z
-      {"q1,x,y,z,target\n", ":1: unexpected column 'target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
-      {"target,q1,x,y,z\n", ":1: unexpected column 'target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
-      {"q1,x,target,y,z\n", ":1: unexpected column 'target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
-      {"q1,target,y,x,z\n", ":1: unexpected column 'y' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      // the header: columns by name in any order, no quaternion with a target, names in lower case
+      {"q1,x,y,z,target\n", ": no measurements"},
+      {"target,q1,x,y,z\n", ": no measurements"},
+      {"q1,x,target,y,z\n", ": no measurements"},
+      {"q1,target,y,x,z\n", ": no measurements"},
       {"q1,target,x,y\n", ":1: missing column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
       {"q1,target,x,y,z,qw,qx,qy,qz\n", ":1: unexpected column 'qw' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
       {"q1,Target,x,y,z\n", ":1: unexpected column 'Target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},

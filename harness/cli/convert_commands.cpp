@@ -7,6 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "io/atomic_file.hpp"
+#include "io/csv_columns.hpp"
 #include "io/joint_table.hpp"
 #include "io/measurements.hpp"
 #include "io/output.hpp"
@@ -32,8 +33,10 @@ struct FkFileOptions {
 // agrees with it only to rounding: 2 eps in R, 9 eps L in p measured, docs/ik.md.)
 int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::string& kind, const FkFileOptions& o,
                bool as_json) {
-  std::vector<long long> lines;
-  const MatX Q = readJointValues(o.q_file, file.dof(), robot_path, lines);
+  const JointTable table = readJointTable(o.q_file, TableKind::Joints, file.dof(), robot_path, csvJointNames(file));
+  for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
+  const std::vector<long long>& lines = table.lines;
+  const MatX Q = table.matrix();
   const Measure measure = commands::parseMeasure(o.measure, cliSpelling());
   std::vector<std::string> target_names;
   if (measure == Measure::Targets) {

@@ -20,6 +20,7 @@
 
 #include "cli/commands.hpp"
 #include "io/atomic_file.hpp"
+#include "io/csv_columns.hpp"
 #include "io/joint_table.hpp"
 #include "io/measurements.hpp"
 #include "io/output.hpp"
@@ -184,8 +185,8 @@ int runIk(const IkCommandOptions& o) {
   const RobotFile file = loadRobot(o.robot, cliSpelling());
   const PoeModel model = file.poeModel();
   const int n = model.dof();
-  JointTable table = readJointTable(o.poses, TableKind::Targets, n, o.robot.path);
-  std::vector<std::string> notes;
+  JointTable table = readJointTable(o.poses, TableKind::Targets, n, o.robot.path, csvJointNames(file));
+  std::vector<std::string> notes = table.notes;  // the columns ignored, then a unit conversion
   const double factor = unitFactor(table, file, notes);
   for (Pose& T : table.targets) {
     T.p *= factor;
@@ -279,7 +280,8 @@ int runCompensate(const CompensateOptions& o) {
                                             ": compensation needs one unit");
   }
   const int n = calibrated.dof();
-  const JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path);
+  const JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path, csvJointNames(calibrated_file));
+  for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
   IkOptions options;
   options.measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
   // the table's rows, row-major, as the matrix of joint vectors the shared loop takes

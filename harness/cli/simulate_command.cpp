@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/csv_columns.hpp"
 #include "io/joint_table.hpp"
 #include "cli/commands.hpp"
 #include "lowpair/kinematics.hpp"
@@ -61,6 +62,7 @@ struct Truth {
   std::string variable;     // whose joint variable q is
   std::string length_unit;  // "" when unknown
   bool model_file = false;
+  std::vector<std::string> joint_names;               // the names a --q-file header may use (csv_columns.hpp)
   std::vector<Target> file_targets;                    // a robot file's `targets:` (the default of --targets)
   std::function<Vec3(const std::string&)> sitePoint;  // a model file: a site's point in the tip frame
 };
@@ -80,6 +82,7 @@ Truth robotFileTruth(const SimulateOptions& o) {
   truth.variable = file.path;
   truth.length_unit = file.length_unit;
   truth.file_targets = file.targets;
+  for (const Joint& j : model->joints()) truth.joint_names.push_back(j.name);
   return truth;
 }
 
@@ -96,6 +99,7 @@ Truth modelTruth(const SimulateOptions& o) {
                                       : "MuJoCo's qpos - qpos0 of " + o.robot.path;
   truth.length_unit = sampled.length_unit;
   truth.ranges = sampled.ranges;
+  for (const mujoco::MujocoJoint& j : robot->joints()) truth.joint_names.push_back(j.name);
   std::vector<JointMotion> variables = std::move(sampled.motions);
   auto evaluator = std::make_shared<MujocoRobot::Evaluator>(*robot);
   truth.tipPose = [robot, evaluator, variables, x = VecX(n)](const VecX& q) mutable {
@@ -291,8 +295,12 @@ int simulate(const SimulateOptions& given) {
   setup.sd_rotation = o.noise_rotation;
   // --q-file: the joint vectors given, rows of the q1..qn columns (the reader's rules: io/measurements.hpp)
   const auto joints = static_cast<Eigen::Index>(truth.ranges.size());
-  std::vector<long long> q_lines;
-  const MatX Q = o.q_file.empty() ? MatX() : readJointValues(o.q_file, static_cast<int>(joints), o.robot.path, q_lines);
+  const JointTable q_table = o.q_file.empty() ? JointTable()
+                                              : readJointTable(o.q_file, TableKind::Joints, static_cast<int>(joints),
+                                                               o.robot.path, csvJointNames(truth.joint_names));
+  for (const std::string& note : q_table.notes) std::cerr << "note: " << note << "\n";
+  const std::vector<long long>& q_lines = q_table.lines;
+  const MatX Q = q_table.matrix();
   if (!o.q_file.empty()) o.poses = static_cast<int>(Q.rows());
   const long long rows = simulationRows(o.poses, setup, o.q_file.empty() ? "--poses" : o.q_file);
   if (blunders) checkBlunderCount(*blunders, rows, cliSpelling());

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "io/csv_columns.hpp"
 #include "io/output.hpp"
 #include "lowpair/tolerances.hpp"
 
@@ -61,8 +62,9 @@ CalibrationMeasurements readCalibrationMeasurements(const std::string& path, con
     }
   };
   CalibrationMeasurements out;
-  out.file = io::readMeasurements(path, check_matches);
+  out.file = io::readMeasurements(path, check_matches, io::csvJointNames(robot));
   io::MeasurementFile& m = out.file;
+  out.notes = m.notes;  // the columns ignored
   check_matches(m);  // a length_unit comment may also follow the header
   // joint values outside the nominal's ranges: a warning each (the first few), an error beyond
   // kFarOutsideRange range widths (a wrong column or unit, never fitted silently)

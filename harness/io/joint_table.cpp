@@ -2,10 +2,12 @@
 #include "io/joint_table.hpp"
 
 #include <array>
+#include <functional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "io/csv_columns.hpp"
 #include "io/csv_text.hpp"
 #include "io/measurements.hpp"
 #include "io/output.hpp"
@@ -24,13 +26,31 @@ double number(const std::string& token, const Fail& fail) {
 }
 
 const char* expectedColumns(TableKind kind) {
-  return kind == TableKind::Joints ? "(expected q1..qn, then any columns)"
+  return kind == TableKind::Joints ? "(expected q1..qn or the robot's joint names, and any other columns)"
                                    : "(expected [q1..qn,]x,y,z or [q1..qn,]x,y,z,qw,qx,qy,qz)";
+}
+
+// The header's columns (csv_columns.hpp) and what a table holds: joints (Joints), or x,y,z with or without a
+// quaternion and optionally joints (Targets). A measurement CSV's columns are not ignored in a joint table
+// (it reads a measurement file's joints); anything else is, with a note. @param fail throws "FILE:LINE: what"
+CsvColumns tableColumns(const std::vector<std::string>& fields, TableKind kind, const std::vector<std::string>& joint_names,
+                        const std::function<void(const std::string&)>& fail) {
+  const std::string expected = expectedColumns(kind);
+  CsvColumns columns = findCsvColumns(fields, joint_names, kMaxMeasurementJoints, expected, fail);
+  if (kind == TableKind::Joints) {
+    if (columns.joints.empty()) fail("no joint columns " + expected);
+    return columns;
+  }
+  columns.requireWholeGroups(expected, fail);
+  if (columns.target) fail("unexpected column 'target' " + expected);
+  if (!columns.position) fail("missing column 'x' " + expected);
+  return columns;
 }
 
 }  // namespace
 
-JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof, const std::string& robot_path) {
+JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof, const std::string& robot_path,
+                          const std::vector<std::string>& joint_names) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
@@ -41,7 +61,7 @@ JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof
   auto fail = [&](const std::string& what) { throw RobotFileError(path + ":" + std::to_string(lines.number()) + ": " + what); };
   std::string line;
   std::vector<std::string> fields;
-  size_t columns = 0;
+  CsvColumns columns;
   bool have_header = false;
   while (lines.next(line)) {
     if (lines.number() > kMaxMeasurementLines) {
@@ -53,49 +73,33 @@ JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof
     }
     splitCsvFields(line, fields);
     if (!have_header) {
-      size_t k = 0;
-      while (k < fields.size() && fields[k] == "q" + std::to_string(table.dof + 1)) {
-        if (++table.dof > kMaxMeasurementJoints) fail("more than " + std::to_string(kMaxMeasurementJoints) + " joint columns");
-        ++k;
-      }
-      if (kind == TableKind::Joints) {
-        if (table.dof == 0) fail("no joint columns: the first column is " + quotedFileText(fields[0]) + " " + expectedColumns(kind));
-      } else {
-        static const std::array<const char*, 7> names{"x", "y", "z", "qw", "qx", "qy", "qz"};
-        const size_t rest = fields.size() - k;
-        if (rest != 3 && rest != 7) {
-          fail(std::to_string(rest) + " columns after the joint columns " + expectedColumns(kind));
-        }
-        for (size_t c = 0; c < rest; ++c) {
-          if (fields[k + c] != names[c]) fail("unexpected column " + quotedFileText(fields[k + c]) + " " + expectedColumns(kind));
-        }
-        table.pose = rest == 7;
-      }
+      columns = tableColumns(fields, kind, joint_names, fail);
+      table.dof = columns.dof();
+      table.pose = kind == TableKind::Targets && columns.quaternion.has_value();
       if (table.dof != 0 || kind == TableKind::Joints) {
         if (table.dof != robot_dof) {
           fail("has " + std::to_string(table.dof) + " joint columns but " + robot_path + " has " + std::to_string(robot_dof) +
                " joints");
         }
       }
-      columns = fields.size();
+      if (const std::string note = columns.ignoredNote(path, lines.number()); !note.empty()) table.notes.push_back(note);
       have_header = true;
       continue;
     }
-    if (fields.size() != columns) {
-      fail("expected " + std::to_string(columns) + " fields, got " + std::to_string(fields.size()));
+    if (fields.size() != columns.count) {
+      fail("expected " + std::to_string(columns.count) + " fields, got " + std::to_string(fields.size()));
     }
     if (table.rows() >= static_cast<size_t>(kMaxMeasurements)) fail("more than " + std::to_string(kMaxMeasurements) + " rows");
     if (static_cast<long long>(table.rows() + 1) * table.dof > kMaxMeasurementJointValues) {
       fail("more than " + std::to_string(kMaxMeasurementJointValues) + " joint values in all (rows x joints)");
     }
-    for (int i = 0; i < table.dof; ++i) table.q.push_back(number(fields[static_cast<size_t>(i)], fail));
+    for (const size_t c : columns.joints) table.q.push_back(number(fields[c], fail));
     if (kind == TableKind::Targets) {
-      const size_t x = static_cast<size_t>(table.dof);
       Pose T;
-      for (int i = 0; i < 3; ++i) T.p[i] = number(fields[x + static_cast<size_t>(i)], fail);
+      for (int i = 0; i < 3; ++i) T.p[i] = number(fields[(*columns.position)[static_cast<size_t>(i)]], fail);
       if (table.pose) {
         double w[4];
-        for (int i = 0; i < 4; ++i) w[i] = number(fields[x + 3 + static_cast<size_t>(i)], fail);
+        for (int i = 0; i < 4; ++i) w[i] = number(fields[(*columns.quaternion)[static_cast<size_t>(i)]], fail);
         double norm = 0.0;
         const std::optional<Mat3> R = unitQuaternionRotation(w[0], w[1], w[2], w[3], norm);
         if (!R) fail("qw..qz is not a unit quaternion (norm " + shortest(norm) + ")");
@@ -110,11 +114,9 @@ JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof
   return table;
 }
 
-MatX readJointValues(const std::string& path, int robot_dof, const std::string& robot_path, std::vector<long long>& lines) {
-  JointTable table = readJointTable(path, TableKind::Joints, robot_dof, robot_path);
-  lines = std::move(table.lines);
+MatX JointTable::matrix() const {
   return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-      table.q.data(), static_cast<Eigen::Index>(lines.size()), table.dof);
+      q.data(), static_cast<Eigen::Index>(rows()), dof);
 }
 
 }  // namespace lowpair::io

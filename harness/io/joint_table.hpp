@@ -4,11 +4,12 @@
 /// (joint vectors) and `ik` (targets, optionally with seeds) (docs/ik.md "Input files").
 ///
 /// The measurement CSV's text rules (csv_text.hpp: comments, `# length_unit: U`, bounded lines, decimal
-/// numbers) and limits (measurements.hpp), with a header of `q1..qn` (n >= 0) and then
-/// - TableKind::Joints: anything (a measurement CSV's x, y, z, quaternion or target columns, a plan's
-///   nothing), not read; n >= 1;
-/// - TableKind::Targets: exactly `x,y,z` (positions) or `x,y,z,qw,qx,qy,qz` (poses, unit quaternion scalar
-///   first, normalized when within 1e-6 of unit norm).
+/// numbers), header rule (csv_columns.hpp: columns by name in any order, `q1..qn` or the robot's joint names,
+/// other columns ignored with a note) and limits (measurements.hpp), with
+/// - TableKind::Joints: the joints (n >= 1); a measurement CSV's x, y, z, quaternion and target columns are
+///   not read (and not noted);
+/// - TableKind::Targets: `x,y,z` (positions), with `qw,qx,qy,qz` (poses, unit quaternion taken by name,
+///   normalized when within 1e-6 of unit norm), optionally with the joints (a seed per row); no `target`.
 
 #include <string>
 #include <vector>
@@ -27,17 +28,18 @@ struct JointTable {
   std::vector<Pose> targets;     ///< Targets: one per row (rotation identity for positions)
   std::vector<long long> lines;  ///< the file line of each row
   std::string length_unit;       ///< from `# length_unit: U`; "" when none
+  std::vector<std::string> notes;  ///< one line each without "note: ": the ignored columns
   size_t rows() const { return lines.size(); }
+  /// The joint values as a rows x dof matrix.
+  MatX matrix() const;
   Eigen::Map<const VecX> row(size_t k) const { return {q.data() + k * static_cast<size_t>(dof), dof}; }
 };
 
-/// @param robot_dof the robot's joint count: the q columns must be as many (or none, Targets)
+/// @param robot_dof the robot's joint count: the joint columns must be as many (or none, Targets)
 /// @param robot_path for the message of a wrong joint count
+/// @param joint_names the robot's joint names a header may use instead of q1..qn (csvJointNames); none: q1..qn
 /// @throws RobotFileError `FILE:LINE: what` or `FILE: what`
-JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof, const std::string& robot_path);
-
-/// The joint values of a TableKind::Joints file as a rows x n matrix, and the file line of each row.
-/// @throws RobotFileError as readJointTable
-MatX readJointValues(const std::string& path, int robot_dof, const std::string& robot_path, std::vector<long long>& lines);
+JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof, const std::string& robot_path,
+                          const std::vector<std::string>& joint_names = {});
 
 }  // namespace lowpair::io

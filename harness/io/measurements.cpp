@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "lowpair/tolerances.hpp"
+#include "io/csv_columns.hpp"
 #include "io/csv_text.hpp"
 #include "io/robot_file.hpp"
 
@@ -28,43 +29,24 @@ const char* const kExpectedColumns = "(expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1
 // Text from the file for a message (robot_file.hpp).
 std::string quoted(const std::string& text) { return quotedFileText(text); }
 
-struct Columns {
-  int dof = 0;
-  Measure measure = Measure::Pose;
-  size_t count() const { return static_cast<size_t>(dof) + (measure == Measure::Pose ? 7 : measure == Measure::Targets ? 4 : 3); }
-};
-
-// The header's columns. @param fail throws "FILE:LINE: what"
-template <class Fail>
-Columns parseHeader(const std::vector<std::string>& fields, const Fail& fail) {
-  Columns columns;
-  size_t k = 0;
-  while (k < fields.size() && fields[k] == "q" + std::to_string(columns.dof + 1)) {
-    if (++columns.dof > kMaxMeasurementJoints) {
-      fail("more than " + std::to_string(kMaxMeasurementJoints) + " joint columns");
-    }
-    ++k;
+// The header's columns (csv_columns.hpp) and what a measurement file holds: joints, x,y,z, then a target
+// name or a quaternion (or neither). @param fail throws "FILE:LINE: what"
+CsvColumns measurementColumns(const std::vector<std::string>& fields, const std::vector<std::string>& joint_names,
+                              const std::function<void(const std::string&)>& fail) {
+  CsvColumns columns = findCsvColumns(fields, joint_names, kMaxMeasurementJoints, kExpectedColumns, fail);
+  columns.requireWholeGroups(kExpectedColumns, fail);
+  if (columns.joints.empty()) fail(std::string("no joint columns ") + kExpectedColumns);
+  if (!columns.position) fail(std::string("missing column 'x' ") + kExpectedColumns);
+  if (columns.target && columns.quaternion) {
+    fail("unexpected column " + quoted(fields[(*columns.quaternion)[0]]) + " " + kExpectedColumns);
   }
-  // the name expected at column k, or an error naming what is there instead
-  auto expect = [&](const char* name) {
-    if (k >= fields.size()) fail("missing column '" + std::string(name) + "' " + kExpectedColumns);
-    if (fields[k] != name || columns.dof == 0) fail("unexpected column " + quoted(fields[k]) + " " + kExpectedColumns);
-    ++k;
-  };
-  const bool targets = k < fields.size() && fields[k] == "target";
-  if (targets) expect("target");
-  for (const char* name : {"x", "y", "z"}) expect(name);
-  if (k == fields.size()) {
-    columns.measure = targets ? Measure::Targets : Measure::Position;
-    return columns;
-  }
-  if (targets) fail("unexpected column " + quoted(fields[k]) + " " + kExpectedColumns);
-  for (const char* name : {"qw", "qx", "qy", "qz"}) expect(name);
-  if (k < fields.size()) fail("unexpected column " + quoted(fields[k]) + " " + kExpectedColumns);
   return columns;
 }
 
-// A whole token as a finite number. @param fail throws "FILE:LINE: what"
+Measure measureOf(const CsvColumns& columns) {
+  return columns.target ? Measure::Targets : columns.quaternion ? Measure::Pose : Measure::Position;
+}
+
 // A token as a number (csv_text.hpp). @param fail throws "FILE:LINE: what"
 template <class Fail>
 double parseNumber(const std::string& token, const Fail& fail) {
@@ -132,7 +114,8 @@ bool isUnitLabel(const std::string& unit) {
   return !unit.empty() && unit.size() <= 16 && std::all_of(unit.begin(), unit.end(), [](char c) { return c > ' ' && c < 127; });
 }
 
-MeasurementFile readMeasurements(const std::string& path, const MeasurementHeaderCheck& check_header) {
+MeasurementFile readMeasurements(const std::string& path, const MeasurementHeaderCheck& check_header,
+                                 const std::vector<std::string>& joint_names) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw RobotFileError(path + ": is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
@@ -147,7 +130,7 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
   std::string line;
   std::vector<std::string> fields;
   bool have_header = false;
-  Columns columns;
+  CsvColumns columns;
   TargetNumbering targets;  // the target column's names, numbered
   while (lines.next(line)) {
     if (lines.number() > kMaxMeasurementLines) {
@@ -159,30 +142,30 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
     }
     splitCsvFields(line, fields);
     if (!have_header) {
-      columns = parseHeader(fields, fail);
-      file.dof = columns.dof;
-      file.measure = columns.measure;
+      columns = measurementColumns(fields, joint_names, fail);
+      file.dof = columns.dof();
+      file.measure = measureOf(columns);
+      if (const std::string note = columns.ignoredNote(path, lines.number()); !note.empty()) file.notes.push_back(note);
       have_header = true;
       if (check_header) check_header(file);
       continue;
     }
-    if (fields.size() != columns.count()) {
-      fail("expected " + std::to_string(columns.count()) + (columns.measure == Measure::Targets ? " fields" : " numbers") +
-           ", got " + std::to_string(fields.size()));
+    if (fields.size() != columns.count) {
+      fail("expected " + std::to_string(columns.count) +
+           (columns.target || !columns.ignored.empty() ? " fields" : " numbers") + ", got " + std::to_string(fields.size()));
     }
     if (file.measurements.size() >= static_cast<size_t>(kMaxMeasurements)) {
       fail("more than " + std::to_string(kMaxMeasurements) + " measurements");
     }
-    if (static_cast<long long>(file.measurements.size() + 1) * columns.dof > kMaxMeasurementJointValues) {
+    if (static_cast<long long>(file.measurements.size() + 1) * columns.dof() > kMaxMeasurementJointValues) {
       fail("more than " + std::to_string(kMaxMeasurementJointValues) + " joint values in all (measurements x joints)");
     }
     Measurement m;
-    const int n = columns.dof;
+    const int n = columns.dof();
     m.q.resize(n);
-    for (int i = 0; i < n; ++i) m.q[i] = parseNumber(fields[static_cast<size_t>(i)], fail);
-    const int xyz = columns.measure == Measure::Targets ? n + 1 : n;  // the column of x
-    if (columns.measure == Measure::Targets) {
-      const std::string& name = fields[static_cast<size_t>(n)];
+    for (int i = 0; i < n; ++i) m.q[i] = parseNumber(fields[columns.joints[static_cast<size_t>(i)]], fail);
+    if (columns.target) {
+      const std::string& name = fields[*columns.target];
       std::string problem;
       m.target = targets.number(name, problem);
       if (m.target < 0) {
@@ -190,10 +173,10 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
                              : "target " + quoted(name) + " " + problem + " (" + kTargetNameRule + ")");
       }
     }
-    for (int i = 0; i < 3; ++i) m.T_base_tool.p[i] = parseNumber(fields[static_cast<size_t>(xyz + i)], fail);
-    if (columns.measure == Measure::Pose) {
+    for (int i = 0; i < 3; ++i) m.T_base_tool.p[i] = parseNumber(fields[(*columns.position)[static_cast<size_t>(i)]], fail);
+    if (columns.quaternion) {
       double w[4];
-      for (int i = 0; i < 4; ++i) w[i] = parseNumber(fields[static_cast<size_t>(n + 3 + i)], fail);
+      for (int i = 0; i < 4; ++i) w[i] = parseNumber(fields[(*columns.quaternion)[static_cast<size_t>(i)]], fail);
       double norm = 0.0;
       const std::optional<Mat3> R = unitQuaternionRotation(w[0], w[1], w[2], w[3], norm);
       if (!R) {

@@ -9,10 +9,12 @@
 ///   One comment may state the length unit of `x,y,z`: `# length_unit: U` (U one token of 1-16 printable
 ///   ASCII characters, e.g. `mm`; `lowpair simulate` writes it when the unit is known). A second one with
 ///   another unit is an error. `calibrate` converts measurements in another unit it knows (m, mm, ...) to the nominal's.
-/// - Header: the first other line names the columns, exactly in this order (names trimmed of spaces and
-///   tabs): `q1,...,qn,x,y,z` (position measurements), `q1,...,qn,x,y,z,qw,qx,qy,qz` (pose measurements) or
-///   `q1,...,qn,target,x,y,z` (target measurements, Measure::Targets), with 1 <= n <= 1000 joints numbered
-///   contiguously from q1.
+/// - Header: the first other line names the columns (names trimmed of spaces and tabs), found by name in any
+///   order (csv_columns.hpp): `q1..qn` (or the robot's joint names, when the caller gives them) and `x,y,z`
+///   (position measurements), with `qw,qx,qy,qz` (pose measurements) or with `target` (target measurements,
+///   Measure::Targets), 1 <= n <= 1000 joints. Any other column is ignored (MeasurementFile::notes says
+///   which); a missing, repeated or misspelt (letter case) column is an error. The writer's order is
+///   `q1..qn,x,y,z[,qw,qx,qy,qz]` or `q1..qn,target,x,y,z`.
 ///   - `q1..qn`: the robot's joint variables (rad for revolute and helical joints, length for prismatic);
 ///   - `x,y,z`: the position of the tool frame in the base frame (`T_base_tool.p`), in the robot's length
 ///     unit; for target measurements, the measured point of the target named in `target` (the rotation
@@ -21,10 +23,11 @@
 ///     space, comma or quote), one row per target measured at a pose (the rows of one pose repeat its q).
 ///     The names are numbered in order of first appearance (MeasurementFile::target_names, indexed by
 ///     Measurement::target); at most 1000 distinct names (kMaxTargets);
-///   - `qw,qx,qy,qz`: the rotation of `T_base_tool` as a unit quaternion, scalar first. A norm within 1e-6
+///   - `qw,qx,qy,qz`: the rotation of `T_base_tool` as a unit quaternion, scalar qw (taken by name: ROS's
+///     `qx,qy,qz,qw` is the same rotation). A norm within 1e-6
 ///     of 1 is accepted (and normalized); q and -q are the same rotation (the writer makes qw >= 0).
-/// - Data: every other line is one measurement, exactly one number per column (the `target` column: a
-///   name, trimmed of spaces and tabs). A number is a whole token
+/// - Data: every other line is one measurement, exactly one field per column: a number in each column read
+///   (the `target` column: a name, trimmed of spaces and tabs), anything in an ignored one. A number is a whole token
 ///   (trimmed of spaces and tabs) read by strtod in the C locale (e.g. `-1.5`, `2e-3`, `0x1p-3`) and must
 ///   be finite.
 /// - Limits: at least one and at most 1,000,000 measurements, lines of at most 65,536 bytes (without the
@@ -60,6 +63,8 @@ struct MeasurementFile {
   /// Measure::Targets: the target names in order of first appearance (Measurement::target indexes them);
   /// empty otherwise.
   std::vector<std::string> target_names;
+  /// What the reader did that the user should know, one line each without "note: ": the ignored columns.
+  std::vector<std::string> notes;
 };
 
 /// Limits of the reader (see the file comment).
@@ -100,7 +105,9 @@ constexpr long long kMaxMeasurementLines = kMaxMeasurements + 100000LL;
 using MeasurementHeaderCheck = std::function<void(const MeasurementFile& header)>;
 
 /// Reads a measurement CSV. @throws RobotFileError (see the file comment)
-MeasurementFile readMeasurements(const std::string& path, const MeasurementHeaderCheck& check_header = {});
+/// @param joint_names the robot's joint names a header may use instead of q1..qn (csvJointNames); none: q1..qn
+MeasurementFile readMeasurements(const std::string& path, const MeasurementHeaderCheck& check_header = {},
+                                 const std::vector<std::string>& joint_names = {});
 
 /// The CSV text of `measurements`: `comments` as `# ...` lines (a comment holding line breaks becomes
 /// several), the header, then one line per measurement (17 significant digits; quaternion with qw >= 0

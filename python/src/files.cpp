@@ -149,7 +149,7 @@ Simulation readMeasurementFile(const std::string& path, const Robot* robot) {
   s.target_names = std::move(file.target_names);
   s.length_unit = file.length_unit;
   s.lines = std::move(file.lines);
-  s.notes = std::move(checked.notes);
+  s.notes = robot ? std::move(checked.notes) : std::move(file.notes);  // the columns ignored (and a unit conversion)
   s.comments.push_back("read by lowpair.read_measurements (Python) from " + path +
                        (robot ? " for " + robot->subject() : std::string()));
   if (io::isUnitLabel(s.length_unit)) s.comments.push_back("length_unit: " + s.length_unit);

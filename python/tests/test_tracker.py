@@ -326,3 +326,26 @@ def test_calibrate_warns_about_joint_values_just_outside_the_ranges():
         warnings.simplefilter("error")
         with pytest.raises(UserWarning, match=r"^q: \[3, 0\] = 2\.9 "):
             lowpair.calibrate(corke, q, sim.positions)
+
+
+def test_read_measurements_finds_columns_by_name(tmp_path):
+    # columns in any order, the robot's joint names (j1..j6), a quaternion in ROS's order, an ignored column
+    robot = lowpair.load("models/puma560_okamura_nominal.yaml")
+    canonical = tmp_path / "c.csv"
+    canonical.write_text("q1,q2,q3,q4,q5,q6,x,y,z,qw,qx,qy,qz\n0.1,0.2,0.3,0.4,0.5,0.6,1,2,3,0.6,0,0.8,0\n")
+    shuffled = tmp_path / "s.csv"
+    shuffled.write_text("time,qx,qy,qz,qw,z,y,x,j6,j5,j4,j3,j2,j1\n7,0,0.8,0,0.6,3,2,1,0.6,0.5,0.4,0.3,0.2,0.1\n")
+    a = lowpair.read_measurements(str(canonical), robot)
+    b = lowpair.read_measurements(str(shuffled), robot)
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.positions, b.positions)
+    assert np.array_equal(a.rotations, b.rotations)
+    assert a.notes == []
+    assert b.notes == [str(shuffled) + ":1: ignored the column 'time' (not a column lowpair reads)"]
+    # without a robot: q1..qn only, the note as well
+    plain = tmp_path / "p.csv"
+    plain.write_text("x,y,z,time,q1\n1,2,3,7,0.5\n")
+    assert lowpair.read_measurements(str(plain), None).notes == [str(plain) + ":1: ignored the column 'time' (not a column lowpair reads)"]
+    with pytest.raises(lowpair.Error, match=r"joint columns 'q1' and 'j2': q1..qn or the robot's joint names, not both"):
+        mixed = tmp_path / "m.csv"
+        mixed.write_text("q1,j2,q3,q4,q5,q6,x,y,z\n0,0,0,0,0,0,1,2,3\n")
+        lowpair.read_measurements(str(mixed), robot)

@@ -1,4 +1,5 @@
-// Fuzz target: the measurement CSV reader (harness/measurements.hpp). Allowed: RobotFileError. An accepted
+// Fuzz target: the measurement CSV reader (harness/measurements.hpp), columns by name with six joint names
+// (csv_columns.hpp). Allowed: RobotFileError. An accepted
 // file's numbers are finite, its rotations orthonormal, its shape as documented; formatMeasurements of it
 // reads back to the same joint values and positions.
 #include "fuzz_common.hpp"
@@ -8,12 +9,15 @@
 // the harness rooms this test reads through
 using namespace lowpair::io;
 
+// Joint names a header may use instead of q1..qn (seeds/measurements/named_joints.csv).
+const std::vector<std::string> kJointNames{"base", "shoulder", "elbow", "wrist1", "wrist2", "wrist3"};
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const lowpair_fuzz::TempFile file(".csv");
   static const lowpair_fuzz::TempFile again(".csv");
   lowpair::io::MeasurementFile m;
   try {
-    m = lowpair::io::readMeasurements(file.write(data, size));
+    m = lowpair::io::readMeasurements(file.write(data, size), {}, kJointNames);
   } catch (const lowpair::io::RobotFileError&) {
     return 0;
   }
