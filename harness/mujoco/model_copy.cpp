@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "io/robot_file.hpp"
+#include "mujoco/messages.hpp"
 #include "io/urdf_reader.hpp"
 
 namespace lowpair::mujoco {
@@ -56,19 +57,6 @@ std::string attr(const XMLElement* e, const char* name) {
   return v ? v : "";
 }
 
-// MuJoCo's messages on one line (its load errors span several).
-std::string oneLine(std::string s) {
-  for (char& ch : s) {
-    if (ch == '\n' || ch == '\r' || ch == '\t') ch = ' ';
-  }
-  std::string out;
-  for (char ch : s) {
-    if (ch == ' ' && !out.empty() && out.back() == ' ') continue;
-    out += ch;
-  }
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  return out;
-}
 
 // Calls f(a, b) for every pair of elements at the same place in two trees of the same shape.
 void forEachPair(const XMLElement* a, const XMLElement* b, const std::function<void(const XMLElement*, const XMLElement*)>& f) {
@@ -160,7 +148,7 @@ class Copier {
       }
       const std::string msg = error;
       if (mjcf && dropUnknown(msg)) continue;
-      std::string what = "MuJoCo could not load the model: " + remapLines(oneLine(msg));
+      std::string what = "MuJoCo could not load the model: " + remapLines(mujocoLine(msg));
       if (msg.find("pos and ipos are both undefined") != std::string::npos) {
         what += " (with compiler coordinate='global' a body without pos takes its frame from its geoms, which "
                 "a kinematics-only copy drops: give the body a pos)";

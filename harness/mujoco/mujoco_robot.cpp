@@ -15,6 +15,7 @@
 
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
+#include "mujoco/messages.hpp"
 #include "mujoco/model_copy.hpp"
 #include "io/robot_file.hpp"
 #include "io/urdf_reader.hpp"
@@ -39,34 +40,6 @@ Pose poseFrom(const mjtNum* pos, const mjtNum* mat) {
 }  // namespace
 
 namespace {
-
-// MuJoCo's messages on one line (its load errors and warnings span several).
-std::string oneLine(const char* text) {
-  std::string s = text ? text : "";
-  for (char& ch : s) {
-    if (ch == '\n' || ch == '\r' || ch == '\t') ch = ' ';
-  }
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
-}
-
-// The model being loaded, for MuJoCo's error handler (which gets no context).
-thread_local std::string g_loading = "MuJoCo";
-
-// MuJoCo's default handlers print to stdout (breaking --json) and append to MUJOCO_LOG.TXT in the
-// working directory. Ours: warnings as one "note:" line on stderr; a fatal error (MuJoCo must not
-// continue after one) as the CLI's one "error: FILE: what" line and exit status 2.
-void installMujocoHandlers() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    mju_user_warning = [](const char* msg) { std::fprintf(stderr, "note: MuJoCo: %s\n", oneLine(msg).c_str()); };
-    mju_user_error = [](const char* msg) {
-      std::fprintf(stderr, "error: %s: MuJoCo: %s\n", g_loading.c_str(), oneLine(msg).c_str());
-      std::fflush(stderr);
-      std::_Exit(2);
-    };
-  });
-}
 
 // A hinge's qpos0 (its ref) beyond this, in rad, is no usable zero: qpos = qpos0 + x rounds x to
 // ulp(qpos0) / 2 (1.1e-13 rad at 1000), and the acceptance bound is 1e-12. A slide's bound is this many
@@ -129,7 +102,7 @@ std::string namesOf(const mjModel* m, int type, int count, int first) {
     const char* name = mj_id2name(m, type, id);
     if (!name || !*name) continue;
     ++named;
-    if (listed < 20) s += (listed++ ? ", '" : "'") + oneLine(name) + "'";
+    if (listed < 20) s += (listed++ ? ", '" : "'") + mujocoLine(name) + "'";
   }
   if (named > listed) s += ", ... (" + std::to_string(named) + " named)";
   return listed ? s : "none named";
@@ -395,14 +368,14 @@ std::vector<JointSpec> extractJoints(const Chain& chain, const mjData* d,
 MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const std::string& base)
     : path_(path), tip_(tip) {
   installMujocoHandlers();
-  g_loading = path;
+  setLoadingModel(path);
   std::vector<std::string> notes;
   {
     const ModelCopy copy(path, &notes);  // kinematics only; it loaded once already
     char error[1000] = "";
     model_.reset(mj_loadXML(copy.path().c_str(), nullptr, error, sizeof error));
-    if (!model_) fail(path, "MuJoCo could not load the model: " + oneLine(error));
-    if (error[0]) notes.push_back(path + ": MuJoCo: " + oneLine(error));  // a warning
+    if (!model_) fail(path, "MuJoCo could not load the model: " + mujocoLine(error));
+    if (error[0]) notes.push_back(path + ": MuJoCo: " + mujocoLine(error));  // a warning
   }
   const mjModel* m = model_.get();
 
@@ -481,17 +454,17 @@ Vec3 MujocoRobot::siteInTip(const std::string& site) const {
   for (int s = 0; s < m->nsite; ++s) {
     const char* name = mj_id2name(m, mjOBJ_SITE, s);
     if (s == tip_site_ || !name || !*name || !fixedBelowTip(m->site_bodyid[s])) continue;
-    if (listed++ < 20) usable += (usable.empty() ? "'" : ", '") + oneLine(name) + "'";
+    if (listed++ < 20) usable += (usable.empty() ? "'" : ", '") + mujocoLine(name) + "'";
   }
   if (listed > 20) usable += ", ... (" + std::to_string(listed) + ")";
   if (usable.empty()) usable = "none";
   const int id = mj_name2id(m, mjOBJ_SITE, site.c_str());
   if (id < 0) {
-    fail(path_, "target '" + oneLine(site.c_str()) + "' is not a site; sites fixed to the tip '" + tip_ + "': " + usable);
+    fail(path_, "target '" + mujocoLine(site.c_str()) + "' is not a site; sites fixed to the tip '" + tip_ + "': " + usable);
   }
   const int body = m->site_bodyid[id];
   if (!fixedBelowTip(body)) {
-    fail(path_, "site '" + oneLine(site.c_str()) + "' is on body '" + nameOf(m, mjOBJ_BODY, body, "body") +
+    fail(path_, "site '" + mujocoLine(site.c_str()) + "' is on body '" + nameOf(m, mjOBJ_BODY, body, "body") +
                     "', which is not fixed to the tip '" + tip_ + "' (body '" + nameOf(m, mjOBJ_BODY, tip_owner, "body") +
                     "'): a target must move with the tool; sites fixed to the tip: " + usable);
   }
@@ -502,7 +475,7 @@ Vec3 MujocoRobot::siteInTip(const std::string& site) const {
   const Vec3 p_world_site = Eigen::Map<const Vec3>(d->site_xpos + 3 * id);
   const Vec3 p_tip_site = T_world_tip.R.transpose() * (p_world_site - T_world_tip.p);
   if (!(p_tip_site.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
-    fail(path_, "site '" + oneLine(site.c_str()) + "' is not at a finite point of magnitude at most 1e100 from the tip");
+    fail(path_, "site '" + mujocoLine(site.c_str()) + "' is not at a finite point of magnitude at most 1e100 from the tip");
   }
   return p_tip_site;
 }
