@@ -1712,7 +1712,7 @@ PYBIND11_MODULE(_lowpair, m) {
           "q",
           [](const Simulation& s) {
             return vectorRows(s.measurements, s.measurements.front().q.size(),
-                              [](const Measurement& m) -> const VecX& { return m.q; });
+                              [](const Measurement& row) -> const VecX& { return row.q; });
           },
           "(M, n): the joint values of each row (targets: a pose's q repeated on each of its targets' rows).")
       .def_property_readonly(

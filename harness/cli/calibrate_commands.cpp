@@ -154,9 +154,9 @@ void addCalibrateCommands(CLI::App& app, Commands& commands) {
         throw RobotFileError(validation->path + ": target " + *unknown + " is not measured in " + fit.path);
       }
     }
-    CalibrationRequest request = o->calibration;
-    if (request.parameters && request.parameters->empty()) request.parameters.reset();  // --parameters "": the default
-    CalibrationReport report = runCalibration(file, nominal, std::move(fit), std::move(validation), request, cliSpelling());
+    CalibrationRequest run_request = o->calibration;
+    if (run_request.parameters && run_request.parameters->empty()) run_request.parameters.reset();  // --parameters "": the default
+    CalibrationReport report = runCalibration(file, nominal, std::move(fit), std::move(validation), run_request, cliSpelling());
     report.notes = notes;
     const CalibrationResult& result = report.result;
     if (!o->out.empty() && result.accepted) {
