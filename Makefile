@@ -6,6 +6,9 @@ PACKAGES := cmake g++ make libeigen3-dev libmujoco-dev libqhull-dev liburdfdom-d
             pybind11-dev python3-numpy python3-pytest
 BUILD ?= build
 JOBS ?= $(shell nproc)
+# CMAKE_ARGS: extra configure arguments for build/ and the sanitizer build, e.g. CMAKE_ARGS=-DLOWPAIR_WERROR=ON (CI:
+# .ci/run); given, they reconfigure an existing build tree (cached options stay until changed)
+CMAKE_ARGS ?=
 
 .PHONY: all deps configure build check run clean
 
@@ -23,7 +26,7 @@ deps:
 	fi
 
 configure: deps
-	@test -f $(BUILD)/CMakeCache.txt || cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	@test -f $(BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
 
 build: configure
 	cmake --build $(BUILD) -j$(JOBS)
@@ -70,8 +73,9 @@ SAN_SKIP_MORE ?=
 SAN_SKIP := ^(package_consumer|HostileInput.ThreadThatCannotBeCreatedDoesNotAbort|HostileInput.OutOfMemoryIsOneLine|PlanCalibration.PlannedFifteenPosesCalibrateBetterThanRandomOnes|PlanExchange.NoSingleSwapImprovesThePlan$(SAN_SKIP_MORE))$$
 .PHONY: sanitize sanitize-build
 sanitize-build: deps
-	@test -f $(SAN_BUILD)/CMakeCache.txt || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) \
-	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DLOWPAIR_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)"
+	@test -f $(SAN_BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) \
+	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DLOWPAIR_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)" \
+	  $(CMAKE_ARGS)
 	cmake --build $(SAN_BUILD) -j$(JOBS)
 sanitize: sanitize-build
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \

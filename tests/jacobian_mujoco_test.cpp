@@ -237,8 +237,8 @@ TEST_P(JacobianVsMujoco, SpatialBodyGeometric) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedRobots, JacobianVsMujoco, ::testing::ValuesIn(scenarioPaths()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           std::string name = fs::path(info.param).stem().string();
+                         [](const ::testing::TestParamInfo<std::string>& scenario) {
+                           std::string name = fs::path(scenario.param).stem().string();
                            for (char& ch : name) {
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            }

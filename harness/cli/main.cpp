@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 
+#include <lowpair/version.hpp>
+
 #include "cli/commands.hpp"
 #include "io/one_line.hpp"
 
@@ -97,7 +99,7 @@ int main(int argc, char** argv) {
   using lowpair::io::RobotFileError;
   CLI::App app{"lowpair: POE and D-H kinematics of serial robots (Wu et al. 2019; Paden & Sastry 1984)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "lowpair " LOWPAIR_VERSION);  // LOWPAIR_VERSION: the CMake project version
+  app.set_version_flag("--version", "lowpair " LOWPAIR_VERSION_STRING);  // lowpair/version.hpp: the CMake project version
   Commands commands;
   addConvertCommands(app, commands);
   addJacobianCommands(app, commands);

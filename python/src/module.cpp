@@ -16,6 +16,7 @@
 #include "common.hpp"
 #include "expose.hpp"
 #include "io/one_line.hpp"
+#include "lowpair/version.hpp"
 
 using namespace lowpair;
 using namespace lowpair::python;
@@ -58,5 +59,5 @@ PYBIND11_MODULE(_lowpair, m) {
   exposeIk(m);
   exposePlan(m);
   exposeFiles(m);
-  m.attr("__version__") = "0.2.0";
+  m.attr("__version__") = LOWPAIR_VERSION_STRING;  // lowpair/version.hpp, generated from the CMake project version
 }

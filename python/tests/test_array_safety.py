@@ -71,3 +71,10 @@ def test_ik_rows_json_is_built_when_asked(puma):
     assert [row["line"] for row in rows] == [0, 1, 2, 3]
     assert all(row["seed"] == "file" for row in rows)
     assert all("seed" not in row for row in lowpair.compensate(puma, puma, q).to_dict()["rows"])
+
+
+def test_version_is_the_packages():
+    # lowpair/version.hpp, generated from the CMake project version (the CLI's --version reads it too)
+    import re
+    cmake = open("CMakeLists.txt").read()
+    assert lowpair.__version__ == re.search(r"project\(lowpair VERSION (\d+\.\d+\.\d+)", cmake).group(1)

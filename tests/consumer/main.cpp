@@ -1,6 +1,6 @@
 // Consumer of the installed lowpair package: a planar 2R arm through the public API, checked against
-// the pose worked out by hand, and a q of the wrong size rejected with its message. Exit 0 if both hold,
-// 1 otherwise.
+// the pose worked out by hand, a q of the wrong size rejected with its message, and the installed
+// lowpair/version.hpp agreeing with the package's version. Exit 0 if all hold, 1 otherwise.
 
 #include <cmath>
 #include <cstdio>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <lowpair/kinematics.hpp>
+#include <lowpair/version.hpp>
 
 int main() {
   // Two revolute joints about z: the first through the origin, the second through (1, 0, 0);
@@ -58,5 +59,13 @@ int main() {
     std::printf("consumer: rejected: %s\n", e.what());
     if (e.what() != expected) return 1;
   }
+
+  // The header and the CMake package say the same version (LOWPAIR_PACKAGE_VERSION: find_package's lowpair_VERSION)
+  static_assert(lowpair::versionNumber() ==
+                    LOWPAIR_VERSION_MAJOR * 10000 + LOWPAIR_VERSION_MINOR * 100 + LOWPAIR_VERSION_PATCH,
+                "versionNumber() and the version macros disagree");
+  std::printf("consumer: lowpair/version.hpp says %s, the package %s\n", lowpair::kVersionString,
+              LOWPAIR_PACKAGE_VERSION);
+  if (std::string(LOWPAIR_VERSION_STRING) != LOWPAIR_PACKAGE_VERSION) return 1;
   return 0;
 }
