@@ -148,7 +148,7 @@ class Copier {
       }
       const std::string msg = error;
       if (mjcf && dropUnknown(msg)) continue;
-      std::string what = "MuJoCo could not load the model: " + remapLines(mujocoLine(msg));
+      std::string what = "MuJoCo could not load the model: " + remapLines(mujocoLine(msg.c_str()));
       if (msg.find("pos and ipos are both undefined") != std::string::npos) {
         what += " (with compiler coordinate='global' a body without pos takes its frame from its geoms, which "
                 "a kinematics-only copy drops: give the body a pos)";
