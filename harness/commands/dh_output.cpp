@@ -22,21 +22,24 @@ void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const D
   const int ld = io::dhLengthDecimals(dh.conversion.size);
   const std::string pu = pitchUnit(file);
   const double pitch_factor = file.angleFactor();
+  // a Hayati row (conventions.md) has a beta column: printed only when some row is one
+  bool hayati = m.base().hayati();
+  for (const DhJoint& j : m.joints()) hayati = hayati || j.link.hayati();
   auto header = [&] {
-    std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s\n", "row", "joint", "theta(deg)",
+    std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s", "row", "joint", "theta(deg)",
                   ("d(" + u + ")").c_str(), "alpha(deg)", ("a(" + u + ")").c_str(), ("pitch(" + pu + ")").c_str(), "scale");
-    out << line;
+    out << line << (hayati ? "      beta(deg)" : "") << "\n";
   };
-  auto tableRow = [&](const std::string& label, const std::string& type, const std::array<std::string, 6>& e) {
-    std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s\n", label.c_str(), type.c_str(),
-                  e[0].c_str(), e[1].c_str(), e[2].c_str(), e[3].c_str(), e[4].c_str(), e[5].c_str());
+  auto tableRow = [&](const std::string& label, const std::string& type, const std::array<std::string, 7>& e) {
+    std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s %14s\n", label.c_str(), type.c_str(),
+                  e[0].c_str(), e[1].c_str(), e[2].c_str(), e[3].c_str(), e[4].c_str(), e[5].c_str(), e[6].c_str());
     std::string text = line;
     text.erase(text.find_last_not_of(" \n") + 1);  // no trailing blanks where a row has no pitch or scale
     out << text << "\n";
   };
-  auto values = [&](const DhParams& v) -> std::array<std::string, 6> {
+  auto values = [&](const DhParams& v) -> std::array<std::string, 7> {
     return {fixed(v.theta * kDeg, io::kDhAngleDecimals), fixed(v.d, ld), fixed(v.alpha * kDeg, io::kDhAngleDecimals),
-            fixed(v.a, ld), "", ""};
+            fixed(v.a, ld), "", "", v.hayati() ? fixed(v.beta * kDeg, io::kDhAngleDecimals) : ""};
   };
   header();
   tableRow("base", "", values(m.base()));
@@ -49,12 +52,13 @@ void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const D
     e[5] = scale;
     tableRow(std::to_string(i + 1), jointTypeName(j.type), e);
   }
-  tableRow("tool", "", {fixed(m.toolTheta() * kDeg, io::kDhAngleDecimals), fixed(m.toolD(), ld), "", "", "", ""});
+  tableRow("tool", "", {fixed(m.toolTheta() * kDeg, io::kDhAngleDecimals), fixed(m.toolD(), ld), "", "", "", "", ""});
 
   // "fixed": set by the convention (a row placed by a prismatic axis has a = d = 0), not measured
   auto sdOf = [](double sd, double factor, bool is_fixed) { return is_fixed ? std::string("fixed") : deviation(sd * factor); };
-  auto deviations = [&](const DhParams& sd, const DhUncertainty::Fixed& f) -> std::array<std::string, 6> {
-    return {sdOf(sd.theta, kDeg, false), sdOf(sd.d, 1.0, f.d), sdOf(sd.alpha, kDeg, false), sdOf(sd.a, 1.0, f.a), "", ""};
+  auto deviations = [&](const DhParams& sd, const DhUncertainty::Fixed& f) -> std::array<std::string, 7> {
+    return {sdOf(sd.theta, kDeg, false), sdOf(sd.d, 1.0, f.d), sdOf(sd.alpha, kDeg, false), sdOf(sd.a, 1.0, f.a), "", "",
+            sd.hayati() ? deviation(sd.beta * kDeg) : ""};
   };
   out << "\n" << deviations_title << " (same units; fixed: set by the D-H convention):\n";
   header();
@@ -66,7 +70,7 @@ void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const D
     e[5] = deviation(dh.scale[k]);
     tableRow(std::to_string(i + 1), jointTypeName(m.joint(i).type), e);
   }
-  tableRow("tool", "", {deviation(dh.tool_theta * kDeg), deviation(dh.tool_d), "", "", "", ""});
+  tableRow("tool", "", {deviation(dh.tool_theta * kDeg), deviation(dh.tool_d), "", "", "", "", ""});
 }
 
 json dhUncertaintyJson(const DhUncertainty& dh) {
@@ -75,10 +79,15 @@ json dhUncertaintyJson(const DhUncertainty& dh) {
     json fixed = json::array();
     if (f.d) fixed.push_back("d");
     if (f.a) fixed.push_back("a");
-    return json{{"theta", v.theta}, {"d", v.d}, {"alpha", v.alpha}, {"a", v.a},
+    json out = json{{"theta", v.theta}, {"d", v.d}, {"alpha", v.alpha}, {"a", v.a},
                 {"sd", {{"theta", finiteOrNull(sd.theta)}, {"d", finiteOrNull(sd.d)}, {"alpha", finiteOrNull(sd.alpha)},
                         {"a", finiteOrNull(sd.a)}}},
                 {"fixed", fixed}};
+    if (v.hayati()) {  // beta only in a Hayati row (conventions.md)
+      out["beta"] = v.beta;
+      out["sd"]["beta"] = finiteOrNull(sd.beta);
+    }
+    return out;
   };
   const DhModel& m = dh.conversion.model;
   json joints = json::array();

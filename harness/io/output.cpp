@@ -17,7 +17,17 @@ using nlohmann::json;
 namespace {
 constexpr double kDeg = 180.0 / M_PI;
 
-json paramsJson(const DhParams& r) { return {{"theta", r.theta}, {"d", r.d}, {"alpha", r.alpha}, {"a", r.a}}; }
+// beta only in a Hayati row (conventions.md, "Hayati rows"): a row without it is standard
+json paramsJson(const DhParams& r) {
+  json j = {{"theta", r.theta}, {"d", r.d}, {"alpha", r.alpha}, {"a", r.a}};
+  if (r.hayati()) j["beta"] = r.beta;
+  return j;
+}
+
+bool anyHayati(const DhModel& m) {
+  return m.base().hayati() ||
+         std::any_of(m.joints().begin(), m.joints().end(), [](const DhJoint& j) { return j.link.hayati(); });
+}
 
 std::string unitOr(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
 
@@ -158,6 +168,7 @@ json modifiedDhJson(const RobotFile& file, const DhConversion& c, const FkCheck&
   j["joints"] = json::array();
   for (const ModifiedDhJoint& mj : m.joints) {
     json row = {{"type", jointTypeName(mj.type)}, {"alpha", mj.alpha}, {"a", mj.a}, {"theta", mj.theta}, {"d", mj.d}};
+    if (mj.beta != 0.0) row["beta"] = mj.beta;  // the previous row is a Hayati row
     if (!mj.name.empty()) row["name"] = mj.name;
     if (mj.type == JointType::Helical) row["pitch"] = mj.pitch;
     row["scale"] = mj.scale;
@@ -210,21 +221,29 @@ void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c, co
   const std::string u = unitOr(file);
   out << robotLabel(file) << ": standard D-H (Wu et al. eq. 10), L = " << fixed(c.size)
       << " " << u << "\n";
-  out << "H = A(base) * prod_i [Q_i(scale_i q_i) * A(row i)] * Rz(theta_T) Tz(d_T),  A = Rz(theta) Tz(d) Rx(alpha) Tx(a)\n\n";
+  out << "H = A(base) * prod_i [Q_i(scale_i q_i) * A(row i)] * Rz(theta_T) Tz(d_T),  A = Rz(theta) Tz(d) Rx(alpha) Tx(a)\n";
+  const bool hayati = anyHayati(c.model);
+  if (hayati) out << "a row with beta is a Hayati row: A = Rz(theta) Tx(a) Rx(alpha) Ry(beta), d = 0\n";
+  out << "\n";
   const int ld = dhLengthDecimals(c.size);
   const auto len = [ld](double x) { return fixed(x, ld); };
   const auto deg = [](double x) { return fixed(x * kDeg, kDhAngleDecimals); };
   char line[256];
-  std::snprintf(line, sizeof line, "%-6s %-9s %-9s %14s %16s %14s %16s %14s %12s\n", "row", "frames", "joint",
+  std::snprintf(line, sizeof line, "%-6s %-9s %-9s %14s %16s %14s %16s %14s %12s", "row", "frames", "joint",
                 "theta(deg)", ("d(" + u + ")").c_str(), "alpha(deg)", ("a(" + u + ")").c_str(),
                 ("pitch(" + pitchUnit(file) + ")").c_str(), "scale");
-  out << line;
+  out << line << (hayati ? "      beta(deg)" : "") << "\n";
   auto row = [&](const std::string& label, const std::string& frames, const std::string& type, const DhParams& r,
                  const std::string& pitch, const std::string& scale) {
-    std::snprintf(line, sizeof line, "%-6s %-9s %-9s %14s %16s %14s %16s %14s %12s\n", label.c_str(), frames.c_str(),
+    std::snprintf(line, sizeof line, "%-6s %-9s %-9s %14s %16s %14s %16s %14s %12s", label.c_str(), frames.c_str(),
                   type.c_str(), deg(r.theta).c_str(), len(r.d).c_str(), deg(r.alpha).c_str(), len(r.a).c_str(),
                   pitch.c_str(), scale.c_str());
     out << line;
+    if (r.hayati()) {
+      std::snprintf(line, sizeof line, " %14s", deg(r.beta).c_str());
+      out << line;
+    }
+    out << "\n";
   };
   row("base", "B->0", "", c.model.base(), "", "");
   const int n = c.model.dof();
@@ -250,15 +269,23 @@ void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversio
   out << robotLabel(file) << ": modified (Craig) D-H, L = " << fixed(c.size) << " " << u
       << "\n";
   out << "H = Rz(theta_B) Tz(d_B) * prod_i [Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + q) Tz(d_i)] * Rx(alpha_n) Tx(a_n) "
-         "Rz(theta_T) Tz(d_T)\n\n";
+         "Rz(theta_T) Tz(d_T)\n";
+  const bool hayati = anyHayati(c.model);
+  if (hayati) out << "beta: of a Hayati row, Ry(beta) after Tx(a_{i-1})\n";
+  out << "\n";
   const int ld = dhLengthDecimals(c.size);
   const auto len = [ld](double x) { return fixed(x, ld); };
   const auto deg = [](double x) { return fixed(x * kDeg, kDhAngleDecimals); };
   char line[256];
-  std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s\n", "row", "joint", "alpha(deg)",
+  std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s", "row", "joint", "alpha(deg)",
                 ("a(" + u + ")").c_str(), "theta(deg)", ("d(" + u + ")").c_str(),
                 ("pitch(" + pitchUnit(file) + ")").c_str(), "scale");
-  out << line;
+  out << line << (hayati ? "      beta(deg)" : "") << "\n";
+  const auto beta = [&](double b) {
+    char cell[32];
+    std::snprintf(cell, sizeof cell, " %14s", deg(b).c_str());
+    return hayati && b != 0.0 ? std::string(cell) : std::string();
+  };
   std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s\n", "base", "", "", "", deg(m.base_theta).c_str(),
                 len(m.base_d).c_str());
   out << line;
@@ -267,14 +294,16 @@ void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversio
     const std::string pitch = j.type == JointType::Helical ? fixed(j.pitch * file.angleFactor(), 8) : "";
     char scale[32];
     std::snprintf(scale, sizeof scale, "%.9g", j.scale);
-    std::snprintf(line, sizeof line, "%-6zu %-9s %14s %16s %14s %16s %14s %12s\n", i + 1, jointTypeName(j.type),
+    std::snprintf(line, sizeof line, "%-6zu %-9s %14s %16s %14s %16s %14s %12s", i + 1, jointTypeName(j.type),
                   deg(j.alpha).c_str(), len(j.a).c_str(), deg(j.theta).c_str(), len(j.d).c_str(),
                   pitch.c_str(), scale);
-    out << line;
+    out << line << beta(j.beta) << "\n";
   }
-  std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s\n", "tool", "", deg(m.tool_alpha).c_str(),
+  std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s", "tool", "", deg(m.tool_alpha).c_str(),
                 len(m.tool_a).c_str(), deg(m.tool_theta).c_str(), len(m.tool_d).c_str());
-  out << line << "\n";
+  out << line;
+  if (m.tool_beta != 0.0) out << std::string(28, ' ') << beta(m.tool_beta);
+  out << "\n\n";
   printWarnings(out, c, check);
 }
 

@@ -257,11 +257,16 @@ RobotFile readRobotFile(const std::string& path) {
         r.d = in.numberOr(node, "d", 0.0, where);
         r.alpha = in.numberOr(node, "alpha", 0.0, where) * k;
         r.a = in.numberOr(node, "a", 0.0, where);
+        // beta: a Hayati row Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta) (conventions.md, "Hayati rows")
+        if (node["beta"]) {
+          r.kind = DhRowKind::Hayati;
+          r.beta = in.number(node["beta"], where + ".beta") * k;
+        }
         return r;
       };
       DhParams base;
       if (dh["base"]) {
-        in.allowOnly(dh["base"], "dh.base", {"theta", "d", "alpha", "a"});
+        in.allowOnly(dh["base"], "dh.base", {"theta", "d", "alpha", "a", "beta"});
         base = params(dh["base"], "dh.base");
       }
       const YAML::Node joints = dh["joints"];
@@ -272,7 +277,7 @@ RobotFile readRobotFile(const std::string& path) {
       for (size_t i = 0; i < joints.size(); ++i) {
         const YAML::Node j = joints[i];
         const std::string where = "dh.joints[" + std::to_string(i) + "]";
-        in.allowOnly(j, where, {"name", "type", "theta", "d", "alpha", "a", "pitch", "scale", "range"});
+        in.allowOnly(j, where, {"name", "type", "theta", "d", "alpha", "a", "beta", "pitch", "scale", "range"});
         DhJoint dj;
         if (j["name"]) dj.name = in.string(j["name"], where + ".name");
         const auto type = in.type(j["type"], where + ".type");
@@ -396,8 +401,11 @@ std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const
   YAML::Emitter out;
   beginRobotFile(out, like, name, description, comments);
   auto row = [&](const DhParams& r) {
-    out << YAML::Key << "theta" << YAML::Value << r.theta / k << YAML::Key << "d" << YAML::Value << r.d;
+    out << YAML::Key << "theta" << YAML::Value << r.theta / k;
+    // a Hayati row's d is 0 (written only when a folded offset of a sliding joint moved it)
+    if (!r.hayati() || r.d != 0.0) out << YAML::Key << "d" << YAML::Value << r.d;
     out << YAML::Key << "alpha" << YAML::Value << r.alpha / k << YAML::Key << "a" << YAML::Value << r.a;
+    if (r.hayati()) out << YAML::Key << "beta" << YAML::Value << r.beta / k;
   };
   out << YAML::Key << "dh" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "base" << YAML::Value << YAML::Flow << YAML::BeginMap;

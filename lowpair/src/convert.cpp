@@ -36,7 +36,51 @@ double snapAngle(double angle) {
 double snapLength(double x, double tol) { return std::abs(x) <= tol ? 0.0 : x; }
 
 DhParams canonical(const DhParams& row, const Tolerances& tol) {
-  return {snapAngle(row.theta), snapLength(row.d, tol.length), snapAngle(row.alpha), snapLength(row.a, tol.length)};
+  DhParams out = row;
+  out.theta = snapAngle(row.theta);
+  out.d = snapLength(row.d, tol.length);
+  out.alpha = snapAngle(row.alpha);
+  out.a = snapLength(row.a, tol.length);
+  out.beta = row.hayati() ? snapAngle(row.beta) : 0.0;
+  return out;
+}
+
+// The Hayati row's angles once its origin is placed: with theta fixed by the origin, alpha and beta turn e_z
+// onto the unit u (this frame's coordinates): Rz(-theta) u = (sin beta, -sin alpha cos beta, cos alpha cos beta).
+// An origin at 0 leaves theta free: it is chosen as a standard row's, so that beta = 0.
+void hayatiAngles(const Vec3& u, double px, double py, const Tolerances& tol, DhParams& row) {
+  row.kind = DhRowKind::Hayati;
+  row.d = 0.0;
+  row.a = std::hypot(px, py);
+  const double s = std::hypot(u.x(), u.y());
+  if (row.a > tol.length) {
+    row.theta = std::atan2(py, px);
+  } else {
+    row.a = 0.0;
+    row.theta = s > 0.0 ? std::atan2(u.x(), -u.y()) : 0.0;
+  }
+  const double ct = std::cos(row.theta), st = std::sin(row.theta);
+  const Vec3 w(ct * u.x() + st * u.y(), -st * u.x() + ct * u.y(), u.z());
+  row.beta = std::atan2(w.x(), std::hypot(w.y(), w.z()));
+  row.alpha = std::atan2(-w.y(), w.z());
+}
+
+// Hayati row (docs/conventions.md) for a revolute/helical axis nearly parallel to the current z: the next
+// origin is where the axis pierces this frame's xy plane. Precondition: w3 != 0 (not parallel to the plane).
+DhParams hayatiRowFromTwist(const Vec6& xi, double pitch, const Tolerances& tol) {
+  const Vec3 w = xi.head<3>().normalized();
+  const Vec3 m = xi.tail<3>() - pitch * w;
+  const Vec3 p0 = w.cross(m);            // the line's point nearest the origin
+  const Vec3 P = p0 - (p0.z() / w.z()) * w;  // its point in the xy plane
+  DhParams row;
+  hayatiAngles(w, P.x(), P.y(), tol, row);
+  return row;
+}
+
+// Angle between the lines z and Rx(alpha) Ry(beta) z, in [0, pi/2].
+double hayatiLineAngle(const DhParams& r) {
+  const double ca = std::cos(r.alpha), sa = std::sin(r.alpha), cb = std::cos(r.beta), sb = std::sin(r.beta);
+  return std::atan2(std::hypot(sb, sa * cb), std::abs(ca * cb));
 }
 
 // Lemmas 1-3: the row A(theta, d, alpha, a) whose z axis is the joint's line, from the joint's unit
@@ -80,6 +124,17 @@ DhParams rowFromTwist(JointType type, const Vec6& xi, double pitch, const Tolera
   row.theta = std::atan2(sign * w.x(), -sign * w.y());
   row.d = (w.x() * m.y() - w.y() * m.x()) / (s * s);
   return row;
+}
+
+// The last row as a Hayati row: M = Rz(theta) Tx(a) Rx(alpha) Ry(beta) Rz(theta_T) Tz(d_T): the row's origin
+// is where the tool's z line pierces this frame's xy plane. Precondition: the tool z is not in that plane.
+void splitToolHayati(const Pose& M, const Tolerances& tol, DhParams& row, double& tool_theta, double& tool_d) {
+  const Vec3 u = M.R.col(2);
+  tool_d = M.p.z() / u.z();
+  const Vec3 P = M.p - tool_d * u;
+  hayatiAngles(u, P.x(), P.y(), tol, row);
+  const Mat3 N = dhTransform(row).R.transpose() * M.R;  // Rz(theta_T)
+  tool_theta = std::atan2(N(1, 0), N(0, 0));
 }
 
 // Lemma 4: M = Rz(theta) Tz(d) Rx(alpha) Tx(a) Rz(theta_T) Tz(d_T), alpha in [0, pi].
@@ -133,6 +188,11 @@ double lineAngle(double alpha) {
   return std::min(x, M_PI - x);
 }
 
+// The longest length of a row (the last row with its tool d).
+double longest(const DhParams& r, double tool_d = 0.0) {
+  return std::max({std::abs(r.d), std::abs(r.a), std::abs(tool_d)});
+}
+
 }  // namespace
 
 DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
@@ -147,6 +207,16 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   tol.parallel = options.parallel_threshold > 0.0 ? options.parallel_threshold : rounding_parallel;
   tol.length = kSnapLength * L;
 
+  LP_CHECK(options.row_kinds.empty() || options.row_kinds.size() == static_cast<size_t>(n + 1),
+           "poeToDh: row_kinds must be empty or have n + 1 = " << n + 1 << " entries, got " << options.row_kinds.size());
+  // Hayati or standard (docs/conventions.md, "Hayati rows"): forced by row_kinds, else the rule
+  auto wantHayati = [&](int r, bool parallel, double standard_longest_d, double standard_longest,
+                        double hayati_longest) {
+    if (parallel) return false;
+    if (!options.row_kinds.empty()) return options.row_kinds[static_cast<size_t>(r)] == DhRowKind::Hayati;
+    return standard_longest_d > kHayatiLength * L && hayati_longest < standard_longest;
+  };
+
   std::vector<DhRowReport> reports(static_cast<size_t>(n + 1));
   std::vector<DhParams> rows(static_cast<size_t>(n + 1));
   Pose G;  // T_base_frame of the rows found so far
@@ -154,7 +224,14 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
     const Joint& j = model.joint(i);
     const Vec6 xi = adjointApply(G.inverse(), j.twist);
     bool parallel = false;
-    const DhParams row = canonical(rowFromTwist(j.type, xi, j.pitch, tol, parallel), tol);
+    DhParams row = canonical(rowFromTwist(j.type, xi, j.pitch, tol, parallel), tol);
+    reports[static_cast<size_t>(i)].standard_d = std::abs(row.d);
+    if (j.type != JointType::Prismatic && !parallel && xi[2] != 0.0) {
+      const DhParams hayati = canonical(hayatiRowFromTwist(xi, j.pitch, tol), tol);
+      if (wantHayati(i, parallel, std::abs(row.d), longest(row), longest(hayati)) && std::isfinite(longest(hayati))) {
+        row = hayati;
+      }
+    }
     rows[static_cast<size_t>(i)] = row;
     reports[static_cast<size_t>(i)].parallel = parallel;
     G = G * dhTransform(row);  // snap, then compose
@@ -162,11 +239,28 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   DhParams last;
   double tool_theta = 0.0, tool_d = 0.0;
   bool parallel = false;
-  splitTool(G.inverse() * model.toolPose(), tol, last, tool_theta, tool_d, parallel);
-  rows[static_cast<size_t>(n)] = canonical(last, tol);
+  const Pose M_last = G.inverse() * model.toolPose();
+  splitTool(M_last, tol, last, tool_theta, tool_d, parallel);
+  last = canonical(last, tol);
+  tool_d = snapLength(tool_d, tol.length);
+  reports[static_cast<size_t>(n)].standard_d = std::max(std::abs(last.d), std::abs(tool_d));
+  if (!parallel && M_last.R(2, 2) != 0.0) {
+    DhParams hayati;
+    double h_theta = 0.0, h_d = 0.0;
+    splitToolHayati(M_last, tol, hayati, h_theta, h_d);
+    hayati = canonical(hayati, tol);
+    h_d = snapLength(h_d, tol.length);
+    if (wantHayati(n, parallel, reports[static_cast<size_t>(n)].standard_d, longest(last, tool_d),
+                   longest(hayati, h_d)) &&
+        std::isfinite(longest(hayati, h_d))) {
+      last = hayati;
+      tool_theta = h_theta;
+      tool_d = h_d;
+    }
+  }
+  rows[static_cast<size_t>(n)] = last;
   reports[static_cast<size_t>(n)].parallel = parallel;
   tool_theta = snapAngle(tool_theta);
-  tool_d = snapLength(tool_d, tol.length);
 
   std::vector<DhJoint> joints(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) {
@@ -200,7 +294,8 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   auto consider = [&](const DhParams& r, int row_index) {
     DhRowReport& rep = reports[static_cast<size_t>(row_index)];
     rep.row = row_index;
-    rep.axis_angle = lineAngle(r.alpha);
+    rep.axis_angle = r.hayati() ? hayatiLineAngle(r) : lineAngle(r.alpha);
+    rep.hayati = r.hayati();
     rep.abs_d = std::abs(r.d);
     rep.abs_a = std::abs(r.a);
     rep.ill_conditioned = std::max(rep.abs_d, rep.abs_a) > kIllConditioned * L;
@@ -275,32 +370,42 @@ ModifiedDh toModifiedDh(const DhModel& model) {
   ModifiedDh out;
   out.base_theta = model.base().theta;
   out.base_d = model.base().d;
-  double alpha = model.base().alpha, a = model.base().a;
+  double alpha = model.base().alpha, a = model.base().a, beta = model.base().beta;
   for (const DhJoint& dj : model.joints()) {
     ModifiedDhJoint mj;
     static_cast<JointMotion&>(mj) = dj;
     mj.name = dj.name;
     mj.alpha = alpha;
     mj.a = a;
+    mj.beta = beta;
     mj.theta = dj.link.theta;
     mj.d = dj.link.d;
     out.joints.push_back(mj);
     alpha = dj.link.alpha;
     a = dj.link.a;
+    beta = dj.link.beta;
   }
   out.tool_alpha = alpha;
   out.tool_a = a;
+  out.tool_beta = beta;
   out.tool_theta = model.toolTheta();
   out.tool_d = model.toolD();
   return out;
 }
 
 namespace {
-Pose rxTx(double alpha, double a) {
+// Rx(alpha) Tx(a) Ry(beta)
+Pose rxTx(double alpha, double a, double beta) {
   const double c = std::cos(alpha), s = std::sin(alpha);
   Pose T;
   T.R << 1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c;
   T.p << a, 0.0, 0.0;
+  if (beta != 0.0) {
+    const double cb = std::cos(beta), sb = std::sin(beta);
+    Mat3 Ry;
+    Ry << cb, 0.0, sb, 0.0, 1.0, 0.0, -sb, 0.0, cb;
+    T.R = T.R * Ry;
+  }
   return T;
 }
 }  // namespace
@@ -312,9 +417,9 @@ Pose modifiedDhForwardKinematics(const ModifiedDh& model, const Eigen::Ref<const
   for (size_t i = 0; i < model.joints.size(); ++i) {
     const ModifiedDhJoint& j = model.joints[i];
     const DhParams moved = movedRow({j.theta, j.d, 0.0, 0.0}, j, j.motion(q[static_cast<Eigen::Index>(i)]));
-    T = T * rxTx(j.alpha, j.a) * dhToolTransform(moved.theta, moved.d);
+    T = T * rxTx(j.alpha, j.a, j.beta) * dhToolTransform(moved.theta, moved.d);
   }
-  return T * rxTx(model.tool_alpha, model.tool_a) * dhToolTransform(model.tool_theta, model.tool_d);
+  return T * rxTx(model.tool_alpha, model.tool_a, model.tool_beta) * dhToolTransform(model.tool_theta, model.tool_d);
 }
 
 }  // namespace lowpair

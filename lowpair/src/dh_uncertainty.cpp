@@ -15,11 +15,14 @@ using namespace detail;
 
 namespace {
 
-// The D-H numbers of a conversion in a fixed order: base 4, per joint theta d alpha a pitch scale, tool 2;
-// `angle` marks the entries compared modulo 2 pi.
+// The D-H numbers of a conversion in a fixed order: base 4, per joint theta d alpha a pitch scale, tool 2,
+// then beta per row (base, link_1 .. link_n; 0 in a standard row); `angle` marks the entries compared
+// modulo 2 pi.
+Eigen::Index betaEntry(int row, int dof) { return 4 + 6 * dof + 2 + row; }
+
 VecX dhNumbers(const DhModel& dh, std::vector<bool>* angle = nullptr) {
   const int n = dh.dof();
-  VecX out(4 + 6 * n + 2);
+  VecX out(4 + 6 * n + 2 + n + 1);
   std::vector<bool> is_angle;
   Eigen::Index k = 0;
   auto put = [&](double x, bool a) {
@@ -40,13 +43,16 @@ VecX dhNumbers(const DhModel& dh, std::vector<bool>* angle = nullptr) {
   }
   put(dh.toolTheta(), true);
   put(dh.toolD(), false);
+  put(dh.base().beta, true);
+  for (int i = 0; i < n; ++i) put(dh.joint(i).link.beta, true);
   if (angle) *angle = std::move(is_angle);
   return out;
 }
 
 // Puts the rows of the D-H numbers `x` on the sign branch of `center`: the canonical table keeps a >= 0, so a
 // row whose a crosses 0 comes back as (theta + pi, d, -alpha, -a) with pi added to the next row's theta
-// (A(theta + pi, d, -alpha, -a) = A(theta, d, alpha, a) Rz(pi)). Undone here, so that a length a that is 0
+// (A(theta + pi, d, -alpha, -a) = A(theta, d, alpha, a) Rz(pi); a Hayati row's beta changes sign too, since
+// Rz(pi) Ry(beta) = Ry(-beta) Rz(pi)). Undone here, so that a length a that is 0
 // within its uncertainty shows as a +- sd instead of a jump of theta by pi.
 void alignBranches(VecX& x, const VecX& center, int dof) {
   auto row = [](int r) { return r == 0 ? 0 : 4 + 6 * (r - 1); };
@@ -56,6 +62,7 @@ void alignBranches(VecX& x, const VecX& center, int dof) {
     x[k] -= M_PI;
     x[k + 2] = -x[k + 2];
     x[k + 3] = -x[k + 3];
+    x[betaEntry(r, dof)] = -x[betaEntry(r, dof)];
     x[r < dof ? row(r + 1) : 4 + 6 * dof] += M_PI;
   }
 }
@@ -77,10 +84,14 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
   const VecX center = dhNumbers(out.conversion.model, &angle);
   const int n = result.model.dof();
   VecX variance = VecX::Zero(center.size());
+  // the perturbed tables keep the central table's row kinds (standard or Hayati), so that they compare
+  ConvertOptions same_kinds;
+  same_kinds.row_kinds.push_back(out.conversion.model.base().kind);
+  for (const DhJoint& j : out.conversion.model.joints()) same_kinds.row_kinds.push_back(j.link.kind);
   auto spread = [&](const VecX& direction) -> VecX {  // half the D-H difference between +direction and -direction
     try {
-      VecX plus = dhNumbers(poeToDh(em.apply(direction)).model);
-      VecX minus = dhNumbers(poeToDh(em.apply(-direction)).model);
+      VecX plus = dhNumbers(poeToDh(em.apply(direction), same_kinds).model);
+      VecX minus = dhNumbers(poeToDh(em.apply(-direction), same_kinds).model);
       alignBranches(plus, center, n);
       alignBranches(minus, center, n);
       return 0.5 * dhDifference(plus, minus, angle);
@@ -149,10 +160,25 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
   }
   out.tool_theta = sd[k++];
   out.tool_d = sd[k++];
+  // beta: a Hayati row's kind and standard deviation; its d is 0 by the convention (fixed) unless a folded
+  // offset moved it
+  for (int r = 0; r <= n; ++r) {
+    const DhParams& central = r == 0 ? out.conversion.model.base() : out.conversion.model.joint(r - 1).link;
+    if (!central.hayati()) continue;
+    DhParams& deviation = r == 0 ? out.base : out.links[static_cast<size_t>(r - 1)];
+    deviation.kind = DhRowKind::Hayati;
+    deviation.beta = sd[betaEntry(r, n)];
+  }
   // a row placed by a prismatic axis (the base for joint 1, link_{i-1} for joint i) has a = d = 0 by the
   // conversion's convention; an offset of joint i-1 folds into that row's d when joint i-1 slides
   // (prismatic, helical) and is nonzero or fitted
   out.links_fixed.resize(static_cast<size_t>(n));
+  for (int r = 0; r <= n; ++r) {
+    const DhParams& central = r == 0 ? out.conversion.model.base() : out.conversion.model.joint(r - 1).link;
+    if (!central.hayati() || central.d != 0.0) continue;
+    (r == 0 ? out.base_fixed : out.links_fixed[static_cast<size_t>(r - 1)]).d = true;
+    (r == 0 ? out.base : out.links[static_cast<size_t>(r - 1)]).d = 0.0;
+  }
   for (int i = 0; i < n; ++i) {
     if (result.model.joint(i).type != JointType::Prismatic) continue;
     DhUncertainty::Fixed& fixed = i == 0 ? out.base_fixed : out.links_fixed[static_cast<size_t>(i - 1)];

@@ -398,10 +398,16 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
                               std::vector<std::string>* names, const std::vector<Vec3>& targets) {
   checkPoses(q, model.dof());
   checkTargets(measure, targets);
-  std::vector<std::string> columns = {"base.theta", "base.d", "base.alpha", "base.a"};
+  // a Hayati row's parameters are theta, alpha, a, beta (its d is fixed to 0; docs/conventions.md)
+  auto rowColumns = [](const DhParams& r) {
+    return r.hayati() ? std::vector<const char*>{".theta", ".alpha", ".a", ".beta"}
+                      : std::vector<const char*>{".theta", ".d", ".alpha", ".a"};
+  };
+  std::vector<std::string> columns;
+  for (const char* p : rowColumns(model.base())) columns.push_back(std::string("base") + p);
   for (int i = 0; i < model.dof(); ++i) {
     const std::string tag = jointTag(i);
-    for (const char* p : {".theta", ".d", ".alpha", ".a"}) columns.push_back(tag + p);
+    for (const char* p : rowColumns(model.joint(i).link)) columns.push_back(tag + p);
     if (hasPitch(model.joint(i), free_pitch)) columns.push_back(tag + ".pitch");
     columns.push_back(tag + ".scale");
   }
@@ -417,16 +423,24 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
   for (size_t m = 0; m < q.size(); ++m) {
     Eigen::Index c = 0;
     Pose F;  // the frame before the current row
-    // theta, d, alpha, a of one row at F; returns the frame after it and the theta and d columns
+    // theta, d, alpha, a (Hayati: theta, alpha, a, beta) of one row at F; returns the frame after it and the
+    // theta and d columns
     auto row = [&](const DhParams& r, Vec6& theta_col, Vec6& d_col) {
       theta_col = twist(F.R.col(2), F.p.cross(F.R.col(2)));
       d_col = twist(Vec3::Zero(), F.R.col(2));
       S.col(c++) = theta_col;
-      S.col(c++) = d_col;
+      if (!r.hayati()) S.col(c++) = d_col;
       const Pose F1 = F * dhToolTransform(r.theta, r.d);
       S.col(c++) = twist(F1.R.col(0), F1.p.cross(F1.R.col(0)));
       const Pose F2 = F1 * dhTransform(DhParams{0.0, 0.0, r.alpha, 0.0});
       S.col(c++) = twist(Vec3::Zero(), F2.R.col(0));
+      if (r.hayati()) {  // about the y axis of the frame after Rx(alpha) Tx(a)
+        DhParams standard = r;
+        standard.kind = DhRowKind::Standard;
+        standard.beta = 0.0;
+        const Pose F3 = F * dhTransform(standard);
+        S.col(c++) = twist(F3.R.col(1), F3.p.cross(F3.R.col(1)));
+      }
       F = F * dhTransform(r);
     };
     Vec6 theta_col, d_col;

@@ -103,21 +103,46 @@ KinematicChain poeChain(const std::vector<Joint>& joints, const Pose& tool_pose)
   return chain;
 }
 
+// D-H -> chain. A standard row maps onto a link directly. A Hayati row ends in `Rx(alpha) Ry(beta)`, which
+// is not of the link form `Rx(alpha')`: write it as ZXZ angles `Rz(phi) Rx(alpha') Rz(gamma)`, move
+// `Rz(phi)` to the front (`Tz(d) Tx(a) Rz(phi) = Rz(phi) Trans(Rz(-phi) (a, 0, d))`) and hand `Rz(gamma)` to
+// the next link as a rotation `c` of its frame about its own z axis (which commutes with that joint's motion
+// `Rz(j x) Tz(k x)`): chain frame i = D-H frame i * Rz(c_i), link = Rz(-c_i) Q(x) A Rz(c_{i+1}). With no
+// Hayati row every c is 0 and the links are the D-H rows' numbers unchanged.
 KinematicChain dhChain(const DhParams& base, const std::vector<DhJoint>& joints, double tool_theta, double tool_d) {
   KinematicChain chain;
   chain.T_base_first = dhTransform(base);
+  double c = 0.0;  // rotation of the current chain frame about its z, relative to the D-H frame
   for (const DhJoint& j : joints) {
     ChainLink link;
     link.motion = j;
     link.turn = j.turnRate();
     link.slide = j.slideRate();
-    link.theta = j.link.theta;
-    link.cos_alpha = std::cos(j.link.alpha);
-    link.sin_alpha = std::sin(j.link.alpha);
-    link.p << j.link.a, 0.0, j.link.d;  // Rz(theta) Tz(d) Rx(alpha) Tx(a) = Rz(theta) Trans(a, 0, d) Rx(alpha)
+    if (!j.link.hayati()) {
+      link.theta = c == 0.0 ? j.link.theta : j.link.theta - c;
+      link.cos_alpha = std::cos(j.link.alpha);
+      link.sin_alpha = std::sin(j.link.alpha);
+      link.p << j.link.a, 0.0, j.link.d;  // Rz(theta) Tz(d) Rx(alpha) Tx(a) = Rz(theta) Trans(a, 0, d) Rx(alpha)
+      c = 0.0;
+    } else {
+      const double sa = std::sin(j.link.alpha), ca = std::cos(j.link.alpha);
+      const double sb = std::sin(j.link.beta), cb = std::cos(j.link.beta);
+      const Vec3 u(sb, -sa * cb, ca * cb);  // Rx(alpha) Ry(beta) e_z
+      double phi = 0.0, alpha = 0.0;
+      zAngles(u, phi, alpha);
+      Mat3 R0;  // Rx(alpha) Ry(beta)
+      R0 << cb, 0.0, sb, sa * sb, ca, -sa * cb, -ca * sb, sa, ca * cb;
+      const Mat3 M = rzRx(phi, std::cos(alpha), std::sin(alpha)).transpose() * R0;  // Rz(gamma)
+      const double gamma = std::atan2(M(1, 0), M(0, 0));
+      link.theta = j.link.theta - c + phi;
+      link.cos_alpha = std::cos(alpha);
+      link.sin_alpha = std::sin(alpha);
+      link.p << j.link.a * std::cos(phi), -j.link.a * std::sin(phi), j.link.d;
+      c = -gamma;
+    }
     chain.links.push_back(link);
   }
-  chain.T_last_tool = dhToolTransform(tool_theta, tool_d);
+  chain.T_last_tool = dhToolTransform(c == 0.0 ? tool_theta : tool_theta - c, tool_d);
   packLanes(chain);
   return chain;
 }
@@ -278,6 +303,12 @@ Pose dhTransform(const DhParams& row) {
       st, ct * ca, -ct * sa,     //
       0.0, sa, ca;
   T.p << row.a * ct, row.a * st, row.d;
+  if (row.hayati()) {
+    const double cb = std::cos(row.beta), sb = std::sin(row.beta);
+    Mat3 Ry;
+    Ry << cb, 0.0, sb, 0.0, 1.0, 0.0, -sb, 0.0, cb;
+    T.R = T.R * Ry;
+  }
   return T;
 }
 
@@ -293,7 +324,8 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
                  std::string name)
     : base_(base), joints_(std::move(joints)), tool_theta_(tool_theta), tool_d_(tool_d), name_(std::move(name)) {
   auto finite = [](const DhParams& r) {
-    return std::isfinite(r.theta) && std::isfinite(r.d) && std::isfinite(r.alpha) && std::isfinite(r.a);
+    return std::isfinite(r.theta) && std::isfinite(r.d) && std::isfinite(r.alpha) && std::isfinite(r.a) &&
+           std::isfinite(r.beta) && (r.hayati() || r.beta == 0.0);
   };
   LP_CHECK(finite(base_), "base: non-finite D-H parameter");
   LP_CHECK(std::isfinite(tool_theta_) && std::isfinite(tool_d_), "tool: non-finite D-H parameter");

@@ -15,6 +15,11 @@ struct ConvertOptions {
   /// 0 selects the rounding-level default `kParallelPerJoint * eps * n`. A larger value snaps nearly
   /// parallel axes (a different, non-equivalent table): checkDhConversion then measures the deviation.
   double parallel_threshold = 0.0;
+  /// Empty: each row's kind by the rule of docs/conventions.md ("Hayati rows"). Otherwise n + 1 kinds (base,
+  /// link_1 .. link_n) that override the rule (dhUncertainty converts perturbed models with the central
+  /// table's kinds). A row forced Hayati still takes the parallel branch when its axes are parallel within
+  /// the threshold (then it is standard).
+  std::vector<DhRowKind> row_kinds;
 };
 
 /// Conditioning of one D-H row: row 0 is the base, row i is link_i (placed by joint i+1's axis, or by
@@ -26,6 +31,8 @@ struct DhRowReport {
   bool ill_conditioned = false;  ///< |d| or |a| exceeds kIllConditioned * L
   double abs_d = 0.0;        ///< |d| of the row (length)
   double abs_a = 0.0;        ///< |a| of the row (length)
+  bool hayati = false;       ///< written as a Hayati row (d = 0, beta about the new y axis)
+  double standard_d = 0.0;   ///< |d| the standard row would have had (its d; the last row max(|d|, |d_T|))
 };
 
 /// Conditioning of the tool transform `Rz(theta_T) Tz(d_T)` (Lemma 4).
@@ -89,14 +96,18 @@ PoeModel dhToPoe(const DhModel& model);
 /// Modified (Craig) D-H regrouping of a standard D-H chain (docs/conventions.md):
 /// `H = Rz(theta_B) Tz(d_B) prod_i [Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + j x_i) Tz(d_i + k x_i)]
 ///  Rx(alpha_n) Tx(a_n) Rz(theta_T) Tz(d_T)`.
+/// A Hayati row (docs/conventions.md) regroups with its `Ry(beta)` after `Tx(a)`:
+/// `Rx(alpha_{i-1}) Tx(a_{i-1}) Ry(beta_{i-1}) Rz(theta_i + j x_i) Tz(d_i + k x_i)` (`beta` 0 otherwise).
 struct ModifiedDhJoint : JointMotion {
   std::string name;
   double alpha = 0.0, a = 0.0, theta = 0.0, d = 0.0;
+  double beta = 0.0;  ///< of the previous row when it is a Hayati row
 };
 struct ModifiedDh {
   double base_theta = 0.0, base_d = 0.0;
   std::vector<ModifiedDhJoint> joints;
   double tool_alpha = 0.0, tool_a = 0.0, tool_theta = 0.0, tool_d = 0.0;
+  double tool_beta = 0.0;  ///< of the last row when it is a Hayati row
 };
 ModifiedDh toModifiedDh(const DhModel& model);
 /// FK of the modified table (x_i = scale_i q_i). @throws std::invalid_argument unless q has a value per joint

@@ -85,12 +85,23 @@ class PoeModel {
   KinematicChain chain_;
 };
 
-/// One standard D-H row `A(theta, d, alpha, a) = Rz(theta) Tz(d) Rx(alpha) Tx(a)` (eq. 9).
+/// The kind of a D-H row: standard (eq. 9) or Hayati's modified row for nearly parallel axes
+/// (Hayati & Mirmirani 1985; docs/conventions.md, "Hayati rows").
+enum class DhRowKind { Standard, Hayati };
+
+/// One D-H row. Standard: `A(theta, d, alpha, a) = Rz(theta) Tz(d) Rx(alpha) Tx(a)` (eq. 9).
+/// Hayati: `A(theta, d, alpha, a) Ry(beta) = Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta)`, with `d = 0`
+/// (a conversion sets it; only a folded offset of a sliding joint before the row moves it): the next
+/// frame's origin lies in this frame's xy plane, so its lengths stay bounded when the next axis is nearly
+/// parallel to this frame's z, where the standard row's d grows as 1 / sin(alpha).
 struct DhParams {
   double theta = 0.0;  ///< rad
   double d = 0.0;      ///< length
   double alpha = 0.0;  ///< rad
   double a = 0.0;      ///< length
+  double beta = 0.0;   ///< rad, about the new y axis; 0 in a standard row
+  DhRowKind kind = DhRowKind::Standard;
+  bool hayati() const { return kind == DhRowKind::Hayati; }
 };
 
 /// Joint i of a D-H chain: its motion `Q_i(x) = Rz(j x) Tz(k x)` (JointMotion; a conversion folds the
@@ -135,7 +146,7 @@ class DhModel {
   KinematicChain chain_;
 };
 
-/// `A(theta, d, alpha, a)`.
+/// `A(theta, d, alpha, a)`, times `Ry(beta)` for a Hayati row.
 Pose dhTransform(const DhParams& row);
 /// `Rz(theta) Tz(d)`.
 Pose dhToolTransform(double theta, double d);

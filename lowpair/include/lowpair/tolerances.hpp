@@ -25,6 +25,15 @@ constexpr double kParallelPerJoint = 16.0;
 constexpr double kSnapAngle = 64.0 * kEps;
 constexpr double kSnapLength = 64.0 * kEps;
 
+/// Hayati rows (docs/conventions.md): a row whose axes are not parallel within the parallel threshold is
+/// written as a Hayati row when its standard |d| (or, for the last row, max(|d|, |d_T|)) exceeds
+/// `kHayatiLength * L` and the Hayati row's longest length is shorter. Every revolute axis lies within L of
+/// the base origin, so a standard row between nearly parallel axes has |d| ~ L / sin(alpha) while the Hayati
+/// row's a is the distance of the next axis from this frame's origin in this frame's xy plane: with the
+/// factor 1, no length of the table exceeds L by the standard rows and the Hayati rows stay near the
+/// distances between the axes (2 L at most for a UR-type arm; tests/hayati_test.cpp).
+constexpr double kHayatiLength = 1.0;
+
 /// Conditioning warning: a D-H length beyond `kIllConditioned * L` (Wu et al. §V: nearly parallel axes).
 constexpr double kIllConditioned = 1e3;
 
