@@ -117,7 +117,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
   struct Options {
     RobotSource robot;
     std::string q_text, model_kind = "file";
-    bool as_json = false, modified = false;
+    bool as_json = false, modified = false, standard = false;
     double parallel_threshold = 0.0;
   };
   auto o = std::make_shared<Options>();
@@ -130,11 +130,15 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
   poe2dh->add_option("--parallel-threshold", o->parallel_threshold,
                      "treat axes with sin(angle) below this as parallel (default: rounding level 16 eps n); "
                      "larger values change the model and the FK check reports by how much");
+  poe2dh->add_flag("--standard", o->standard,
+                   "standard D-H rows only, as published tables give them (no Hayati row: at nearly parallel axes "
+                   "d may be far beyond the robot's size)");
   commands.emplace_back(poe2dh, [o] {
     const RobotFile file = loadRobot(o->robot, cliSpelling());
     ConvertOptions options;
     options.parallel_threshold = o->parallel_threshold;
     const PoeModel poe = file.poeModel();
+    if (o->standard) options.row_kinds.assign(static_cast<size_t>(poe.dof()) + 1, DhRowKind::Standard);
     const DhConversion c = poeToDh(poe, options);
     const FkCheck check = checkDhConversion(poe, c.model);
     if (o->as_json) {
