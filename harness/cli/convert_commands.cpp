@@ -131,6 +131,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     const RobotFile file = loadRobot(o->robot, cliSpelling());
     ConvertOptions options;
     options.parallel_threshold = o->parallel_threshold;
+    options.validate();
     const PoeModel poe = file.poeModel();
     const DhConversion c = poeToDh(poe, options);
     const FkCheck check = checkDhConversion(poe, c.model);

@@ -195,6 +195,7 @@ int runIk(const IkCommandOptions& o) {
   }
   IkOptions options;
   options.measure = table.pose ? Measure::Pose : Measure::Position;
+  options.validate("inverseKinematics");
   const std::vector<Range> ranges = samplingRanges(model);
   Data data(model);
   IkWorkspace work(model);
@@ -282,6 +283,7 @@ int runCompensate(const CompensateOptions& o) {
   const JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path);
   IkOptions options;
   options.measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
+  options.validate("compensate");
   // the table's rows, row-major, as the matrix of joint vectors the shared loop takes
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> q_nominal(
       table.q.data(), static_cast<Eigen::Index>(table.rows()), n);

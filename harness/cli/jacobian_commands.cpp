@@ -131,6 +131,7 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
     const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     SingularityOptions options;
     options.max_null_vectors = kPrintedNullVectors;
+    options.validate();
     const SingularityReport r = analyzeSingularity(file.poeModel(), q, options);
     if (o->as_json) {
       std::cout << jsonText(singularityJson(file, q, r)) << "\n";

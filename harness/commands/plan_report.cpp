@@ -74,6 +74,8 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
                          io::shortest(kMaxPlanEntries) + " numbers, held about four times): fewer candidates");
   }
 
+  options.validate();
+
   // candidates: the sampling convention (commands/sampling.hpp), stream `seed`, samples 0..M-1
   const auto ranges = samplingRanges(model);
   std::vector<VecX> candidates(static_cast<size_t>(request.candidates), VecX(model.dof()));

@@ -7,7 +7,7 @@
 #include <limits>
 #include <random>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
@@ -214,7 +214,7 @@ PlanResult runPlan(const PlanCandidates& c, std::vector<int> start, int N, const
 }
 
 PlanResult dispatch(const PlanCandidates& c, std::vector<int> start, int N, const PlanOptions& options) {
-  LP_CHECK(options.max_exchange_passes >= 0, "max_exchange_passes must be >= 0, got " << options.max_exchange_passes);
+  options.validate();
   if (c.rank == 0) {  // nothing to determine: any set is as good (the first N)
     std::vector<int> set = start;
     for (int j = 0; static_cast<int>(set.size()) < N; ++j) {
@@ -232,13 +232,17 @@ PlanResult dispatch(const PlanCandidates& c, std::vector<int> start, int N, cons
 
 }  // namespace
 
+void PlanOptions::validate() const {
+  LP_CHECK((measure == Measure::Targets) == !targets.empty(), "Measure::Targets needs targets' points, and only it");
+  for (const Vec3& t : targets) LP_CHECK(t.allFinite(), "a target's point is not finite");
+  LP_CHECK(max_exchange_passes >= 0, "max_exchange_passes must be >= 0, got " << max_exchange_passes);
+}
+
 const char* planCriterionName(PlanCriterion criterion) { return criterion == PlanCriterion::D ? "D" : "O1"; }
 
 PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& candidates, const PlanOptions& options) {
   LP_CHECK(!candidates.empty(), "planning needs at least one candidate pose");
-  LP_CHECK((options.measure == Measure::Targets) == !options.targets.empty(),
-           "Measure::Targets needs targets' points, and only it");
-  for (const Vec3& t : options.targets) LP_CHECK(t.allFinite(), "a target's point is not finite");
+  options.validate();
   for (const VecX& q : candidates) checkJointVector(q, model.dof());
   ErrorModelSpec spec;
   spec.free_pitch = options.free_pitch;
@@ -252,7 +256,7 @@ PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& ca
   c.targets = options.targets;
   c.q = candidates;
   c.parameters = em.parameters();
-  c.expected = identifiableCount(model, options.measure, options.free_pitch, static_cast<int>(options.targets.size()));
+  c.expected = identifiableCount(model, options.measure, spec);
   c.length_scale = model.lengthScale();
   c.rows_per_pose = rowsPerCandidate(options);
   const int M = c.count(), rows = c.rows_per_pose, p = em.size();
@@ -356,8 +360,7 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
                                         std::optional<double> sigma_position, std::optional<double> sigma_rotation) {
   LP_CHECK(sigma_position || sigma_rotation, "expectedUncertainty: state the measurement noise (position, rotation or both)");
   LP_CHECK(!q.empty(), "expectedUncertainty: needs at least one pose");
-  LP_CHECK((options.measure == Measure::Targets) == !options.targets.empty(),
-           "Measure::Targets needs targets' points, and only it");
+  options.validate();
   CalibrationOptions co;
   co.measure = options.measure;
   co.free_pitch = options.free_pitch;

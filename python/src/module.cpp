@@ -58,5 +58,5 @@ PYBIND11_MODULE(_lowpair, m) {
   exposeIk(m);
   exposePlan(m);
   exposeFiles(m);
-  m.attr("__version__") = "0.2.0";
+  m.attr("__version__") = "0.3.0";
 }

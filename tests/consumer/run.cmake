@@ -1,6 +1,6 @@
 # The package_consumer test (tests/CMakeLists.txt), run with cmake -P:
 #   install the build tree into WORK_DIR/prefix, configure + build + run tests/consumer against it,
-#   and check that the version file refuses find_package(lowpair 0.1), (lowpair 0.3) and (lowpair 1.0).
+#   and check that the version file refuses find_package(lowpair 0.2), (lowpair 0.4) and (lowpair 1.0).
 # Inputs (-D): BUILD_DIR, CONSUMER_DIR, WORK_DIR, GENERATOR, CXX_COMPILER, CONFIG (may be empty),
 #              INSTALL_LIBDIR, INSTALL_INCLUDEDIR.
 cmake_minimum_required(VERSION 3.22)
@@ -61,7 +61,8 @@ foreach(f ${installed})
     message(FATAL_ERROR "package_consumer: unexpected installed file ${f}")
   endif()
 endforeach()
-# the headers: exactly the supported API (the internal check.hpp with its LP_ macros is not installed;
+# the headers: exactly the supported API (the internals, check.hpp with its LP_ macros among them, are in
+# lowpair/src and not installed;
 # tests/consumer/CMakeLists.txt compiles each installed header alone)
 set(supported calibrate.hpp calibration.hpp convert.hpp cross_validation.hpp dh_uncertainty.hpp error_model.hpp
               identifiability.hpp ik.hpp jacobian.hpp joint.hpp kinematics.hpp measure.hpp model.hpp plan.hpp
@@ -101,14 +102,14 @@ if(python_package AND EXISTS /usr/bin/python3)
   message(STATUS "${step_output}")
 endif()
 
-# 4. the version file (SameMinorVersion): 0.2 satisfies neither 0.1 nor 0.3 (0.x minor releases break
+# 4. the version file (SameMinorVersion): 0.3 satisfies neither 0.2 nor 0.4 (0.x minor releases break
 #    the API) nor 1.0. These configures must fail, and fail for that reason.
-foreach(v 0.1 0.3 1.0)
+foreach(v 0.2 0.4 1.0)
   execute_process(COMMAND ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/build-${v} ${configure_args}
                           -DREQUIRE_VERSION=${v}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(rc EQUAL 0)
-    message(FATAL_ERROR "package_consumer: find_package(lowpair ${v} REQUIRED) was satisfied by the 0.2 package\n${out}${err}")
+    message(FATAL_ERROR "package_consumer: find_package(lowpair ${v} REQUIRED) was satisfied by the 0.3 package\n${out}${err}")
   endif()
   string(REGEX REPLACE "[ \t\r\n]+" " " flat "${out}${err}")  # CMake wraps its messages
   if(NOT flat MATCHES "compatible with requested version \"${v}\"")

@@ -60,6 +60,11 @@ struct PlanOptions {
   std::vector<std::string> target_names;  ///< names of the targets' parameters ("1", "2", ... when empty)
   PlanCriterion criterion = PlanCriterion::D;
   int max_exchange_passes = 100;  ///< each pass tries every pose of the set once
+
+  /// The rules the planning functions apply to their options (the CLI and the Python module call it too).
+  /// @throws std::invalid_argument for targets with another measure (or none with Measure::Targets), a
+  /// target's point not finite, or max_exchange_passes < 0
+  void validate() const;
 };
 
 /// The candidates' scaled identification blocks, computed once (compute, then get): every plan, exchange
