@@ -16,6 +16,23 @@ namespace lowpair {
 
 namespace {
 
+// The targets' points (tool frame), in order; validate() has checked that each has one.
+std::vector<Vec3> targetPoints(const PlanOptions& options) {
+  std::vector<Vec3> points;
+  for (const Target& t : options.targets) points.push_back(*t.point_tool);
+  return points;
+}
+
+// The targets' names, or none when one is empty (the error model then numbers them).
+std::vector<std::string> targetNames(const PlanOptions& options) {
+  std::vector<std::string> names;
+  for (const Target& t : options.targets) {
+    if (t.name.empty()) return {};
+    names.push_back(t.name);
+  }
+  return names;
+}
+
 int rowsPerCandidate(const PlanOptions& options) {
   return rowsPerPose(options.measure, static_cast<int>(options.targets.size()));
 }
@@ -234,7 +251,10 @@ PlanResult dispatch(const PlanCandidates& c, std::vector<int> start, int N, cons
 
 void PlanOptions::validate() const {
   LP_CHECK((measure == Measure::Targets) == !targets.empty(), "Measure::Targets needs targets' points, and only it");
-  for (const Vec3& t : targets) LP_CHECK(t.allFinite(), "a target's point is not finite");
+  for (const Target& t : targets) {
+    LP_CHECK(t.point_tool, "target " << t.name << " has no point: planning needs every target's point");
+    LP_CHECK(t.point_tool->allFinite(), "a target's point is not finite");
+  }
   LP_CHECK(max_exchange_passes >= 0, "max_exchange_passes must be >= 0, got " << max_exchange_passes);
 }
 
@@ -246,14 +266,14 @@ PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& ca
   for (const VecX& q : candidates) checkJointVector(q, model.dof());
   ErrorModelSpec spec;
   spec.free_pitch = options.free_pitch;
-  spec.targets = options.targets;
-  spec.target_names = options.target_names;
+  spec.targets = targetPoints(options);
+  spec.target_names = targetNames(options);
   const ErrorModel em(model, spec);
 
   PlanCandidates c;
   c.measure = options.measure;
   c.free_pitch = options.free_pitch;
-  c.targets = options.targets;
+  c.targets = spec.targets;
   c.q = candidates;
   c.parameters = em.parameters();
   c.expected = identifiableCount(model, options.measure, spec);
@@ -367,9 +387,10 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
   co.sigma_position = sigma_position;
   co.sigma_rotation = sigma_rotation;
   co.register_frame = false;  // the measurements are in the base frame
-  for (size_t t = 0; t < options.targets.size(); ++t) {
-    const std::string name = t < options.target_names.size() ? options.target_names[t] : std::to_string(t + 1);
-    co.targets.push_back(Target{name, options.targets[t]});
+  const std::vector<Vec3> points = targetPoints(options);
+  const std::vector<std::string> names = targetNames(options);
+  for (size_t t = 0; t < points.size(); ++t) {
+    co.targets.push_back(Target{t < names.size() ? names[t] : std::to_string(t + 1), points[t]});
   }
   std::vector<Measurement> measurements;
   Data data(model);
@@ -381,8 +402,8 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
       measurements.push_back(Measurement{qi, T});
       continue;
     }
-    for (size_t t = 0; t < options.targets.size(); ++t) {
-      measurements.push_back(Measurement{qi, Pose{Mat3::Identity(), T.R * options.targets[t] + T.p}, static_cast<int>(t)});
+    for (size_t t = 0; t < points.size(); ++t) {
+      measurements.push_back(Measurement{qi, Pose{Mat3::Identity(), T.R * points[t] + T.p}, static_cast<int>(t)});
     }
   }
   CalibrationResult calibration = calibrate(model, measurements, co);
