@@ -4,6 +4,7 @@
 
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
+#include "exp_coefficients.hpp"  // lowpair/src: the library's internal coefficients
 
 namespace lowpair {
 
@@ -48,7 +49,7 @@ Pose expSE3Quaternion(const Vec6& xi) {
       2.0 * (xy + wz), 1.0 - 2.0 * (x2 + z2), 2.0 * (yz - wx),     //
       2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (x2 + y2);
   const double b = 2.0 * k * k;
-  const double c = expCoefficientC(q);
+  const double c = detail::expCoefficientC(q);
   const Vec3 wxv = w.cross(v);
   T.p = v + b * wxv + c * w.cross(wxv);
   return T;

@@ -75,9 +75,9 @@ TEST(ErrorModelJacobian, ColumnsMatchCentralDifferencesOnRandomRobots) {
     const RandomRobot robot = randomRobot(rng);
     const PoeModel& model = robot.model;
     const bool free_pitch = r % 2 == 1;
-    const ErrorModel em(model, free_pitch);
+    const ErrorModel em(model, ErrorModelSpec{free_pitch});
     ++robots_by_geometry[geometryName(robot.geometry)];
-    ASSERT_EQ(em.size(), identifiableCount(model, Measure::Pose, free_pitch).total());
+    ASSERT_EQ(em.size(), identifiableCount(model, Measure::Pose, ErrorModelSpec{free_pitch}).total());
     const double L = model.lengthScale();
     const int n = model.dof();
     const VecX q = lowpair_test::randomConfiguration(model, rng);
@@ -145,7 +145,7 @@ TEST(ErrorModelApply, KeepsJointTypesPitchesAndAddsIncrements) {
   for (int r = 0; r < 500; ++r) {
     const PoeModel model = randomRobot(rng).model;
     const bool free_pitch = r % 2 == 1;
-    const ErrorModel em(model, free_pitch);
+    const ErrorModel em(model, ErrorModelSpec{free_pitch});
     const double L = model.lengthScale();
     // large joint perturbations (angles ~0.3 rad, lengths ~0.3 L), pitch increments only when `with_pitch`
     for (const bool with_pitch : {false, true}) {
@@ -230,11 +230,11 @@ struct RankTally {
 void checkIdentifiability(const PoeModel& model, Measure measure, bool free_pitch, const std::string& label,
                           std::mt19937_64& rng, RankTally& tally, Failures& failures) {
   const TypeCount types = countTypes(model);
-  const ParameterCount count = identifiableCount(model, measure, free_pitch);
+  const ParameterCount count = identifiableCount(model, measure, ErrorModelSpec{free_pitch});
   const int per = measure == Measure::Pose ? 6 : 3;
   const int poses = std::max(10, (2 * count.total() + per - 1) / per);
   const std::vector<VecX> qs = uniformPoses(model, poses, rng);
-  const Identifiability id = analyzeIdentifiability(model, qs, measure, free_pitch);
+  const Identifiability id = analyzeIdentifiability(model, qs, measure, ErrorModelSpec{free_pitch});
   const std::string where = label + " " + typeString(model) + " " + measureName(measure) + (free_pitch ? " free-pitch" : "");
   ++tally.analyses;
   bool ok = true;
@@ -269,9 +269,9 @@ void checkIdentifiability(const PoeModel& model, Measure measure, bool free_pitc
   if (id.full_model_rank != expected_rank) {
     ++tally.fails_by_kind["full error model rank"];
     fail("full error model rank " + std::to_string(id.full_model_rank) + ", expected " + std::to_string(expected_rank) +
-         around(analyzeRank(fullErrorModelJacobian(model, qs, measure, free_pitch), measure, model.lengthScale(), poses)));
+         around(analyzeRank(fullErrorModelJacobian(model, qs, measure, ErrorModelSpec{free_pitch}), measure, model.lengthScale(), poses)));
   }
-  const int em_size = ErrorModel(model, free_pitch).size();
+  const int em_size = ErrorModel(model, ErrorModelSpec{free_pitch}).size();
   if (id.poe.columns != em_size || static_cast<int>(id.parameters.size()) != em_size) fail("poe columns");
   if (id.full_model_columns != 8 * model.dof() + helical + 6) fail("full model columns");
   if (static_cast<int>(id.poe.undetermined.size()) != id.poe.columns - id.poe.rank) fail("undetermined directions");
@@ -408,7 +408,7 @@ TEST(Calibration, NoiseFreeRecoversTheActualRobot) {
     const RandomRobot robot = randomRobot(rng);
     const PoeModel& nominal = robot.model;
     const bool free_pitch = r % 2 == 1;
-    const ErrorModel em(nominal, free_pitch);
+    const ErrorModel em(nominal, ErrorModelSpec{free_pitch});
     const PoeModel actual = em.apply(smallDelta(em, 1e-3, free_pitch, rng));
     const std::vector<VecX> train = uniformPoses(nominal, 50, rng), check = uniformPoses(nominal, 100, rng);
     CalibrationOptions options;
@@ -470,7 +470,7 @@ TEST(Calibration, NoisyMeasurementsReachTheNoiseLevel) {
     const RandomRobot robot = randomRobot(rng);
     const PoeModel& nominal = robot.model;
     const bool free_pitch = r % 2 == 1;
-    const ErrorModel em(nominal, free_pitch);
+    const ErrorModel em(nominal, ErrorModelSpec{free_pitch});
     const double L = nominal.lengthScale();
     const double sp = 1e-5 * L, sr = 1e-5;
     const PoeModel actual = em.apply(smallDelta(em, 1e-2, free_pitch, rng));
@@ -541,7 +541,7 @@ TEST(Calibration, PositionOnlyLeavesOnlyTheToolRotationUndetermined) {
       continue;
     }
     const bool free_pitch = robots % 2 == 1;
-    const ErrorModel em(nominal, free_pitch);
+    const ErrorModel em(nominal, ErrorModelSpec{free_pitch});
     const PoeModel actual = em.apply(smallDelta(em, 1e-3, free_pitch, rng));
     const std::vector<VecX> train = uniformPoses(nominal, 50, rng), check = uniformPoses(nominal, 100, rng);
     CalibrationOptions options;
@@ -602,7 +602,7 @@ TEST(Calibration, TooFewPosesStaysFinite) {
   std::mt19937_64 rng(61);
   for (int r = 0; r < 10; ++r) {
     const PoeModel nominal = jointMix(r % 2 ? "RRRRRR" : "RRPRHR", 1.0 + 100.0 * r, rng);
-    const ErrorModel em(nominal, r % 3 == 0);
+    const ErrorModel em(nominal, ErrorModelSpec{r % 3 == 0});
     const PoeModel actual = em.apply(smallDelta(em, 1e-2, r % 3 == 0, rng));
     CalibrationOptions options;
     options.free_pitch = r % 3 == 0;

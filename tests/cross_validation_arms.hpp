@@ -42,7 +42,7 @@ struct FavouringArm {
 };
 inline FavouringArm favouringArm(const std::string& types, int favours, std::mt19937_64& rng, double line_error = 1e-3) {
   const PoeModel nominal = jointMix(types, 1000.0, rng);
-  const ErrorModel em(nominal, false);
+  const ErrorModel em(nominal);
   VecX d = smallDelta(em, line_error, false, rng);
   for (int k = 0; k < em.size(); ++k) {
     const ParameterKind kind = em.parameters()[static_cast<size_t>(k)].kind;

@@ -90,7 +90,7 @@ TEST(HayatiUr, EveryLengthAtMostTwoL) {
     for (int trial = 0; trial < 8; ++trial) {
       const PoeModel poe = calibratedUr(tilt, rng);
       const DhConversion c = poeToDh(poe);
-      const double ratio = longestLength(c.model) / c.size;
+      const double ratio = longestLength(c.model) / c.length_scale;
       worst = std::max(worst, ratio);
       EXPECT_LE(ratio, 2.0) << "tilt " << tilt << " trial " << trial;
       if (tilt <= 1e-3) {  // the standard d ~ 0.4 L / tilt: beyond L
@@ -126,7 +126,7 @@ TEST(HayatiUr, ForwardKinematicsAgree) {
     const PoeModel poe = calibratedUr(tilt, rng);
     const DhConversion c = poeToDh(poe);
     const FkCheck check = checkDhConversion(poe, c.model, 200);
-    EXPECT_LE(check.max_translation, 64 * kEps * c.size) << "tilt " << tilt;
+    EXPECT_LE(check.max_translation, 64 * kEps * c.length_scale) << "tilt " << tilt;
     EXPECT_LE(check.max_rotation, 64 * kEps) << "tilt " << tilt;
     // the modified (Craig) regrouping carries the Hayati rows' beta
     const ModifiedDh m = toModifiedDh(c.model);
@@ -135,7 +135,7 @@ TEST(HayatiUr, ForwardKinematicsAgree) {
       VecX q(6);
       for (int i = 0; i < 6; ++i) q[i] = u(rng);
       const Pose A = poeForwardKinematics(poe, q), B = modifiedDhForwardKinematics(m, q);
-      EXPECT_LE((A.p - B.p).norm(), 64 * kEps * c.size);
+      EXPECT_LE((A.p - B.p).norm(), 64 * kEps * c.length_scale);
       EXPECT_LE(rotationError(A.R, B.R), 64 * kEps);
     }
   }
@@ -162,7 +162,7 @@ TEST(HayatiUr, ForcedStandardRowsBlowUp) {
   options.row_kinds.assign(7, DhRowKind::Standard);
   const DhConversion c = poeToDh(poe, options);
   EXPECT_EQ(hayatiRows(c.model), 0);
-  EXPECT_GT(longestLength(c.model) / c.size, 100.0);
+  EXPECT_GT(longestLength(c.model) / c.length_scale, 100.0);
   EXPECT_THROW(poeToDh(poe, [] { ConvertOptions o; o.row_kinds.assign(3, DhRowKind::Standard); return o; }()),
                std::invalid_argument);
 }
@@ -237,7 +237,7 @@ TEST(HayatiProperty, NearlyParallelRobotsRoundTrip) {
     ++robots;
     const DhConversion c = poeToDh(r.model);
     hayati += hayatiRows(c.model);
-    const double L = c.size;
+    const double L = c.length_scale;
     for (const DhRowReport& rep : c.rows) {
       if (!rep.hayati) continue;
       EXPECT_GT(rep.standard_d, kHayatiLength * L);

@@ -141,7 +141,7 @@ TEST(PlanPoses, TargetsBeatRandomSetsAndReachTheCount) {
   const std::vector<VecX> q = sampleInRanges(model, 1000, rng);
   PlanOptions options;
   options.measure = Measure::Targets;
-  options.targets = {Vec3(60, 0, 20), Vec3(-30, 52, 20), Vec3(-30, -52, 40)};
+  options.targets = {Target{"", Vec3(60, 0, 20)}, Target{"", Vec3(-30, 52, 20)}, Target{"", Vec3(-30, -52, 40)}};
   const PlanCandidates c = planCandidates(model, q, options);
   EXPECT_EQ(c.rows_per_pose, 9);
   const PlanResult plan = planPoses(c, 12, options);

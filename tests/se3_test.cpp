@@ -8,6 +8,7 @@
 
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
+#include "exp_coefficients.hpp"  // lowpair/src (internal)
 #include "random_robot.hpp"
 
 using namespace lowpair;
@@ -112,7 +113,7 @@ TEST(Se3Hat, VeeInvertsHat) {
 TEST(Se3Exp, CoefficientsRelativeErrorAcrossSweep) {
   double worst = 0;
   for (double x : sweepAngles()) {
-    const ExpCoefficients k = expCoefficients(x);
+    const detail::ExpCoefficients k = detail::expCoefficients(x);
     LD a, b, c;
     refCoefficients(x, a, b, c);
     worst = std::max({worst, static_cast<double>(fabsl((k.a - a) / a)), static_cast<double>(fabsl((k.b - b) / b)),

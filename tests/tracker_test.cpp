@@ -136,7 +136,7 @@ TEST(TrackerIdentifiability, RankWithTargetsEqualsCount) {
       const double L = model.lengthScale();
       std::vector<Vec3> points;
       for (int t = 0; t < k; ++t) points.push_back(0.2 * L * lowpair_test::draw3(u, rng));
-      const Identifiability id = analyzeIdentifiability(model, uniformPoses(model, 40, rng), Measure::Targets, false, points);
+      const Identifiability id = analyzeIdentifiability(model, uniformPoses(model, 40, rng), Measure::Targets, ErrorModelSpec{false, ParameterSet::Full, {}, points});
       ++analyses;
       const int expected = identifiableCount(model, Measure::Pose).total() - 6 + 3 * k;
       if (id.expected.total() != expected) failures.add(types + ": count " + std::to_string(id.expected.total()));
@@ -178,7 +178,7 @@ TEST(TrackerFrame, SameDataInAFarFrameCalibratesTheSame) {
   for (const Case& c : cases) {
     const PoeModel& nominal = c.nominal;
     const double L = nominal.lengthScale();
-    const ErrorModel em(nominal, false);
+    const ErrorModel em(nominal);
     const PoeModel actual = em.apply(smallDelta(em, 1e-3, false, rng));
     const double sp = 1e-5 * L, sr = 1e-5;
     std::vector<Measurement> base = measure(actual, uniformPoses(nominal, 50, rng));
@@ -229,7 +229,7 @@ TEST(TrackerFrame, SameDataInAFarFrameCalibratesTheSame) {
 TEST(TrackerTargets, ThreeUnknownSmrsInAFarFrame) {
   std::mt19937_64 rng(3);
   const PoeModel nominal = pumaLike(0.0, true);
-  const ErrorModel em(nominal, false);
+  const ErrorModel em(nominal);
   const PoeModel actual = em.apply(smallDelta(em, 1e-3, false, rng));
   const std::vector<Vec3> smr = {Vec3(60, 0, 40), Vec3(-30, 55, 25), Vec3(-20, -50, 70)};  // mm, tool frame
   const double sp = 0.01;
@@ -261,7 +261,7 @@ TEST(TrackerTargets, ThreeUnknownSmrsInAFarFrame) {
 TEST(TrackerBlunders, RobustLossesFindFiveBlundersInAHundred) {
   std::mt19937_64 rng(5);
   const PoeModel nominal = pumaLike(0.0, true);
-  const ErrorModel em(nominal, false);
+  const ErrorModel em(nominal);
   const PoeModel actual = em.apply(smallDelta(em, 1e-3, false, rng));
   const double sp = 0.01, sr = 1e-5;
   std::vector<Measurement> ms = measure(actual, uniformPoses(nominal, 100, rng));
@@ -304,7 +304,7 @@ TEST(TrackerBlunders, RobustLossesFindFiveBlundersInAHundred) {
 TEST(TrackerVerdict, AnotherRobotOrShuffledRowsAreRejected) {
   std::mt19937_64 rng(9);
   const PoeModel nominal = pumaLike(0.0, true);
-  const ErrorModel em(nominal, false);
+  const ErrorModel em(nominal);
   const PoeModel actual = em.apply(smallDelta(em, 1e-3, false, rng));
   const std::vector<VecX> qs = uniformPoses(nominal, 60, rng);
   std::vector<Measurement> shuffled = measure(actual, qs);

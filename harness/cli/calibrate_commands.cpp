@@ -65,8 +65,10 @@ int runIdentifiability(const IdentifiabilityOptions& o) {
   const auto ranges = samplingRanges(model);
   std::vector<VecX> q(static_cast<size_t>(o.poses), VecX(model.dof()));
   for (int i = 0; i < o.poses; ++i) randomSample(static_cast<unsigned long long>(o.seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
-  const Identifiability id = analyzeIdentifiability(model, q, measure, o.free_pitch,
-                                                    measure == Measure::Targets ? fileTargets(file) : std::vector<Vec3>{});
+  ErrorModelSpec spec;
+  spec.free_pitch = o.free_pitch;
+  if (measure == Measure::Targets) spec.targets = fileTargets(file);
+  const Identifiability id = analyzeIdentifiability(model, q, measure, spec);
   if (o.as_json) {
     json j = identifiabilityJson(file, id);
     j["poses"] = o.poses;

@@ -137,6 +137,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     const RobotFile file = loadRobot(o->robot, cliSpelling());
     ConvertOptions options;
     options.parallel_threshold = o->parallel_threshold;
+    options.validate();
     const PoeModel poe = file.poeModel();
     if (o->standard) options.row_kinds.assign(static_cast<size_t>(poe.dof()) + 1, DhRowKind::Standard);
     const DhConversion c = poeToDh(poe, options);

@@ -196,6 +196,7 @@ int runIk(const IkCommandOptions& o) {
   }
   IkOptions options;
   options.measure = table.pose ? Measure::Pose : Measure::Position;
+  options.validate("inverseKinematics");
   const std::vector<Range> ranges = samplingRanges(model);
   Data data(model);
   IkWorkspace work(model);
@@ -284,6 +285,7 @@ int runCompensate(const CompensateOptions& o) {
   for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
   IkOptions options;
   options.measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
+  options.validate("compensate");
   // the table's rows, row-major, as the matrix of joint vectors the shared loop takes
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> q_nominal(
       table.q.data(), static_cast<Eigen::Index>(table.rows()), n);

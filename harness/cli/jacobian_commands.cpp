@@ -31,7 +31,7 @@ void printSingular(std::ostream& out, const RobotFile& file, const SingularityRe
   out << robotLabel(file) << ": " << (r.singular ? "SINGULAR" : "regular") << ", rank " << r.rank << " of "
       << std::min(6, r.dof) << " (" << r.dof << " joints; linear " << r.rank_linear << ", angular "
       << r.rank_angular << ")\n";
-  out << "  dimensionless Jacobian (linear rows / L, L = " << fixed(r.size) << " " << file.length_unit
+  out << "  dimensionless Jacobian (linear rows / L, L = " << fixed(r.length_scale) << " " << file.length_unit
       << "): sigma_min " << sci(r.sigma_min) << ", manipulability " << sci(r.manipulability) << ", condition "
       << (std::isfinite(r.condition) ? sci(r.condition) : std::string("inf")) << ", rank tolerance "
       << sci(r.tolerance) << "\n";
@@ -131,6 +131,7 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
     const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
     SingularityOptions options;
     options.max_null_vectors = kPrintedNullVectors;
+    options.validate();
     const SingularityReport r = analyzeSingularity(file.poeModel(), q, options);
     if (o->as_json) {
       std::cout << jsonText(singularityJson(file, q, r)) << "\n";

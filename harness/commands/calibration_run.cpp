@@ -61,6 +61,7 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   }
   // targets: the fit's names; a point from the nominal's targets: list of the same name, else estimated
   options.targets = nominalTargets(nominal_file, fit.target_names);
+  options.validate();
   const auto start = std::chrono::steady_clock::now();
   std::optional<CrossValidation> cv;
   if (a.select) {

@@ -19,7 +19,7 @@ void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const D
   const DhModel& m = dh.conversion.model;
   const std::string u = lengthUnit(file);
   char line[256];
-  const int ld = io::dhLengthDecimals(dh.conversion.size);
+  const int ld = io::dhLengthDecimals(dh.conversion.length_scale);
   const std::string pu = pitchUnit(file);
   const double pitch_factor = file.angleFactor();
   // a Hayati row (conventions.md) has a beta column: printed only when some row is one

@@ -45,10 +45,7 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
       throw UsageError(r.file.path, spelling.setting("measure", "targets") +
                                         " needs a `targets:` list in the robot file (docs/file_formats.md)");
     }
-    for (const Target& t : r.file.targets) {
-      options.targets.push_back(*t.point_tool);
-      options.target_names.push_back(t.name);
-    }
+    options.targets = r.file.targets;
   }
   if (request.poses > request.candidates) {
     throw UsageError(spelling.name("poses"), std::to_string(request.poses) + " poses cannot be chosen from " +
@@ -63,7 +60,7 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
   // the candidates' blocks: rows x columns numbers each
   ErrorModelSpec spec;
   spec.free_pitch = request.free_pitch;
-  spec.targets = options.targets;
+  for (const Target& t : options.targets) spec.targets.push_back(*t.point_tool);
   const double columns = ErrorModel(model, spec).size();
   const double rows = r.measure == Measure::Pose ? 6.0 : 3.0 * std::max<size_t>(1, options.targets.size());
   if (static_cast<double>(request.candidates) * rows * columns > kMaxPlanEntries) {
@@ -73,6 +70,8 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
                          io::shortest(columns) + " parameters exceed the identification size limit (" +
                          io::shortest(kMaxPlanEntries) + " numbers, held about four times): fewer candidates");
   }
+
+  options.validate();
 
   // candidates: the sampling convention (commands/sampling.hpp), stream `seed`, samples 0..M-1
   const auto ranges = samplingRanges(model);

@@ -10,7 +10,6 @@
 #include <set>
 #include <stdexcept>
 
-#include "lowpair/check.hpp"
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
 #include "io/output.hpp"
@@ -288,8 +287,10 @@ PoeModel motionModel(const PoeModel& model) {
     Joint& j = joints[i];
     if (j.range) {
       const double lo = j.motion((*j.range)[0]), hi = j.motion((*j.range)[1]);
-      LP_CHECK(std::isfinite(lo) && std::isfinite(hi),
-               jointLabel(static_cast<int>(i), j.name) << ": its range in the motion x = scale (q + offset) overflows");
+      if (!std::isfinite(lo) || !std::isfinite(hi)) {
+        throw std::invalid_argument(jointLabel(static_cast<int>(i), j.name) +
+                                    ": its range in the motion x = scale (q + offset) overflows");
+      }
       j.range = std::array<double, 2>{lo, hi};  // scale > 0 keeps the order
     }
     j.scale = 1.0;

@@ -83,7 +83,7 @@ json poseJson(const Pose& T) {
 
 std::vector<std::string> conversionWarnings(const DhConversion& c, const FkCheck& check) {
   std::vector<std::string> warnings;
-  const double L = c.size;
+  const double L = c.length_scale;
   auto message = [] {
     std::ostringstream msg;
     msg.precision(3);
@@ -139,7 +139,7 @@ std::vector<std::string> conversionNotes(const DhConversion& c) {
 }
 
 json dhJson(const RobotFile& file, const DhConversion& c, const FkCheck& check) {
-  json j = headerJson(file, c.size);
+  json j = headerJson(file, c.length_scale);
   j["convention"] = "standard";
   j["base"] = paramsJson(c.model.base());
   j["joints"] = json::array();
@@ -162,7 +162,7 @@ json dhJson(const RobotFile& file, const DhConversion& c, const FkCheck& check) 
 
 json modifiedDhJson(const RobotFile& file, const DhConversion& c, const FkCheck& check) {
   const ModifiedDh m = toModifiedDh(c.model);
-  json j = headerJson(file, c.size);
+  json j = headerJson(file, c.length_scale);
   j["convention"] = "modified";
   j["base"] = {{"theta", m.base_theta}, {"d", m.base_d}};
   j["joints"] = json::array();
@@ -219,13 +219,13 @@ std::string pitchUnit(const RobotFile& file) { return unitOr(file) + "/" + file.
 
 void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c, const FkCheck& check) {
   const std::string u = unitOr(file);
-  out << robotLabel(file) << ": standard D-H (Wu et al. eq. 10), L = " << fixed(c.size)
+  out << robotLabel(file) << ": standard D-H (Wu et al. eq. 10), L = " << fixed(c.length_scale)
       << " " << u << "\n";
   out << "H = A(base) * prod_i [Q_i(scale_i q_i) * A(row i)] * Rz(theta_T) Tz(d_T),  A = Rz(theta) Tz(d) Rx(alpha) Tx(a)\n";
   const bool hayati = anyHayati(c.model);
   if (hayati) out << "a row with beta is a Hayati row: A = Rz(theta) Tx(a) Rx(alpha) Ry(beta), d = 0\n";
   out << "\n";
-  const int ld = dhLengthDecimals(c.size);
+  const int ld = dhLengthDecimals(c.length_scale);
   const auto len = [ld](double x) { return fixed(x, ld); };
   const auto deg = [](double x) { return fixed(x * kDeg, kDhAngleDecimals); };
   char line[256];
@@ -266,14 +266,14 @@ void printDh(std::ostream& out, const RobotFile& file, const DhConversion& c, co
 void printModifiedDh(std::ostream& out, const RobotFile& file, const DhConversion& c, const FkCheck& check) {
   const ModifiedDh m = toModifiedDh(c.model);
   const std::string u = unitOr(file);
-  out << robotLabel(file) << ": modified (Craig) D-H, L = " << fixed(c.size) << " " << u
+  out << robotLabel(file) << ": modified (Craig) D-H, L = " << fixed(c.length_scale) << " " << u
       << "\n";
   out << "H = Rz(theta_B) Tz(d_B) * prod_i [Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + q) Tz(d_i)] * Rx(alpha_n) Tx(a_n) "
          "Rz(theta_T) Tz(d_T)\n";
   const bool hayati = anyHayati(c.model);
   if (hayati) out << "beta: of a Hayati row, Ry(beta) after Tx(a_{i-1})\n";
   out << "\n";
-  const int ld = dhLengthDecimals(c.size);
+  const int ld = dhLengthDecimals(c.length_scale);
   const auto len = [ld](double x) { return fixed(x, ld); };
   const auto deg = [](double x) { return fixed(x * kDeg, kDhAngleDecimals); };
   char line[256];

@@ -20,7 +20,7 @@ namespace lowpair::io {
 namespace {
 
 // What makes `p` no target point ("" when it is one): non-finite, or beyond the 1e100 a robot's size may
-// reach (kMaxMagnitude, as the tool position: robotSize).
+// reach (kMaxMagnitude, as the tool position: lengthScale).
 std::string targetPointProblem(const Vec3& p) {
   if (!p.allFinite()) return "is not finite";
   const double norm = p.norm();  // (inf for coordinates near the double range: refused too)

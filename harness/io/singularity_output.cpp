@@ -79,7 +79,7 @@ nlohmann::json singularityJson(const RobotFile& file, const VecX& q, const Singu
           {"source", file.path},
           {"q", toVector(q)},
           {"length_unit", file.length_unit},
-          {"size", r.size},
+          {"size", r.length_scale},
           {"rank", r.rank},
           {"dof", r.dof},
           {"singular", r.singular},

@@ -133,8 +133,7 @@ CasePlanResult planCase(const Scenario& scenario, const CalibrationCase& config,
                            config.nominal + " must list every target's point (the plan is made on the nominal); '" +
                            name + "' is not among its targets:");
     }
-    options.targets.push_back(*known->point_tool);
-    options.target_names.push_back(name);
+    options.targets.push_back(Target{name, known->point_tool});
   }
   // the candidates' blocks: rows per pose x (at most 7 columns per joint and the tool's 6 or targets' 3 each)
   const double targets = static_cast<double>(config.targets.size());

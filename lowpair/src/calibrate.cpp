@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
@@ -78,15 +78,6 @@ double median(std::vector<double> x) {
   const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
   std::nth_element(x.begin(), mid, x.end());
   return *mid;
-}
-
-void checkOptions(const CalibrationOptions& options) {
-  for (const auto& s : {options.sigma_position, options.sigma_rotation}) {
-    LP_CHECK(!s || (*s > 0.0 && std::isfinite(*s)), "calibrate: noise levels must be positive and finite");
-  }
-  LP_CHECK(options.max_iterations >= 0, "calibrate: max_iterations must be >= 0");
-  LP_CHECK(options.outlier_threshold > 0.0 && std::isfinite(options.outlier_threshold),
-           "calibrate: the outlier threshold must be positive and finite");
 }
 
 // The stated noise (the other of a pair derived through L), or relative weights when none is stated.
@@ -405,11 +396,20 @@ std::string verdict(const CalibrationResult& r, double L) {
 
 }  // namespace
 
+void CalibrationOptions::validate() const {
+  for (const auto& s : {sigma_position, sigma_rotation}) {
+    LP_CHECK(!s || (*s > 0.0 && std::isfinite(*s)), "calibrate: noise levels must be positive and finite");
+  }
+  LP_CHECK(max_iterations >= 0, "calibrate: max_iterations must be >= 0");
+  LP_CHECK(outlier_threshold > 0.0 && std::isfinite(outlier_threshold),
+           "calibrate: the outlier threshold must be positive and finite");
+}
+
 CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                             const CalibrationOptions& options) {
   const Measure measure = options.measure;
   checkMeasurements(nominal, measurements, measure, options.targets.size());
-  checkOptions(options);
+  options.validate();
   const double L = nominal.lengthScale();
   const bool stated = options.sigma_position || options.sigma_rotation;
   Problem problem;
@@ -445,7 +445,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   const Covariance cov = covarianceAt(problem, it.em, stated ? 1.0 : variance_factor, sub);
 
   CalibrationResult out{it.em.model(), it.em};
-  out.expected = identifiableCount(nominal, measure, options.free_pitch, static_cast<int>(options.targets.size()));
+  out.expected = identifiableCount(nominal, measure, it.em.spec());
   out.rank = std::move(sub.rank);
   out.before = residualStatistics(start, measurements, measure, reg.targets);
   out.after = residualStatistics(it.em.model(), measurements, measure, it.em.targets());

@@ -3,7 +3,7 @@
 // installed. The evaluators trust their sizes: every public function checks them first with
 // checkChainCall, in every build type.
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/kinematics.hpp"
 
 namespace lowpair::detail {

@@ -6,7 +6,7 @@
 #include <optional>
 #include <random>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
@@ -195,12 +195,15 @@ double longest(const DhParams& r, double tool_d = 0.0) {
 
 }  // namespace
 
+void ConvertOptions::validate() const {
+  LP_CHECK(std::isfinite(parallel_threshold) && parallel_threshold >= 0.0 && parallel_threshold < 1.0,
+           "poeToDh: parallel_threshold must be in [0, 1), got " << parallel_threshold);
+}
+
 DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
   const int n = model.dof();
   LP_CHECK(n >= 1, "poeToDh: the model has no joints");
-  LP_CHECK(std::isfinite(options.parallel_threshold) && options.parallel_threshold >= 0.0 &&
-               options.parallel_threshold < 1.0,
-           "poeToDh: parallel_threshold must be in [0, 1), got " << options.parallel_threshold);
+  options.validate();
   const double L = model.lengthScale();
   Tolerances tol;
   const double rounding_parallel = kParallelPerJoint * kEps * n;

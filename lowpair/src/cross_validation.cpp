@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <random>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/kinematics.hpp"
 
 namespace lowpair {

@@ -6,7 +6,7 @@
 #include <optional>
 #include <sstream>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
@@ -97,7 +97,9 @@ void checkPoses(const std::vector<VecX>& q, int dof) {
 
 }  // namespace detail
 
-ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool free_pitch, int targets) {
+ParameterCount identifiableCount(const PoeModel& model, Measure measure, const ErrorModelSpec& spec) {
+  const bool free_pitch = spec.free_pitch;
+  const auto targets = static_cast<int>(spec.targets.size());
   ParameterCount count;
   for (const Joint& j : model.joints()) {
     if (j.type == JointType::Prismatic) {
@@ -156,16 +158,6 @@ Vec3 baseCenter(const PoeModel& model) {
 }
 
 }  // namespace
-
-namespace {
-ErrorModelSpec specWithPitch(bool free_pitch) {
-  ErrorModelSpec spec;
-  spec.free_pitch = free_pitch;
-  return spec;
-}
-}  // namespace
-
-ErrorModel::ErrorModel(const PoeModel& model, bool free_pitch) : ErrorModel(model, specWithPitch(free_pitch)) {}
 
 ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : model_(model), spec_(spec) {
   auto add = [&](ParameterKind kind, int joint, int component, std::string name, const char* unit) {
@@ -365,8 +357,10 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
   return T;
 }
 
-MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
-                            const std::vector<Vec3>& targets) {
+MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
+                            const ErrorModelSpec& spec) {
+  const bool free_pitch = spec.free_pitch;
+  const std::vector<Vec3>& targets = spec.targets;
   checkPoses(q, model.dof());
   checkTargets(measure, targets);
   int cols = 6;
@@ -394,8 +388,10 @@ MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, M
   return J;
 }
 
-MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
-                              std::vector<std::string>* names, const std::vector<Vec3>& targets) {
+MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure,
+                              const ErrorModelSpec& spec, std::vector<std::string>* names) {
+  const bool free_pitch = spec.free_pitch;
+  const std::vector<Vec3>& targets = spec.targets;
   checkPoses(q, model.dof());
   checkTargets(measure, targets);
   // a Hayati row's parameters are theta, alpha, a, beta (its d is fixed to 0; docs/conventions.md)

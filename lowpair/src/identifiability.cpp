@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
 
@@ -96,16 +96,18 @@ RankAnalysis analyzeRank(const MatX& jacobian, Measure measure, double L, int po
 }
 
 Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
-                                       bool free_pitch, const std::vector<Vec3>& targets) {
+                                       const ErrorModelSpec& options) {
+  const std::vector<Vec3>& targets = options.targets;
   checkPoses(q, model.dof());
   checkTargets(measure, targets);
   Identifiability out;
   out.measure = measure;
-  out.free_pitch = free_pitch;
-  out.expected = identifiableCount(model, measure, free_pitch, static_cast<int>(targets.size()));
-  ErrorModelSpec spec;
-  spec.free_pitch = free_pitch;
+  out.free_pitch = options.free_pitch;
+  ErrorModelSpec spec;  // the full set
+  spec.free_pitch = options.free_pitch;
   spec.targets = targets;
+  spec.target_names = options.target_names;
+  out.expected = identifiableCount(model, measure, spec);
   const ErrorModel em(model, spec);
   out.parameters = em.parameters();
   const int per = rowsPerMeasurement(measure), k = measure == Measure::Targets ? static_cast<int>(targets.size()) : 1;
@@ -118,11 +120,11 @@ Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<
   }
   const double L = model.lengthScale();
   out.poe = analyzeRank(J, measure, L, poses);
-  const MatX full = fullErrorModelJacobian(model, q, measure, free_pitch, targets);
+  const MatX full = fullErrorModelJacobian(model, q, measure, spec);
   out.full_model_rank = analyzeRank(full, measure, L, poses).rank;
   out.full_model_columns = static_cast<int>(full.cols());
   const DhConversion dh = poeToDh(model);
-  out.dh = analyzeRank(dhIdentificationJacobian(dh.model, q, measure, free_pitch, &out.dh_parameters, targets), measure,
+  out.dh = analyzeRank(dhIdentificationJacobian(dh.model, q, measure, spec, &out.dh_parameters), measure,
                        L, poses);
   return out;
 }

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/singularity.hpp"
@@ -257,21 +257,24 @@ void checkCall(const char* function, const PoeModel& model, const Data& data, co
   for (Eigen::Index i = 0; i < q.size(); ++i) {
     LP_CHECK(std::isfinite(q[i]), function << ": joint value " << i + 1 << " is not finite");
   }
-  LP_CHECK(options.measure != Measure::Targets,
-           function << ": the task is a pose or a position (for a target, its point as point_tool and Position)");
-  LP_CHECK(options.point_tool.allFinite(), function << ": point_tool is not finite");
-  LP_CHECK(options.position_tolerance > 0.0 && std::isfinite(options.position_tolerance),
-           function << ": position_tolerance must be positive and finite, got " << options.position_tolerance);
-  LP_CHECK(options.rotation_tolerance > 0.0 && std::isfinite(options.rotation_tolerance),
-           function << ": rotation_tolerance must be positive and finite, got " << options.rotation_tolerance);
-  LP_CHECK(options.max_iterations >= 0, function << ": max_iterations must be >= 0, got " << options.max_iterations);
-  LP_CHECK(options.damping >= 0.0 && std::isfinite(options.damping),
-           function << ": damping must be >= 0 and finite, got " << options.damping);
+  options.validate(function);
 }
 
 const char* kStatusNames[] = {"ok", "out_of_range", "singular", "unreachable", "not_converged"};
 
 }  // namespace
+
+void IkOptions::validate(const char* function) const {
+  LP_CHECK(measure != Measure::Targets,
+           function << ": the task is a pose or a position (for a target, its point as point_tool and Position)");
+  LP_CHECK(point_tool.allFinite(), function << ": point_tool is not finite");
+  LP_CHECK(position_tolerance > 0.0 && std::isfinite(position_tolerance),
+           function << ": position_tolerance must be positive and finite, got " << position_tolerance);
+  LP_CHECK(rotation_tolerance > 0.0 && std::isfinite(rotation_tolerance),
+           function << ": rotation_tolerance must be positive and finite, got " << rotation_tolerance);
+  LP_CHECK(max_iterations >= 0, function << ": max_iterations must be >= 0, got " << max_iterations);
+  LP_CHECK(damping >= 0.0 && std::isfinite(damping), function << ": damping must be >= 0 and finite, got " << damping);
+}
 
 const char* ikStatusName(IkStatus status) { return kStatusNames[static_cast<int>(status)]; }
 

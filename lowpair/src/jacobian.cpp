@@ -4,7 +4,7 @@
 #include <string>
 
 #include "chain_eval.hpp"
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/se3.hpp"
 
 namespace lowpair {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/tolerances.hpp"
 
 namespace lowpair {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "chain_eval.hpp"
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/se3.hpp"
 #include "sincos.hpp"
 
@@ -25,15 +25,20 @@
 
 namespace lowpair {
 
+namespace {
+// the scratch length: dof rounded up to the chain's SIMD lanes (detail::ChainLanes)
+int paddedDof(const KinematicChain& chain) { return static_cast<int>(chain.lanes.theta.size()); }
+}  // namespace
+
 Data::Data(const KinematicChain& chain)
     : dof(static_cast<int>(chain.links.size())),
       T_base_joint(chain.links.size()),
       J_spatial(6, dof),
-      q_padded(VecX::Zero(chain.paddedDof())),
-      angle(VecX::Zero(chain.paddedDof())),
-      sin_angle(VecX::Zero(chain.paddedDof())),
-      cos_angle(VecX::Zero(chain.paddedDof())),
-      slide(VecX::Zero(chain.paddedDof())) {
+      q_padded(VecX::Zero(paddedDof(chain))),
+      angle(VecX::Zero(paddedDof(chain))),
+      sin_angle(VecX::Zero(paddedDof(chain))),
+      cos_angle(VecX::Zero(paddedDof(chain))),
+      slide(VecX::Zero(paddedDof(chain))) {
   J_spatial.setZero();
 }
 Data::Data(const PoeModel& model) : Data(model.chain()) {}
@@ -65,7 +70,7 @@ std::string counted(Eigen::Index n, const char* noun) {
   return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
 
-// sin and cos of n angles together, n a multiple of KinematicChain::kLanes (the loop vectorizes); angles beyond the kernel's accurate range
+// sin and cos of n angles together, n a multiple of detail::kChainLanes (the loop vectorizes); angles beyond the kernel's accurate range
 // (possible only for huge joint values) are recomputed with libm.
 // (The range test is an integer OR so that the loop still vectorizes; a floating max would not.)
 inline bool outOfRange(double angle) { return !(std::abs(angle) <= detail::kSinCosMaxArgument); }
@@ -121,8 +126,8 @@ LP_ALWAYS_INLINE inline T toolPosition(const Pose& E, T X, T Y, T Z, T P) {
 template <bool kFrames>
 LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, const double* q) {
   const int n = data.dof;
-  const int padded = chain.paddedDof();  // a multiple of kLanes: the lane loops below run in full vectors
-  const KinematicChain::Lanes& c = chain.lanes;
+  const int padded = paddedDof(chain);  // a multiple of kChainLanes: the lane loops below run in full vectors
+  const detail::ChainLanes& c = chain.lanes;
   double* __restrict qp = data.q_padded.data();
   double* __restrict angle = data.angle.data();
   double* __restrict slide = data.slide.data();
@@ -133,7 +138,7 @@ LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, c
   const double* __restrict scale = c.scale.data();
   const double* __restrict offset = c.offset.data();
   std::memcpy(qp, q, sizeof(double) * static_cast<size_t>(n));
-  constexpr int L = KinematicChain::kLanes;
+  constexpr int L = detail::kChainLanes;
   for (int b = 0; b < padded; b += L) {
     for (int i = b; i < b + L; ++i) {  // fixed trip count: one SIMD vector
       const double x = motionOf(qp[i], scale[i], offset[i]);

@@ -5,11 +5,15 @@
 #include <cmath>
 
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
 
 namespace lowpair {
+
+namespace {
+void packLanes(KinematicChain& chain);
+}  // namespace
 
 namespace {
 
@@ -160,10 +164,13 @@ void checkChain(const KinematicChain& chain) {
 
 }  // namespace
 
+namespace {
+
+// Fills `chain.lanes` from `chain.links`.
 void packLanes(KinematicChain& chain) {
   const size_t n = chain.links.size();
-  const size_t padded = (n + KinematicChain::kLanes - 1) / KinematicChain::kLanes * KinematicChain::kLanes;
-  KinematicChain::Lanes& l = chain.lanes;
+  const size_t padded = (n + detail::kChainLanes - 1) / detail::kChainLanes * detail::kChainLanes;
+  detail::ChainLanes& l = chain.lanes;
   l.theta.assign(padded, 0.0);
   l.turn.assign(padded, 0.0);
   l.slide.assign(padded, 0.0);
@@ -180,6 +187,8 @@ void packLanes(KinematicChain& chain) {
     l.offset[i] = link.motion.offset;
   }
 }
+
+}  // namespace
 
 std::vector<Pose> restFrames(const KinematicChain& chain) {
   std::vector<Pose> frames;
@@ -210,7 +219,7 @@ DhParams movedRow(const DhParams& row, const JointMotion& motion, double x) {
   return out;
 }
 
-double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose) {
+double lengthScale(const std::vector<Joint>& joints, const Pose& tool_pose) {
   double size = safeNorm(tool_pose.p);
   for (const Joint& j : joints) {
     if (j.type != JointType::Prismatic) size = std::max(size, safeNorm(j.axis().cross(j.moment())));
@@ -289,7 +298,7 @@ void PoeModel::finish() {
   for (size_t i = 0; i < joints_.size(); ++i) {
     checkJointMagnitudes(joints_[i], joints_[i].range, jointLabel(static_cast<int>(i), joints_[i].name));
   }
-  length_scale_ = robotSize(joints_, tool_pose_);
+  length_scale_ = lowpair::lengthScale(joints_, tool_pose_);
   checkSize(length_scale_);
   chain_ = poeChain(joints_, tool_pose_);
   checkChain(chain_);
@@ -355,7 +364,7 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
   }
   Pose T_base_tool = chain_.T_base_first;
   for (const ChainLink& link : chain_.links) T_base_tool = T_base_tool * linkPose(link);
-  length_scale_ = robotSize(lines, T_base_tool * chain_.T_last_tool);
+  length_scale_ = lowpair::lengthScale(lines, T_base_tool * chain_.T_last_tool);
   checkSize(length_scale_);
 }
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <random>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
@@ -15,6 +15,23 @@
 namespace lowpair {
 
 namespace {
+
+// The targets' points (tool frame), in order; validate() has checked that each has one.
+std::vector<Vec3> targetPoints(const PlanOptions& options) {
+  std::vector<Vec3> points;
+  for (const Target& t : options.targets) points.push_back(*t.point_tool);
+  return points;
+}
+
+// The targets' names, or none when one is empty (the error model then numbers them).
+std::vector<std::string> targetNames(const PlanOptions& options) {
+  std::vector<std::string> names;
+  for (const Target& t : options.targets) {
+    if (t.name.empty()) return {};
+    names.push_back(t.name);
+  }
+  return names;
+}
 
 int rowsPerCandidate(const PlanOptions& options) {
   return rowsPerPose(options.measure, static_cast<int>(options.targets.size()));
@@ -214,7 +231,7 @@ PlanResult runPlan(const PlanCandidates& c, std::vector<int> start, int N, const
 }
 
 PlanResult dispatch(const PlanCandidates& c, std::vector<int> start, int N, const PlanOptions& options) {
-  LP_CHECK(options.max_exchange_passes >= 0, "max_exchange_passes must be >= 0, got " << options.max_exchange_passes);
+  options.validate();
   if (c.rank == 0) {  // nothing to determine: any set is as good (the first N)
     std::vector<int> set = start;
     for (int j = 0; static_cast<int>(set.size()) < N; ++j) {
@@ -232,27 +249,34 @@ PlanResult dispatch(const PlanCandidates& c, std::vector<int> start, int N, cons
 
 }  // namespace
 
+void PlanOptions::validate() const {
+  LP_CHECK((measure == Measure::Targets) == !targets.empty(), "Measure::Targets needs targets' points, and only it");
+  for (const Target& t : targets) {
+    LP_CHECK(t.point_tool, "target " << t.name << " has no point: planning needs every target's point");
+    LP_CHECK(t.point_tool->allFinite(), "a target's point is not finite");
+  }
+  LP_CHECK(max_exchange_passes >= 0, "max_exchange_passes must be >= 0, got " << max_exchange_passes);
+}
+
 const char* planCriterionName(PlanCriterion criterion) { return criterion == PlanCriterion::D ? "D" : "O1"; }
 
 PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& candidates, const PlanOptions& options) {
   LP_CHECK(!candidates.empty(), "planning needs at least one candidate pose");
-  LP_CHECK((options.measure == Measure::Targets) == !options.targets.empty(),
-           "Measure::Targets needs targets' points, and only it");
-  for (const Vec3& t : options.targets) LP_CHECK(t.allFinite(), "a target's point is not finite");
+  options.validate();
   for (const VecX& q : candidates) checkJointVector(q, model.dof());
   ErrorModelSpec spec;
   spec.free_pitch = options.free_pitch;
-  spec.targets = options.targets;
-  spec.target_names = options.target_names;
+  spec.targets = targetPoints(options);
+  spec.target_names = targetNames(options);
   const ErrorModel em(model, spec);
 
   PlanCandidates c;
   c.measure = options.measure;
   c.free_pitch = options.free_pitch;
-  c.targets = options.targets;
+  c.targets = spec.targets;
   c.q = candidates;
   c.parameters = em.parameters();
-  c.expected = identifiableCount(model, options.measure, options.free_pitch, static_cast<int>(options.targets.size()));
+  c.expected = identifiableCount(model, options.measure, spec);
   c.length_scale = model.lengthScale();
   c.rows_per_pose = rowsPerCandidate(options);
   const int M = c.count(), rows = c.rows_per_pose, p = em.size();
@@ -356,17 +380,17 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
                                         std::optional<double> sigma_position, std::optional<double> sigma_rotation) {
   LP_CHECK(sigma_position || sigma_rotation, "expectedUncertainty: state the measurement noise (position, rotation or both)");
   LP_CHECK(!q.empty(), "expectedUncertainty: needs at least one pose");
-  LP_CHECK((options.measure == Measure::Targets) == !options.targets.empty(),
-           "Measure::Targets needs targets' points, and only it");
+  options.validate();
   CalibrationOptions co;
   co.measure = options.measure;
   co.free_pitch = options.free_pitch;
   co.sigma_position = sigma_position;
   co.sigma_rotation = sigma_rotation;
   co.register_frame = false;  // the measurements are in the base frame
-  for (size_t t = 0; t < options.targets.size(); ++t) {
-    const std::string name = t < options.target_names.size() ? options.target_names[t] : std::to_string(t + 1);
-    co.targets.push_back(Target{name, options.targets[t]});
+  const std::vector<Vec3> points = targetPoints(options);
+  const std::vector<std::string> names = targetNames(options);
+  for (size_t t = 0; t < points.size(); ++t) {
+    co.targets.push_back(Target{t < names.size() ? names[t] : std::to_string(t + 1), points[t]});
   }
   std::vector<Measurement> measurements;
   Data data(model);
@@ -378,8 +402,8 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
       measurements.push_back(Measurement{qi, T});
       continue;
     }
-    for (size_t t = 0; t < options.targets.size(); ++t) {
-      measurements.push_back(Measurement{qi, Pose{Mat3::Identity(), T.R * options.targets[t] + T.p}, static_cast<int>(t)});
+    for (size_t t = 0; t < points.size(); ++t) {
+      measurements.push_back(Measurement{qi, Pose{Mat3::Identity(), T.R * points[t] + T.p}, static_cast<int>(t)});
     }
   }
   CalibrationResult calibration = calibrate(model, measurements, co);

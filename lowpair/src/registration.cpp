@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 
+#include "exp_coefficients.hpp"
 #include "lowpair/tolerances.hpp"
 
 namespace lowpair {
@@ -58,6 +59,8 @@ constexpr std::array<double, 12> invOddFactorials() {
 constexpr std::array<double, 12> kInvOddFactorial = invOddFactorials();  // 1/(2k+3)!
 }  // namespace
 
+namespace detail {
+
 double expCoefficientC(double x) {
   const double y = x * x;
   if (x >= kSeriesAngle) return (x - std::sin(x)) / (x * y);
@@ -85,8 +88,10 @@ ExpCoefficients expCoefficients(double x) {
   return k;
 }
 
+}  // namespace detail
+
 Mat3 expSO3(const Vec3& w) {
-  const ExpCoefficients k = expCoefficients(w.norm());
+  const detail::ExpCoefficients k = detail::expCoefficients(w.norm());
   Mat3 R = k.cos_x * Mat3::Identity();
   R.noalias() += k.b * (w * w.transpose());
   R += k.a * hat3(w);
@@ -96,7 +101,7 @@ Mat3 expSO3(const Vec3& w) {
 Pose expSE3(const Vec6& xi) {
   const Vec3 w = xi.head<3>();
   const Vec3 v = xi.tail<3>();
-  const ExpCoefficients k = expCoefficients(w.norm());
+  const detail::ExpCoefficients k = detail::expCoefficients(w.norm());
   Pose T;
   T.R = k.cos_x * Mat3::Identity();
   T.R.noalias() += k.b * (w * w.transpose());

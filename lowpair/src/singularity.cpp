@@ -7,7 +7,7 @@
 #include <set>
 
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/tolerances.hpp"
@@ -358,16 +358,19 @@ std::vector<VecX> largeChainNullSpace(const MatX& Jn, const Eigen::JacobiSVD<Mat
 }
 }  // namespace
 
+void SingularityOptions::validate() const {
+  LP_CHECK(max_null_vectors >= 0, "analyzeSingularity: max_null_vectors must be >= 0, got " << max_null_vectors);
+}
+
 SingularityReport analyzeSingularity(const PoeModel& model, const Eigen::Ref<const VecX>& q,
                                      const SingularityOptions& options) {
   checkJointVector(q, model.dof());
-  LP_CHECK(options.max_null_vectors >= 0,
-           "analyzeSingularity: max_null_vectors must be >= 0, got " << options.max_null_vectors);
+  options.validate();
   const int n = model.dof();
   const double L = model.lengthScale();
   SingularityReport r;
   r.dof = n;
-  r.size = L;
+  r.length_scale = L;
   r.classes_searched = n <= kClassSearchMaxJoints;
 
   // one FK: the spatial Jacobian gives the joint lines, its geometric form the dimensionless J_n

@@ -47,7 +47,9 @@ IdentifiabilityResult identifiability(const Robot& r, const std::string& measure
                          io::shortest(commands::kMaxJacobianEntries) +
                          " numbers: the Jacobian and the SVD's V, columns squared)");
   }
-  const std::vector<Vec3> targets = measure == Measure::Targets ? fileTargets(r.file) : std::vector<Vec3>{};
+  ErrorModelSpec spec;
+  spec.free_pitch = free_pitch;
+  if (measure == Measure::Targets) spec.targets = fileTargets(r.file);
   Identifiability id;
   {
     py::gil_scoped_release release;
@@ -57,7 +59,7 @@ IdentifiabilityResult identifiability(const Robot& r, const std::string& measure
       commands::randomSample(static_cast<unsigned long long>(seed), static_cast<unsigned long long>(i), ranges,
                                q[static_cast<size_t>(i)]);
     }
-    id = analyzeIdentifiability(model, q, measure, free_pitch, targets);
+    id = analyzeIdentifiability(model, q, measure, spec);
   }
   json j = commands::identifiabilityJson(r.file, id);
   j["poses"] = poses;

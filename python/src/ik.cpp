@@ -113,6 +113,7 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
   const PoeModel& model = r.poe;
   IkOptions options;
   options.measure = pose ? Measure::Pose : Measure::Position;
+  options.validate("inverseKinematics");
   IkSolutions s;
   s.rows.reserve(targets.size());
   {
@@ -170,6 +171,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
                                    : jointMatrix(q_arg, calibrated.dof(), calibrated.subject());
   IkOptions options;
   options.measure = measure == "pose" ? Measure::Pose : Measure::Position;
+  options.validate("compensate");
   IkSolutions s;
   {
     py::gil_scoped_release release;

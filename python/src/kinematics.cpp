@@ -125,6 +125,7 @@ py::array_t<double> jacobian(const Robot& r, const InArray& q, const std::string
 DhTable dhTable(const Robot& r, double parallel_threshold, bool modified) {
   ConvertOptions options;
   options.parallel_threshold = parallel_threshold;
+  options.validate();
   DhConversion c = poeToDh(r.poe, options);
   const FkCheck check = checkDhConversion(r.poe, c.model);
   json j = modified ? io::modifiedDhJson(r.file, c, check) : io::dhJson(r.file, c, check);
@@ -135,6 +136,7 @@ Singularity singular(const Robot& r, const InArray& q) {
   const VecX x = jointVector(q, r.dof(), r.subject());
   SingularityOptions options;
   options.max_null_vectors = io::kPrintedNullVectors;
+  options.validate();
   SingularityReport report = analyzeSingularity(r.poe, x, options);
   json j = io::singularityJson(r.file, x, report);
   return Singularity{std::move(report), std::move(j)};
@@ -171,7 +173,7 @@ void exposeDhTable(py::module_& m) {
                              "dict: the POE vs D-H FK deviation over 65 configurations.")
       .def_property_readonly("warnings", [](const DhTable& t) { return toPython(t.j["warnings"]); },
                              "list[str]: the conditioning warnings in sentences.")
-      .def_property_readonly("size", [](const DhTable& t) { return t.conversion.size; },
+      .def_property_readonly("length_scale", [](const DhTable& t) { return t.conversion.length_scale; },
                              "The robot size L (length_unit).")
       .def("__repr__", [](const DhTable& t) {
         return "<lowpair.DhTable " + t.j["convention"].get<std::string>() + ", " +
@@ -197,7 +199,7 @@ void exposeSingularity(py::module_& m) {
       .def_property_readonly("condition", [](const Singularity& s) { return s.report.condition; },
                              "sigma_max / sigma_min (inf when singular to zero).")
       .def_property_readonly("tolerance", [](const Singularity& s) { return s.report.tolerance; }, "The rank threshold.")
-      .def_property_readonly("size", [](const Singularity& s) { return s.report.size; }, "The robot size L.")
+      .def_property_readonly("length_scale", [](const Singularity& s) { return s.report.length_scale; }, "The robot size L.")
       .def_property_readonly("rank_linear", [](const Singularity& s) { return s.report.rank_linear; },
                              "Rank of the three linear-velocity rows (the tool origin's motion), int.")
       .def_property_readonly("rank_angular", [](const Singularity& s) { return s.report.rank_angular; },

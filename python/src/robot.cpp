@@ -44,7 +44,7 @@ void exposeRobot(py::module_& m) {
                              "The length unit of every length in and out ('' when the file states none).")
       .def_property_readonly("angle_unit", [](const Robot& r) { return r.file.angle_unit; },
                              "The file's angle unit ('rad' or 'deg'); every angle in and out of the module is in rad.")
-      .def_property_readonly("size", [](const Robot& r) { return r.poe.lengthScale(); },
+      .def_property_readonly("length_scale", [](const Robot& r) { return r.poe.lengthScale(); },
                              "The robot size L (length_unit), docs/conventions.md.")
       .def_property_readonly(
           "joint_names",

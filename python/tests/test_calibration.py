@@ -92,7 +92,7 @@ def test_calibrated_robot_saves_and_predicts(walkthrough):
     again = lowpair.load(saved)
     cli = lowpair.load(cal_yaml)  # calibrate --out
     for other in (again, cli):
-        assert np.allclose(other.fk(Qv), predicted, rtol=0, atol=1e-12 * robot.size)
+        assert np.allclose(other.fk(Qv), predicted, rtol=0, atol=1e-12 * robot.length_scale)
     # the same model text as the CLI's file but for the provenance lines
     strip = lambda path: [l for l in open(path) if not l.startswith("#") and not l.startswith("description")]  # noqa: E731
     assert strip(saved) == strip(cal_yaml)

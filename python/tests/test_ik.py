@@ -92,7 +92,7 @@ def test_ik_reaches_fk_targets_within_the_tolerance(puma_targets):
     robot, q, P, W = puma_targets
     T = robot.fk(q, model="poe")
     solutions = lowpair.ik(robot, T)  # (N, 4, 4) transforms
-    L = robot.size
+    L = robot.length_scale
     assert solutions.ok.all(), solutions.reason
     reached = robot.fk(solutions.q, model="poe")
     position = np.linalg.norm(reached[:, :3, 3] - T[:, :3, 3], axis=1)
@@ -127,7 +127,7 @@ def test_compensate_puts_the_calibrated_tool_on_the_nominal_poses(tmp_path):
     assert all(reason for reason, good in zip(comp.reason, ok) if not good)
     after = actual.fk(comp.q[ok], model="poe")
     target = nominal.fk(q[ok], model="poe")
-    L = actual.size
+    L = actual.length_scale
     assert np.linalg.norm(after[:, :3, 3] - target[:, :3, 3], axis=1).max() <= IK_TOLERANCE * L + 16 * 7 * EPS * L
     assert rotation_angles(np.einsum("kji,kjl->kil", after[:, :3, :3], target[:, :3, :3])).max() <= (
         IK_TOLERANCE + 16 * 7 * EPS)

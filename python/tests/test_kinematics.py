@@ -14,7 +14,7 @@ def random_q(robot, count, seed):
     lo, hi = robot.ranges[:, 0].copy(), robot.ranges[:, 1].copy()
     for i, kind in enumerate(robot.joint_types):
         if np.isnan(lo[i]):
-            width = np.pi if kind != "prismatic" else robot.size
+            width = np.pi if kind != "prismatic" else robot.length_scale
             lo[i], hi[i] = -width, width
     return lo + (hi - lo) * rng.random((count, robot.dof))
 
@@ -41,7 +41,7 @@ def test_batched_fk_equals_single_to_rounding(path):
         single = np.stack([robot.fk(q, model=model) for q in Q])
         # docs/ik.md: batched agrees to rounding (measured 2 eps in R, 9 eps L in p); allow 4x that
         assert np.max(np.abs(Ts[:, :3, :3] - single[:, :3, :3])) <= 8 * EPS
-        assert np.max(np.abs(Ts[:, :3, 3] - single[:, :3, 3])) <= 36 * EPS * robot.size
+        assert np.max(np.abs(Ts[:, :3, 3] - single[:, :3, 3])) <= 36 * EPS * robot.length_scale
         assert np.array_equal(Ts[:, 3, :], np.tile([0.0, 0.0, 0.0, 1.0], (len(Q), 1)))
     # Fortran order and integer input are accepted and give the same numbers
     assert np.array_equal(robot.fk(np.asfortranarray(Q)), robot.fk(Q))
@@ -83,7 +83,7 @@ def test_jacobians_against_central_differences(path):
         for frame, Jn in numeric.items():
             J = robot.jacobian(q, frame=frame)
             assert J.shape == (6, robot.dof)
-            scale = max(1.0, robot.size) * np.max(np.abs(robot.ranges[np.isfinite(robot.ranges)]), initial=1.0)
+            scale = max(1.0, robot.length_scale) * np.max(np.abs(robot.ranges[np.isfinite(robot.ranges)]), initial=1.0)
             assert np.max(np.abs(J - Jn)) <= 1e-7 * scale, (path, frame, np.max(np.abs(J - Jn)))
 
 

@@ -1,6 +1,8 @@
-// Consumer of the installed lowpair package: a planar 2R arm through the public API, checked against
-// the pose worked out by hand, a q of the wrong size rejected with its message, and the installed
-// lowpair/version.hpp agreeing with the package's version. Exit 0 if all hold, 1 otherwise.
+// Consumer of the installed lowpair package (0.3 API): a planar 2R arm through the public API, checked
+// against the pose worked out by hand; a q of the wrong size rejected with its message; the robot size L
+// under its one name (lengthScale, member and free function); the error model's options as a struct
+// (ErrorModelSpec, no positional bool); an options struct's validate(); the installed lowpair/version.hpp
+// agreeing with the package's version. Exit 0 if all hold, 1 otherwise.
 
 #include <cmath>
 #include <cstdio>
@@ -8,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <lowpair/error_model.hpp>
+#include <lowpair/ik.hpp>
 #include <lowpair/kinematics.hpp>
 #include <lowpair/version.hpp>
 
@@ -24,8 +28,7 @@ int main() {
 
   Eigen::VectorXd q(2);
   q << 0.3, -0.7;
-  // The convenience form (it allocates its own workspace): the workspace type is being renamed
-  // (Data -> Data) and this consumer should not depend on that.
+  // The convenience form (it allocates its own workspace).
   const lowpair::Pose T = lowpair::poeForwardKinematics(model, q);
 
   // By hand: links of length 1, absolute angles q1 and q1 + q2.
@@ -67,5 +70,31 @@ int main() {
   std::printf("consumer: lowpair/version.hpp says %s, the package %s\n", lowpair::kVersionString,
               LOWPAIR_PACKAGE_VERSION);
   if (std::string(LOWPAIR_VERSION_STRING) != LOWPAIR_PACKAGE_VERSION) return 1;
+
+  // L: the tool at (2, 0, 0) is the farthest point (the axes pass within 1 of the origin): L = 2, the same
+  // from the model and from its joints.
+  const double L = model.lengthScale();
+  std::printf("consumer: L = %g\n", L);
+  if (L != 2.0 || lowpair::lengthScale(model.joints(), model.toolPose()) != L) return 1;
+
+  // The error model's options: 4 + 1 + 6 = 11 parameters for two revolute joints (4 each + a scale each,
+  // then the tool), one pitch more per joint with free pitch.
+  const int fixed_pitch = lowpair::ErrorModel(model).size();
+  const int free_pitch = lowpair::ErrorModel(model, lowpair::ErrorModelSpec{true}).size();
+  const int counted = lowpair::identifiableCount(model, lowpair::Measure::Pose, lowpair::ErrorModelSpec{true}).total();
+  std::printf("consumer: %d parameters, %d with free pitch (count %d)\n", fixed_pitch, free_pitch, counted);
+  if (fixed_pitch != 2 * 4 + 2 + 6 || free_pitch != fixed_pitch + 2 || counted != free_pitch) return 1;
+
+  // An options struct checks itself with the message its function gives.
+  lowpair::IkOptions options;
+  options.max_iterations = -1;
+  try {
+    options.validate();
+    std::printf("consumer: max_iterations = -1 was accepted\n");
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    std::printf("consumer: rejected: %s\n", e.what());
+    if (std::string(e.what()) != "inverseKinematics: max_iterations must be >= 0, got -1") return 1;
+  }
   return 0;
 }

@@ -61,7 +61,8 @@ foreach(f ${installed})
     message(FATAL_ERROR "package_consumer: unexpected installed file ${f}")
   endif()
 endforeach()
-# the headers: exactly the supported API (the internal check.hpp with its LP_ macros is not installed;
+# the headers: exactly the supported API (the internals, check.hpp with its LP_ macros among them, are in
+# lowpair/src and not installed;
 # tests/consumer/CMakeLists.txt compiles each installed header alone)
 # (version.hpp is generated into the build tree from cmake/version.hpp.in)
 set(supported calibrate.hpp calibration.hpp convert.hpp cross_validation.hpp dh_uncertainty.hpp error_model.hpp

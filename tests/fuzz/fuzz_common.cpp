@@ -44,7 +44,7 @@ bool checkConversion(const PoeModel& model) {
   const DhModel& dh = conv.model;
   FUZZ_CHECK(finite(dh.base()) && std::isfinite(dh.toolTheta()) && std::isfinite(dh.toolD()));
   for (const DhJoint& j : dh.joints()) FUZZ_CHECK(finite(j.link) && std::isfinite(j.pitch) && std::isfinite(j.scale));
-  FUZZ_CHECK(std::isfinite(conv.scale) && std::isfinite(conv.size));
+  FUZZ_CHECK(std::isfinite(conv.scale) && std::isfinite(conv.length_scale));
   const FkCheck check = checkDhConversion(model, dh, 8);
   if (!(std::isfinite(check.max_rotation) && std::isfinite(check.max_translation)))
     std::fprintf(stderr, "checkDhConversion: max_rotation %g max_translation %g scale %g\n", check.max_rotation,

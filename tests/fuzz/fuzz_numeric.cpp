@@ -181,7 +181,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     so.max_null_vectors = 6;
     const SingularityReport s = analyzeSingularity(model, q, so);
     FUZZ_CHECK(s.singular_values.allFinite() && std::isfinite(s.sigma_min) && finiteOrPlusInf(s.manipulability));
-    FUZZ_CHECK(finiteOrPlusInf(s.condition) && std::isfinite(s.tolerance) && std::isfinite(s.size));
+    FUZZ_CHECK(finiteOrPlusInf(s.condition) && std::isfinite(s.tolerance) && std::isfinite(s.length_scale));
     for (const JointLine& l : s.lines) FUZZ_CHECK(l.direction.allFinite() && l.point.allFinite() && std::isfinite(l.pitch));
     for (const SingularClass& c : s.classes) {
       if (kVerbose && !(c.point.allFinite() && c.direction.allFinite())) {
@@ -210,14 +210,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // calibration
   const bool free_pitch = options & 1;
   const Measure measure = options & 2 ? Measure::Position : Measure::Pose;
-  const ErrorModel em(model, free_pitch);
+  const ErrorModel em(model, ErrorModelSpec{free_pitch});
   MatX rows(measure == Measure::Pose ? 6 : 3, em.size());
   for (const VecX& q : qs) {
     FUZZ_CHECK(lowpair_fuzz::finite(em.jacobian(q, measure, rows)));
     FUZZ_CHECK(rows.allFinite());
   }
   if (options & 4 && has_dh) {  // without a D-H table it throws as poeToDh did
-    const Identifiability id = analyzeIdentifiability(model, qs, measure, free_pitch);
+    const Identifiability id = analyzeIdentifiability(model, qs, measure, ErrorModelSpec{free_pitch});
     checkRank(id.poe);
     checkRank(id.dh);
     FUZZ_CHECK(id.full_model_rank >= 0 && id.full_model_rank <= id.full_model_columns);

@@ -41,6 +41,11 @@ struct CalibrationOptions {
   double outlier_threshold = 5.0;  ///< normalized residual above which a measurement is flagged
   ParameterSet parameters = ParameterSet::Full;
   std::vector<std::string> parameter_names;  ///< ParameterSet::Named
+
+  /// The rules calibrate() applies to its options (the CLI and the Python module call it too).
+  /// @throws std::invalid_argument for a noise level not positive and finite, max_iterations < 0, or an
+  /// outlier threshold not positive and finite
+  void validate() const;
 };
 
 /// The rule behind CalibrationResult::accepted (docs/calibration.md "The verdict").

@@ -20,6 +20,10 @@ struct ConvertOptions {
   /// table's kinds). A row forced Hayati still takes the parallel branch when its axes are parallel within
   /// the threshold (then it is standard).
   std::vector<DhRowKind> row_kinds;
+
+  /// The rule poeToDh applies (the CLI and the Python module call it too).
+  /// @throws std::invalid_argument unless parallel_threshold is in [0, 1)
+  void validate() const;
 };
 
 /// Conditioning of one D-H row: row 0 is the base, row i is link_i (placed by joint i+1's axis, or by
@@ -45,7 +49,7 @@ struct DhToolReport {
 /// check (checkDhConversion) and no sentences (the CLI words the conditioning from these fields).
 struct DhConversion {
   DhModel model;
-  double size = 1.0;                         ///< robot size L
+  double length_scale = 1.0;                 ///< robot size L
   double parallel_threshold = 0.0;           ///< the threshold on sin(alpha) that was used
   double rounding_parallel_threshold = 0.0;  ///< the rounding-level default `kParallelPerJoint * eps * n`
   /// The requested threshold is above rounding level: nearly parallel axes may have been snapped, so the

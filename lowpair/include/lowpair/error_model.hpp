@@ -39,10 +39,6 @@ struct ParameterCount {
   int total() const { return 5 * helical + 4 * revolute + 2 * prismatic + scales + tool; }
 };
 
-/// @param free_pitch revolute joints get a pitch parameter (counted as helical)
-/// @param targets k, for Measure::Targets (tool: 3k)
-ParameterCount identifiableCount(const PoeModel& model, Measure measure, bool free_pitch = false, int targets = 1);
-
 enum class ParameterKind {
   Tilt, Shift, Pitch, Scale, ToolRotation, ToolTranslation,
   Offset,                         ///< a joint offset (level `offsets`: not part of the minimal set, §V)
@@ -62,16 +58,21 @@ enum class ParameterSet { Full, Lines, Offsets, Named };
 /// "full" / "lines" / "offsets" / "named".
 const char* parameterSetName(ParameterSet set);
 
-/// What an error model parameterizes.
+/// What an error model parameterizes: the options of ErrorModel, identifiableCount, fullErrorModelJacobian,
+/// dhIdentificationJacobian and analyzeIdentifiability (`ErrorModelSpec{true}` frees the pitch; the last
+/// three and the count read only `free_pitch` and `targets`).
 struct ErrorModelSpec {
-  bool free_pitch = false;          ///< revolute joints get a pitch parameter as well
+  bool free_pitch = false;          ///< revolute joints get a pitch parameter as well (counted as helical)
   ParameterSet set = ParameterSet::Full;
-  std::vector<std::string> names;   ///< ParameterSet::Named
+  std::vector<std::string> names{};   ///< ParameterSet::Named
   /// Targets' points in the tool frame: with at least one, the tool's 6 parameters are replaced by 3 per
   /// target (`target.NAME.x`, `.y`, `.z`, tool frame); names from `target_names` ("1", "2", ... when empty).
-  std::vector<Vec3> targets;
-  std::vector<std::string> target_names;
+  std::vector<Vec3> targets{};
+  std::vector<std::string> target_names{};
 };
+
+/// The count for `spec.free_pitch` and, for Measure::Targets, k = `spec.targets.size()` targets (tool: 3k).
+ParameterCount identifiableCount(const PoeModel& model, Measure measure, const ErrorModelSpec& spec = {});
 
 /// One identification parameter (a column of the identification Jacobian).
 struct Parameter {
@@ -86,10 +87,8 @@ struct Parameter {
 /// The error model's local coordinates at one model (see the file comment).
 class ErrorModel {
  public:
-  /// @param free_pitch give revolute joints a pitch parameter as well
-  explicit ErrorModel(const PoeModel& model, bool free_pitch = false);
   /// @throws std::invalid_argument for a Named set naming a parameter the model does not have (or none)
-  ErrorModel(const PoeModel& model, const ErrorModelSpec& spec);
+  explicit ErrorModel(const PoeModel& model, const ErrorModelSpec& spec = {});
 
   const PoeModel& model() const { return model_; }
   bool freePitch() const { return spec_.free_pitch; }
@@ -134,14 +133,16 @@ class ErrorModel {
 /// is the number of identifiable parameters (what identifiability compares with the count).
 /// @return `6n + pitches + 2n + 6` columns, rows as ErrorModel::jacobian
 /// Measure::Targets: rows per pose and target (3 each), and 3 more columns per target (its point, tool frame).
-MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
-                            const std::vector<Vec3>& targets = {});
+/// @param spec its `free_pitch` and `targets`
+MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
+                            const ErrorModelSpec& spec = {});
 
 /// The D-H parameterization of the same robot (poeToDh of the model): base `theta, d, alpha, a`, per
 /// joint `theta, d, alpha, a` (+ `pitch` when helical or freed) + `scale`, tool `theta, d`; analytic
-/// columns. @param names receives the column names ("base.theta", "j2.a", "tool.d", ...)
-MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure, bool free_pitch,
-                              std::vector<std::string>* names = nullptr, const std::vector<Vec3>& targets = {});
+/// columns. @param spec its `free_pitch` and `targets`
+/// @param names receives the column names ("base.theta", "j2.a", "tool.d", ...)
+MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure,
+                              const ErrorModelSpec& spec = {}, std::vector<std::string>* names = nullptr);
 
 
 }  // namespace lowpair

@@ -51,8 +51,9 @@ struct Identifiability {
 
 /// @throws std::invalid_argument for poses of the wrong size or non-finite, and as poeToDh when the model's
 /// D-H table is beyond the magnitude limits (its `dh` rank cannot be computed)
-/// @param targets Measure::Targets: the targets' points (tool frame); every pose measures each
+/// @param spec `free_pitch`, and for Measure::Targets the targets' points (tool frame; every pose measures
+/// each) and their names; the parameter set is always the full one
 Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
-                                       bool free_pitch = false, const std::vector<Vec3>& targets = {});
+                                       const ErrorModelSpec& spec = {});
 
 }  // namespace lowpair

@@ -130,6 +130,12 @@ struct IkOptions {
   /// Compute the singular values at a converged solution (status Singular possible). Off: Ok for every
   /// converged solution, rank -1 and sigma_min NaN (saves the QR and the SVD).
   bool check_singularity = true;
+
+  /// The rules inverseKinematics and compensate apply to their options (the CLI and the Python module call
+  /// it too); @param function the name the messages start with.
+  /// @throws std::invalid_argument for Measure::Targets, a point_tool not finite, a tolerance not positive
+  /// and finite, max_iterations < 0 or a damping not >= 0 and finite
+  void validate(const char* function = "inverseKinematics") const;
 };
 
 struct IkResult {

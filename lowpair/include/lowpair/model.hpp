@@ -20,6 +20,16 @@ struct ChainLink {
   Vec3 p = Vec3::Zero();                    ///< translation before `Rx(alpha)` (the joint's slide `k x` adds to p.z)
 };
 
+namespace detail {
+/// Internal to the evaluation (kinematics.cpp): the links' per-joint numbers again as arrays padded to a
+/// multiple of kChainLanes (padding: a joint that does not move), so that the joint angles and their sines
+/// and cosines are computed in full SIMD lanes. Filled at model construction; not part of the API.
+constexpr int kChainLanes = 4;
+struct ChainLanes {
+  std::vector<double> theta, turn, slide, z, scale, offset;  // z = p.z of the link
+};
+}  // namespace detail
+
 /// The form in which both models are evaluated, built once at model construction:
 /// `T_base_tool(q) = T_base_first * prod_i [ Rz(theta_i + j_i x_i) Trans(p_i + k_i x_i e_z) Rx(alpha_i) ] * T_last_tool`,
 /// `x_i = scale_i (q_i + offset_i)` (JointMotion). The frame before link i has its z axis on joint i's line
@@ -31,17 +41,8 @@ struct KinematicChain {
   Pose T_base_first;            ///< frame of joint 1's line at zero motion
   std::vector<ChainLink> links;
   Pose T_last_tool;             ///< from the frame after the last link to the tool
-  /// The links' per-joint numbers again as arrays padded to a multiple of kLanes (padding: a joint that
-  /// does not move), so that the joint angles and their sines and cosines are computed in full SIMD lanes.
-  static constexpr int kLanes = 4;
-  struct Lanes {
-    std::vector<double> theta, turn, slide, z, scale, offset;  // z = p.z of the link
-  } lanes;
-  int paddedDof() const { return static_cast<int>(lanes.theta.size()); }
+  detail::ChainLanes lanes;     ///< internal: the links as padded arrays (detail::ChainLanes)
 };
-
-/// Fills `chain.lanes` from `chain.links`.
-void packLanes(KinematicChain& chain);
 
 /// Frames of the joint lines at zero motion (every `x_i = 0`): [i] has z along joint i's line and its
 /// origin on it (the `T_base_joint` of kinematics.hpp at `x = 0`).
@@ -72,7 +73,6 @@ class PoeModel {
   /// revolute/helical axis' distance from the base origin, each helical `|pitch|` and each prismatic or
   /// helical joint's largest slide `|k scale (q + offset)|` at its range ends (k = 1 or the pitch); 1 if all 0.
   double lengthScale() const { return length_scale_; }
-  [[deprecated("use lengthScale(): the robot size L, a length")]] double size() const { return length_scale_; }
   /// The compiled chain that forwardKinematics evaluates.
   const KinematicChain& chain() const { return chain_; }
 
@@ -132,7 +132,6 @@ class DhModel {
   const std::string& name() const { return name_; }
   /// Robot size `L` of the equivalent POE model (a length; PoeModel::lengthScale).
   double lengthScale() const { return length_scale_; }
-  [[deprecated("use lengthScale(): the robot size L, a length")]] double size() const { return length_scale_; }
   /// The compiled chain that forwardKinematics evaluates.
   const KinematicChain& chain() const { return chain_; }
 
@@ -152,6 +151,6 @@ Pose dhTransform(const DhParams& row);
 Pose dhToolTransform(double theta, double d);
 
 /// Robot size `L` from normalized joints and the tool pose (docs/conventions.md).
-double robotSize(const std::vector<Joint>& joints, const Pose& tool_pose);
+double lengthScale(const std::vector<Joint>& joints, const Pose& tool_pose);
 
 }  // namespace lowpair

@@ -55,11 +55,16 @@ constexpr double kPlanImprovement = 1e-9;
 struct PlanOptions {
   Measure measure = Measure::Pose;
   bool free_pitch = false;
-  /// Measure::Targets: the targets' points (tool frame); every pose measures each (3 rows per target).
-  std::vector<Vec3> targets;
-  std::vector<std::string> target_names;  ///< names of the targets' parameters ("1", "2", ... when empty)
+  /// Measure::Targets: the targets (as CalibrationOptions::targets), each with its point (tool frame); every pose
+  /// measures each (3 rows per target). Their names name the targets' parameters ("1", "2", ... when one is empty).
+  std::vector<Target> targets;
   PlanCriterion criterion = PlanCriterion::D;
   int max_exchange_passes = 100;  ///< each pass tries every pose of the set once
+
+  /// The rules the planning functions apply to their options (the CLI and the Python module call it too).
+  /// @throws std::invalid_argument for targets with another measure (or none with Measure::Targets), a
+  /// target without a point or with one not finite, or max_exchange_passes < 0
+  void validate() const;
 };
 
 /// The candidates' scaled identification blocks, computed once (compute, then get): every plan, exchange

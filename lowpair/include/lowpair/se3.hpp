@@ -16,16 +16,6 @@ Mat4 hat6(const Vec6& xi);
 /// Inverse of hat6.
 Vec6 vee6(const Mat4& Xi);
 
-/// Coefficients of the exponential for a rotation angle `x >= 0`:
-/// `a = sin(x)/x`, `b = (1 - cos x)/x^2`, `c = (x - sin x)/x^3`, each accurate to a few ulp for every x
-/// (Taylor series below kSeriesAngle where the direct forms cancel).
-struct ExpCoefficients {
-  double cos_x, a, b, c;
-};
-ExpCoefficients expCoefficients(double x);
-/// `(x - sin x)/x^3` alone (the c of ExpCoefficients), for exponential variants that need only it.
-double expCoefficientC(double x);
-
 /// Rotation `exp(hat(w))` for an angle vector `w` (angle |w|).
 Mat3 expSO3(const Vec3& w);
 

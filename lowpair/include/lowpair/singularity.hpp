@@ -88,7 +88,7 @@ struct SingularityReport {
   int dof = 0;
   int rank = 0;                 ///< numerical rank of J_n (see the file comment)
   bool singular = false;        ///< rank < min(6, dof)
-  double size = 1.0;            ///< L
+  double length_scale = 1.0;    ///< L
   double tolerance = 0.0;       ///< the rank threshold on the singular values of J_n
   VecX singular_values;         ///< of J_n, descending, min(6, dof) of them
   double sigma_min = 0.0;       ///< smallest of singular_values
@@ -117,6 +117,10 @@ struct SingularityOptions {
   /// At most this many null-space vectors (`SingularityReport::nullity` counts them all). A chain of n
   /// joints has up to n of them, n^2 numbers: bound it for long chains.
   int max_null_vectors = std::numeric_limits<int>::max();
+
+  /// The rule analyzeSingularity applies (the CLI and the Python module call it too).
+  /// @throws std::invalid_argument for max_null_vectors < 0
+  void validate() const;
 };
 
 /// In place: the geometric Jacobian (rows [v; w]) of `model` made dimensionless, `J_n = D_r J D_c`
