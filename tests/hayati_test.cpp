@@ -180,7 +180,7 @@ TEST(HayatiUr, IdentificationJacobianBetaColumns) {
     qs.push_back(q);
   }
   std::vector<std::string> names;
-  const MatX J = dhIdentificationJacobian(dh, qs, Measure::Position, false, &names);
+  const MatX J = dhIdentificationJacobian(dh, qs, Measure::Position, ErrorModelSpec{}, &names);
   const auto column = std::find(names.begin(), names.end(), "j2.beta") - names.begin();
   ASSERT_LT(column, static_cast<long>(names.size()));
   EXPECT_EQ(std::count(names.begin(), names.end(), "j2.d"), 0);
