@@ -63,7 +63,7 @@ foreach(f ${installed})
 endforeach()
 # the headers: exactly the supported API (the internal check.hpp with its LP_ macros is not installed;
 # tests/consumer/CMakeLists.txt compiles each installed header alone)
-set(supported calibrate.hpp calibration.hpp convert.hpp cross_validation.hpp dh_uncertainty.hpp error_model.hpp
+set(supported base_frame.hpp calibrate.hpp calibration.hpp convert.hpp cross_validation.hpp dh_uncertainty.hpp error_model.hpp
               identifiability.hpp ik.hpp jacobian.hpp joint.hpp kinematics.hpp measure.hpp model.hpp plan.hpp
               registration.hpp robust_loss.hpp se3.hpp singularity.hpp
               tolerances.hpp types.hpp)
