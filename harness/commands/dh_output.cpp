@@ -62,8 +62,8 @@ void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const D
   };
   auto gauged = [](const DhUncertainty::Fixed& f) { return f.gauge_theta || f.gauge_d || f.gauge_alpha || f.gauge_a; };
   const bool any_gauge = gauged(dh.base_fixed) || (!dh.links_fixed.empty() && gauged(dh.links_fixed[0]));
-  out << "\n" << deviations_title << " (same units; fixed: set by the D-H convention"
-      << (any_gauge ? "; fixed (gauge): set by the base frame" : "") << "):\n";
+  out << "\n" << deviations_title << " (same units; fixed: set by the D-H convention):\n";
+  if (any_gauge) out << "fixed (gauge): set by the base frame (joint 1's line, its zero, the common normal's foot)\n";
   header();
   tableRow("base", "", deviations(dh.base, dh.base_fixed));
   for (int i = 0; i < m.dof(); ++i) {
