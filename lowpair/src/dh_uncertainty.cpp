@@ -133,9 +133,11 @@ DhUncertainty propagate(const CalibrationResult& result, const std::function<Poe
       }
     }
   }
-  // d of a row placed by a parallel axis is the conversion's free choice (0): nothing can determine it
+  // d of a row placed by a parallel axis is the conversion's free choice (0): nothing can determine it;
+  // except the base row in the base frame, whose z is joint 1's line: its d (0) is the gauge's, as its a
   for (size_t r = 0; r < out.conversion.rows.size(); ++r) {
-    if (out.conversion.rows[r].parallel) variance[r == 0 ? 1 : 4 + 6 * static_cast<Eigen::Index>(r - 1) + 1] = kInf;
+    if (!out.conversion.rows[r].parallel || (r == 0 && gauge_fixed[1])) continue;
+    variance[r == 0 ? 1 : 4 + 6 * static_cast<Eigen::Index>(r - 1) + 1] = kInf;
   }
   // a D-H number is not known better than its rounding (eps times its size or unit): a noise-free fit's
   // one-sigma steps below that move it by exactly 0, which must not read as "+- 0"
