@@ -292,12 +292,13 @@ TEST(Identifiability, PumaRankIsThePaperCountAndDhLosesFive) {
 
 // Wu et al.'s case: the nominal PUMA calibrated from noise-free measurements of the actual robot (MuJoCo)
 // must be the actual robot: FK to 1e-9 L on held-out poses, and its D-H table is Table II (actual) as poe2dh
-// prints it from Table I.
+// prints it from Table I. The measurements are in the actual's base frame, so the robot in the measurement
+// frame (--frame measurement) is the actual; the default file is in the nominal's base frame (base_frame_cli_test).
 TEST(Calibrate, NoiseFreeLoopRecoversTheActualPuma) {
   const std::string m = simulateTo("noise_free.csv", kMujocoActual + " --poses 50 --seed 1");
   const std::string cal = scratch() + "/cal.yaml";
   const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(m) +
-                          " --free-pitch --out " + shellQuote(cal));
+                          " --free-pitch --frame measurement --out " + shellQuote(cal));
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("rank 42 of 42"), std::string::npos) << r.out;
   const double L = jsonOf("poe2dh " + shellQuote(kActualYaml))["size"];
@@ -457,8 +458,11 @@ TEST(CalibrateRejects, NumbersBeyondDoubleEndCleanly) {
   expectRejected("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(position) +
                      " --noise-rotation 1e-4",
                  "holds position measurements", "--noise-rotation");
-  // one stated noise: the other is derived and says so
-  const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(good) +
+  // one stated noise: the other is derived and says so (noisy measurements: noise-free ones under a stated
+  // 0.01 are rejected, variance factor below 1/100)
+  const std::string noisy =
+      simulateTo("edge_noisy.csv", shellQuote(kActualYaml) + " --poses 20 --seed 4 --noise-position 0.01 --noise-rotation 1e-5");
+  const CliRun r = runCli("calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(noisy) +
                           " --noise-position 0.01 --free-pitch --json");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);

@@ -85,6 +85,7 @@ int runIdentifiability(const IdentifiabilityOptions& o) {
 struct CalibrateOptions {
   RobotSource robot;
   std::string measurements, validation, out;
+  std::string frame = "base";  // --out: the base-frame robot (with measurement_frame:) or the measurement frame's
   bool as_json = false;
   CalibrationRequest calibration;  // calibrate's arguments beyond its files
 };
@@ -123,9 +124,15 @@ int runCalibrate(const CalibrateOptions& o) {
   report.notes = notes;
   const CalibrationResult& result = report.result;
   if (!o.out.empty() && result.accepted) {
-    writeFileAtomically(o.out, formatPoeRobotFile(result.model, file, calibratedName(file),
-                                                   "calibrated by lowpair calibrate from " + report.fit.path,
-                                                   calibrationProvenance(report), calibratedTargets(report)));
+    const bool measurement = o.frame == "measurement";
+    std::vector<std::string> provenance = calibrationProvenance(report);
+    if (measurement) {  // today's file: the robot in the measurement frame
+      provenance.back() = "in the measurement frame of " + report.fit.path + " (--frame measurement); loss " +
+                          lossName(result.loss) + ", parameters " + parameterSetName(result.parameter_set);
+    }
+    writeFileAtomically(o.out, formatPoeRobotFile(calibratedModel(report, measurement), file, calibratedName(file),
+                                                   "calibrated by lowpair calibrate from " + report.fit.path, provenance,
+                                                   calibratedTargets(report), recordedMeasurementFrame(report, measurement)));
   }
   if (o.as_json) {
     std::cout << jsonText(calibrationJson(report)) << "\n";
@@ -187,6 +194,10 @@ void addCalibrateCommand(CLI::App& app, Commands& commands) {
                   "(default " + std::to_string(kCrossValidationRepeats) + ")")
       ->check(CLI::Range(1, kMaxCrossValidationRepeats));
   cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml); only when the fit is accepted");
+  cal->add_option("--frame", o->frame,
+                  "--out's frame: base (the nominal's base frame, with the measurement frame as measurement_frame:) "
+                  "or measurement (the robot in the frame of the measurements)")
+      ->check(CLI::IsMember({"base", "measurement"}));
   cal->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(cal, [o] { return runCalibrate(*o); });
 }

@@ -27,12 +27,22 @@ struct FkFileOptions {
   std::string q_file, out, measure = "pose";
 };
 
+// fk --frame measurement: the robot file's measurement_frame (T_measurement_base), which FK then predicts in
+// (the frame of a tracker's measurements); identity for --frame base.
+Pose frameOf(const RobotFile& file, const std::string& frame) {
+  if (frame != "measurement") return Pose{};
+  if (!file.measurement_frame) {
+    throw UsageError(file.path, "--frame measurement: the robot file has no measurement_frame (calibrate --out records it)");
+  }
+  return *file.measurement_frame;
+}
+
 // fk --q-file: the tool frame (Pose), its origin (Position) or each target's point (Targets) at every row's q,
 // as a measurement CSV (io/measurements.hpp). Each row is evaluated by the same call as fk --q
 // (poeForwardKinematics / dhForwardKinematics): the rows equal fk --q bit for bit. (forwardKinematicsBatch
 // agrees with it only to rounding: 2 eps in R, 9 eps L in p measured, docs/ik.md.)
 int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::string& kind, const FkFileOptions& o,
-               bool as_json) {
+               bool as_json, const Pose& T_frame_base) {
   const JointTable table = readJointTable(o.q_file, TableKind::Joints, file.dof(), robot_path, csvJointNames(file));
   for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
   const std::vector<long long>& lines = table.lines;
@@ -59,7 +69,7 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
   json rows = json::array();
   for (Eigen::Index k = 0; k < Q.rows(); ++k) {
     const VecX q = Q.row(k).transpose();
-    const Pose T = poe ? poeForwardKinematics(*poe, q) : dhForwardKinematics(*dh, q);
+    const Pose T = T_frame_base * (poe ? poeForwardKinematics(*poe, q) : dhForwardKinematics(*dh, q));
     const auto beyond = [](const Vec3& p) { return !(p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
     const std::string where = o.q_file + ":" + std::to_string(lines[static_cast<size_t>(k)]);
     if (measure == Measure::Targets) {
@@ -116,7 +126,7 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
 void addConvertCommands(CLI::App& app, Commands& commands) {
   struct Options {
     RobotSource robot;
-    std::string q_text, model_kind = "file";
+    std::string q_text, model_kind = "file", frame = "base";
     bool as_json = false, modified = false, standard = false;
     double parallel_threshold = 0.0;
   };
@@ -181,6 +191,10 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
   fk->add_option("--model", o->model_kind, "poe or dh (default: the file's own description)")
       ->check(CLI::IsMember({"poe", "dh", "file"}));
   fk->add_flag("--json", o->as_json, "print JSON");
+  fk->add_option("--frame", o->frame,
+                 "base (default) or measurement: T_measurement_base T_base_tool(q), the robot file's measurement_frame "
+                 "(calibrate --out records it)")
+      ->check(CLI::IsMember({"base", "measurement"}));
   commands.emplace_back(fk, [o, fk_file, q_option, q_file_option, out_option, measure_option] {
     if (q_option->count() == 0 && q_file_option->count() == 0) throw UsageError("fk", "give --q Q1,Q2,... or --q-file FILE.csv");
     if (q_file_option->count() == 0 && (out_option->count() > 0 || measure_option->count() > 0)) {
@@ -188,16 +202,23 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     }
     const RobotFile file = loadRobot(o->robot, cliSpelling());
     const std::string kind = o->model_kind == "file" ? (file.poe ? "poe" : "dh") : o->model_kind;
-    if (q_file_option->count() > 0) return fkFromFile(file, o->robot.path, kind, *fk_file, o->as_json);
+    const Pose T_frame_base = frameOf(file, o->frame);
+    if (q_file_option->count() > 0) return fkFromFile(file, o->robot.path, kind, *fk_file, o->as_json, T_frame_base);
     const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
-    const Pose T = kind == "poe" ? poeForwardKinematics(file.poeModel(), q)
-                                 : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q);
+    const bool measurement = o->frame == "measurement";
+    const Pose T = T_frame_base * (kind == "poe" ? poeForwardKinematics(file.poeModel(), q)
+                                                 : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q));
     if (o->as_json) {
       json j = {{"name", file.name}, {"source", file.path}, {"model", kind}, {"length_unit", file.length_unit},
                 {"q", toVector(q)}, {"T_base_tool", poseJson(T)}};
+      if (measurement) {  // the same pose under its own name, and the frame it is in
+        j["frame"] = "measurement";
+        j["T_measurement_tool"] = j["T_base_tool"];
+      }
       std::cout << jsonText(j) << "\n";
     } else {
-      std::cout << "T_base_tool (" << kind << " model of " << robotLabel(file) << "):\n";
+      std::cout << (measurement ? "T_measurement_tool (" : "T_base_tool (") << kind << " model of " << robotLabel(file)
+                << (measurement ? ", in its measurement_frame" : "") << "):\n";
       printPose(std::cout, T, file.length_unit.empty() ? "length" : file.length_unit);
     }
     return 0;

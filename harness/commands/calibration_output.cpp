@@ -111,7 +111,7 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
                   return t;
                 }());
   }
-  for (const auto& s : conversionWarnings(r.dh.conversion, checkDhConversion(c.model, r.dh.conversion.model))) {
+  for (const auto& s : conversionWarnings(r.dh.conversion, checkDhConversion(calibratedModel(r, false), r.dh.conversion.model))) {
     w.push_back("D-H: " + s);
   }
   return w;
@@ -119,10 +119,24 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
 
 }  // namespace
 
+CalibratedBaseFrame calibratedBaseFrame(const CalibrationResult& result, const PoeModel& nominal) {
+  return {toNominalBase(result.model, nominal), measurementFrameUncertainty(result, nominal)};
+}
+
+const PoeModel& calibratedModel(const CalibrationReport& r, bool measurement_frame) {
+  return r.base_frame && !measurement_frame ? r.base_frame->gauge.model : r.result.model;
+}
+
+std::optional<Pose> recordedMeasurementFrame(const CalibrationReport& r, bool measurement_frame) {
+  if (!r.base_frame || measurement_frame) return std::nullopt;
+  return r.base_frame->gauge.T_measurement_base;
+}
+
 CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, std::optional<MeasurementFile> validation,
-                                        CalibrationResult result, DhUncertainty dh, double seconds) {
+                                        CalibrationResult result, DhUncertainty dh, double seconds,
+                                        std::optional<CalibratedBaseFrame> base_frame) {
   CalibrationReport r{std::move(nominal), std::move(fit), std::move(validation), std::move(result), std::move(dh),
-                      seconds, std::nullopt, std::nullopt, {}, {}, std::nullopt, {}, {}};
+                      seconds, std::nullopt, std::nullopt, {}, {}, std::nullopt, {}, {}, std::move(base_frame)};
   const CalibrationResult& c = r.result;
   r.registered_nominal = movedModel(r.nominal.poeModel(), c.registration.T_meas_base);
   r.target_names = r.fit.target_names;
@@ -165,9 +179,16 @@ std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
                   " iterations" + (c.converged ? "" : " (not converged)"));
   lines.push_back("RMS position error on the measurements: before " + fixed(c.before.rms_position, 6) + " " + u +
                   ", after " + fixed(c.after.rms_position, 6) + " " + u);
-  lines.push_back("in the measurement frame of " + r.fit.path + " (the nominal's base registered at " +
-                  fixed(c.registration.T_meas_base.p.norm(), 3) + " " + u + " from its origin); loss " + lossName(c.loss) +
-                  ", parameters " + parameterSetName(c.parameter_set));
+  if (r.base_frame) {
+    lines.push_back("in the nominal's base frame (joint 1's line, its zero and the foot of the common normal: "
+                    "docs/calibration.md); measurement_frame: the base in the frame of " + r.fit.path + ", " +
+                    fixed(r.base_frame->gauge.T_measurement_base.p.norm(), 3) + " " + u + " from its origin; loss " +
+                    lossName(c.loss) + ", parameters " + parameterSetName(c.parameter_set));
+  } else {
+    lines.push_back("in the measurement frame of " + r.fit.path + " (the nominal's base registered at " +
+                    fixed(c.registration.T_meas_base.p.norm(), 3) + " " + u + " from its origin); loss " + lossName(c.loss) +
+                    ", parameters " + parameterSetName(c.parameter_set));
+  }
   return lines;
 }
 
@@ -241,6 +262,17 @@ json calibrationJson(const CalibrationReport& r) {
   o["verdict"] = c.accepted ? json("accepted") : json(c.reason);
   o["measurement_frame"] = matrixJson(c.registration.T_meas_base);
   o["registration"] = {{"iterations", c.registration.iterations}, {"determined", c.registration.determined}};
+  if (r.base_frame) {
+    // the gauge: the calibrated robot in the nominal's base frame; T_measurement_base its pose in the
+    // measurement frame, standard deviations: rotation about the measurement frame's axes (rad), position
+    const CalibratedBaseFrame& b = *r.base_frame;
+    const BaseFrameRule& rule = b.gauge.rule;
+    auto v3 = [](const Vec3& x) { return json{finiteOrNull(x.x()), finiteOrNull(x.y()), finiteOrNull(x.z())}; };
+    o["base_frame"] = {{"T_measurement_base", matrixJson(b.gauge.T_measurement_base)},
+                       {"sd", {{"rotation", v3(b.sd.rotation)}, {"position", v3(b.sd.position)}}},
+                       {"rule", {{"foot_joint", rule.foot_joint >= 0 ? json(rule.foot_joint + 1) : json(nullptr)},
+                                 {"direction_joint", rule.direction_joint >= 0 ? json(rule.direction_joint + 1) : json(nullptr)}}}};
+  }
   o["loss"] = lossName(c.loss);
   o["robust_scale"] = {{"value", c.robust_scale}, {"source", c.noise_stated ? "stated noise" : "median residual"}};
   o["outlier_threshold"] = c.outlier_threshold;
@@ -376,6 +408,20 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
         << (c.registration.determined ? "" : ": not determined, the predicted points are collinear; identity kept")
         << ")\n";
   }
+  if (r.base_frame) {
+    const Pose& F = r.base_frame->gauge.T_measurement_base;
+    const MeasurementFrameUncertainty& sd = r.base_frame->sd;
+    const double angle = rotationAngle(F.R);
+    const Vec3 axis = angle > 0.0 ? Vec3(logSO3(F.R) / angle) : Vec3::UnitZ();
+    const BaseFrameRule& rule = r.base_frame->gauge.rule;
+    out << "base frame: the nominal's (joint 1's line and zero, the foot of the common normal to "
+        << (rule.foot_joint >= 0 ? "joint " + std::to_string(rule.foot_joint + 1) : std::string("the tool point"))
+        << "); the calibrated base at (" << fixed(F.p.x(), 3) << ", " << fixed(F.p.y(), 3) << ", " << fixed(F.p.z(), 3)
+        << ") +- (" << deviation(sd.position.x()) << ", " << deviation(sd.position.y()) << ", " << deviation(sd.position.z())
+        << ") " << u << ", turned " << fixed(angle * kDeg, 4) << " deg about (" << fixed(axis.x(), 4) << ", "
+        << fixed(axis.y(), 4) << ", " << fixed(axis.z(), 4) << ") +- (" << deviation(sd.rotation.x() * kDeg) << ", "
+        << deviation(sd.rotation.y() * kDeg) << ", " << deviation(sd.rotation.z() * kDeg) << ") deg\n";
+  }
   if (!c.targets.empty()) {
     out << "targets:";
     for (size_t t = 0; t < c.targets.size(); ++t) {
@@ -446,21 +492,26 @@ void printResidualTable(std::ostream& out, const CalibrationReport& r) {
 void printJointChanges(std::ostream& out, const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   const std::string u = lengthUnit(r.nominal);
-  const PoeModel& nominal = *r.registered_nominal;  // in the measurement frame, as the calibrated model
+  // in the base frame: the nominal itself against the calibrated moved there; else both in the measurement frame
+  const PoeModel nominal_base = r.nominal.poeModel();
+  const PoeModel& nominal = r.base_frame ? nominal_base : *r.registered_nominal;
+  const PoeModel& calibrated = calibratedModel(r, false);
+  const Vec3 origin = r.base_frame ? Vec3(Vec3::Zero()) : c.registration.T_meas_base.p;
   char line[256];
-  out << "\nchange per joint (calibrated vs the nominal in the measurement frame):\n";
+  out << "\nchange per joint (calibrated vs the nominal in the " << (r.base_frame ? "base" : "measurement")
+      << " frame):\n";
   std::snprintf(line, sizeof line, "%-8s %-10s %14s %16s %18s %14s\n", "joint", "type", "tilt (rad)",
                 ("shift (" + u + ")").c_str(), ("pitch (" + pitchUnit(r.nominal) + ")").c_str(), "scale");
   out << line;
   for (int i = 0; i < nominal.dof(); ++i) {
     const Joint& a = nominal.joint(i);
-    const Joint& b = c.model.joint(i);
+    const Joint& b = calibrated.joint(i);
     const bool prismatic = a.type == JointType::Prismatic;
     const Vec3 da = prismatic ? a.moment() : a.axis(), db = prismatic ? b.moment() : b.axis();
     const double tilt = std::atan2(da.cross(db).norm(), da.dot(db));
     std::string shift = "-";
     if (!prismatic) {  // distance from the nominal line's point nearest the robot's base origin to the calibrated line
-      const Vec3 o = c.registration.T_meas_base.p;
+      const Vec3& o = origin;
       const Vec3 pa = a.axis().cross(a.moment()), pb = b.axis().cross(b.moment());
       const Vec3 ca = pa + a.axis() * a.axis().dot(o - pa);
       shift = fixed((ca - pb).cross(b.axis()).norm(), 6);
@@ -474,7 +525,7 @@ void printJointChanges(std::ostream& out, const CalibrationReport& r) {
   }
   if (c.targets.empty()) {
     const Pose& Ta = nominal.toolPose();
-    const Pose& Tb = c.model.toolPose();
+    const Pose& Tb = calibrated.toolPose();
     out << "tool: turned " << fixed(rotationAngle(Ta.R.transpose() * Tb.R), 8) << " rad, moved "
         << fixed((Tb.p - Ta.p).norm(), 6) << " " << u << "\n";
   } else {

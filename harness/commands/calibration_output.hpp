@@ -40,6 +40,15 @@ struct ValidationResiduals {
   ResidualStatistics inside_after, outside_after;
 };
 
+/// The calibrated robot in the nominal's base frame (the gauge, base_frame.hpp) and the measurement frame
+/// with its standard deviations (numerical propagation, dh_uncertainty.hpp).
+struct CalibratedBaseFrame {
+  BaseFrameGauge gauge;  ///< rule, T_measurement_base, the calibrated model in the nominal's base frame
+  MeasurementFrameUncertainty sd;
+};
+/// toNominalBase and measurementFrameUncertainty of a calibration of `nominal`.
+CalibratedBaseFrame calibratedBaseFrame(const CalibrationResult& result, const PoeModel& nominal);
+
 /// Everything `calibrate` prints: its inputs, the fit, and the numbers derived from them, computed once by
 /// makeCalibrationReport (the renderers below only format them).
 struct CalibrationReport {
@@ -61,12 +70,17 @@ struct CalibrationReport {
   /// The warnings in sentences: rank below the count (with the undetermined directions), no convergence,
   /// residuals inconsistent with the stated noise, the D-H conversion's conditioning (its FK check, once).
   std::vector<std::string> warnings;
+  /// `calibrate`: the calibrated robot in the nominal's base frame; `dh` is then its table (the change per joint
+  /// and the D-H table compare in the base frame). Unset (a scenario's report): all in the measurement frame.
+  std::optional<CalibratedBaseFrame> base_frame;
 };
 
 /// Moves the inputs in and computes the validation residuals and the warnings.
+/// @param base_frame the calibrated robot in the nominal's base frame, `dh` its table (calibrate), or none
 CalibrationReport makeCalibrationReport(io::RobotFile nominal, io::MeasurementFile fit,
                                         std::optional<io::MeasurementFile> validation, CalibrationResult result,
-                                        DhUncertainty dh, double seconds);
+                                        DhUncertainty dh, double seconds,
+                                        std::optional<CalibratedBaseFrame> base_frame = std::nullopt);
 
 nlohmann::json identifiabilityJson(const io::RobotFile& file, const Identifiability& id);
 void printIdentifiability(std::ostream& out, const Identifiability& id);
@@ -83,6 +97,10 @@ nlohmann::json calibrationJson(const CalibrationReport& report);
 void printCalibration(std::ostream& out, const CalibrationReport& report);
 /// The `#` lines of a calibrated robot file: where it came from and how well it fits.
 std::vector<std::string> calibrationProvenance(const CalibrationReport& report);
+/// The model `calibrate --out` writes: the base-frame robot (or, `measurement_frame`, the one in the measurement
+/// frame), and the `measurement_frame:` key it records (none in the measurement frame).
+const PoeModel& calibratedModel(const CalibrationReport& report, bool measurement_frame);
+std::optional<Pose> recordedMeasurementFrame(const CalibrationReport& report, bool measurement_frame);
 /// The calibrated targets as a robot file lists them (tool frame of the calibrated model).
 std::vector<Target> calibratedTargets(const CalibrationReport& report);
 

@@ -69,10 +69,12 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
     options.parameters = cv->chosen;
   }
   CalibrationResult result = calibrate(nominal, fit.measurements, options);
-  DhUncertainty dh = dhUncertainty(result);
+  // the calibrated robot in the nominal's base frame (the gauge) and its D-H table there
+  CalibratedBaseFrame base_frame = calibratedBaseFrame(result, nominal);
+  DhUncertainty dh = dhUncertainty(result, nominal);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CalibrationReport report = makeCalibrationReport(nominal_file, std::move(fit), std::move(validation), std::move(result),
-                                                   std::move(dh), seconds);
+                                                   std::move(dh), seconds, std::move(base_frame));
   report.cross_validation = std::move(cv);
   return report;
 }

@@ -55,12 +55,19 @@ void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const D
   tableRow("tool", "", {fixed(m.toolTheta() * kDeg, io::kDhAngleDecimals), fixed(m.toolD(), ld), "", "", "", "", ""});
 
   // "fixed": set by the convention (a row placed by a prismatic axis has a = d = 0), not measured
-  auto sdOf = [](double sd, double factor, bool is_fixed) { return is_fixed ? std::string("fixed") : deviation(sd * factor); };
+  // "fixed (gauge)": set by the base-frame rule (calibrate in the nominal's base frame)
+  auto sdOf = [](double sd, double factor, bool is_fixed, bool gauge) {
+    return gauge ? std::string("fixed (gauge)") : is_fixed ? std::string("fixed") : deviation(sd * factor);
+  };
   auto deviations = [&](const DhParams& sd, const DhUncertainty::Fixed& f) -> std::array<std::string, 7> {
-    return {sdOf(sd.theta, kDeg, false), sdOf(sd.d, 1.0, f.d), sdOf(sd.alpha, kDeg, false), sdOf(sd.a, 1.0, f.a), "", "",
+    return {sdOf(sd.theta, kDeg, false, f.gauge_theta), sdOf(sd.d, 1.0, f.d, f.gauge_d),
+            sdOf(sd.alpha, kDeg, false, f.gauge_alpha), sdOf(sd.a, 1.0, f.a, f.gauge_a), "", "",
             sd.hayati() ? deviation(sd.beta * kDeg) : ""};
   };
+  auto gauged = [](const DhUncertainty::Fixed& f) { return f.gauge_theta || f.gauge_d || f.gauge_alpha || f.gauge_a; };
+  const bool any_gauge = gauged(dh.base_fixed) || (!dh.links_fixed.empty() && gauged(dh.links_fixed[0]));
   out << "\n" << deviations_title << " (same units; fixed: set by the D-H convention):\n";
+  if (any_gauge) out << "fixed (gauge): set by the base frame (joint 1's line, its zero, the common normal's foot)\n";
   header();
   tableRow("base", "", deviations(dh.base, dh.base_fixed));
   for (int i = 0; i < m.dof(); ++i) {
@@ -79,15 +86,22 @@ json dhUncertaintyJson(const DhUncertainty& dh) {
     json fixed = json::array();
     if (f.d) fixed.push_back("d");
     if (f.a) fixed.push_back("a");
-    json out = json{{"theta", v.theta}, {"d", v.d}, {"alpha", v.alpha}, {"a", v.a},
-                {"sd", {{"theta", finiteOrNull(sd.theta)}, {"d", finiteOrNull(sd.d)}, {"alpha", finiteOrNull(sd.alpha)},
-                        {"a", finiteOrNull(sd.a)}}},
-                {"fixed", fixed}};
+    json o{{"theta", v.theta}, {"d", v.d}, {"alpha", v.alpha}, {"a", v.a},
+           {"sd", {{"theta", finiteOrNull(sd.theta)}, {"d", finiteOrNull(sd.d)}, {"alpha", finiteOrNull(sd.alpha)},
+                   {"a", finiteOrNull(sd.a)}}},
+           {"fixed", fixed}};
     if (v.hayati()) {  // beta only in a Hayati row (conventions.md)
-      out["beta"] = v.beta;
-      out["sd"]["beta"] = finiteOrNull(sd.beta);
+      o["beta"] = v.beta;
+      o["sd"]["beta"] = finiteOrNull(sd.beta);
     }
-    return out;
+    // the entries the base frame (the gauge) sets: sd 0, "fixed_by": {"theta": "gauge", ...}
+    json by = json::object();
+    if (f.gauge_theta) by["theta"] = "gauge";
+    if (f.gauge_d) by["d"] = "gauge";
+    if (f.gauge_alpha) by["alpha"] = "gauge";
+    if (f.gauge_a) by["a"] = "gauge";
+    if (!by.empty()) o["fixed_by"] = by;
+    return o;
   };
   const DhModel& m = dh.conversion.model;
   json joints = json::array();

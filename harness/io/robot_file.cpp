@@ -101,6 +101,7 @@ RobotFile inUnit(const RobotFile& file, const std::string& unit) {
       throw RobotFileError(file.path + ": target " + quotedFileText(t.name) + ": point in " + unit + " " + problem);
     }
   }
+  if (out.measurement_frame) out.measurement_frame->p *= f;
   out.length_unit = unit;
   out.dh.reset();
   out.poe = PoeModel(std::move(joints), tool, model.name());
@@ -187,7 +188,21 @@ RobotFile readRobotFile(const std::string& path) {
   const YAML::Node root = loadYamlFile(path);
   YamlReader in(path);
   if (!root.IsMap()) yamlError(path, root, "a robot file must be a mapping with 'poe:' or 'dh:'");
-  in.allowOnly(root, "the robot file", {"name", "length_unit", "angle_unit", "description", "poe", "dh", "targets"});
+  // 4 rows of 4 numbers, the last [0, 0, 0, 1] (poe.tool_pose, measurement_frame)
+  auto readPoseRows = [&](const YAML::Node& node, const std::string& key) {
+    if (!node.IsSequence() || node.size() != 4) yamlError(path, node, key + " must be 4 rows of 4 numbers");
+    Mat4 T;
+    for (int r = 0; r < 4; ++r) {
+      const auto row = in.vector(node[r], 4, key + "[" + std::to_string(r) + "]");
+      for (int c = 0; c < 4; ++c) T(r, c) = row[static_cast<size_t>(c)];
+    }
+    if (T(3, 0) != 0.0 || T(3, 1) != 0.0 || T(3, 2) != 0.0 || T(3, 3) != 1.0) {
+      yamlError(path, node, key + ": the last row must be [0, 0, 0, 1]");
+    }
+    return Pose::fromMatrix(T);
+  };
+  in.allowOnly(root, "the robot file", {"name", "length_unit", "angle_unit", "description", "poe", "dh", "targets",
+                                       "measurement_frame"});
 
   RobotFile file;
   file.path = path;
@@ -236,16 +251,7 @@ RobotFile readRobotFile(const std::string& path) {
         tool = expSE3(Eigen::Map<const Vec6>(t.data()));
       } else if (poe["tool_pose"]) {
         const YAML::Node tp = poe["tool_pose"];
-        if (!tp.IsSequence() || tp.size() != 4) yamlError(path, tp, "poe.tool_pose must be 4 rows of 4 numbers");
-        Mat4 T;
-        for (int r = 0; r < 4; ++r) {
-          const auto row = in.vector(tp[r], 4, "poe.tool_pose[" + std::to_string(r) + "]");
-          for (int c = 0; c < 4; ++c) T(r, c) = row[static_cast<size_t>(c)];
-        }
-        if (T(3, 0) != 0.0 || T(3, 1) != 0.0 || T(3, 2) != 0.0 || T(3, 3) != 1.0) {
-          yamlError(path, tp, "poe.tool_pose: the last row must be [0, 0, 0, 1]");
-        }
-        tool = Pose::fromMatrix(T);
+        tool = readPoseRows(tp, "poe.tool_pose");
       }
       file.poe.emplace(specs, tool, file.name);
     } else {
@@ -305,6 +311,16 @@ RobotFile readRobotFile(const std::string& path) {
       file.dh.emplace(base, std::move(list), tool_theta, tool_d, file.name);
     }
     if (root["targets"]) file.targets = readTargets(in, root["targets"]);
+    if (root["measurement_frame"]) {
+      const Pose T = readPoseRows(root["measurement_frame"], "measurement_frame");
+      if (!T.R.allFinite() || !T.p.allFinite() || !(T.p.norm() <= kMaxMagnitude)) {
+        yamlError(path, root["measurement_frame"], "measurement_frame: a number is not finite or above 1e100");
+      }
+      if (!((T.R.transpose() * T.R - Mat3::Identity()).norm() <= kRotationOrthonormal) || T.R.determinant() <= 0.0) {
+        yamlError(path, root["measurement_frame"], "measurement_frame: the first three columns are not a rotation");
+      }
+      file.measurement_frame = T;
+    }
   } catch (const std::invalid_argument& e) {
     throw RobotFileError(path + ": " + e.what());
   } catch (const YAML::Exception& e) {
@@ -364,7 +380,7 @@ void writeTargets(YAML::Emitter& out, const std::vector<Target>& targets) {
 
 std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
                                const std::string& description, const std::vector<std::string>& comments,
-                               const std::vector<Target>& targets) {
+                               const std::vector<Target>& targets, const std::optional<Pose>& measurement_frame) {
   const double k = like.angleFactor();
   YAML::Emitter out;
   beginRobotFile(out, like, name, description, comments);
@@ -390,6 +406,12 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
   for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{T(r, 0), T(r, 1), T(r, 2), T(r, 3)};
   out << YAML::EndSeq << YAML::EndMap;
   writeTargets(out, targets);
+  if (measurement_frame) {
+    out << YAML::Key << "measurement_frame" << YAML::Value << YAML::BeginSeq;
+    const Mat4 F = measurement_frame->matrix();
+    for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{F(r, 0), F(r, 1), F(r, 2), F(r, 3)};
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }

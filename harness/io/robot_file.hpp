@@ -56,6 +56,10 @@ struct RobotFile {
   /// `targets:`: points fixed on the tool (a laser tracker's SMRs), in the tool frame and length_unit; names
   /// unique, every point_tool set (at most kMaxTargets).
   std::vector<Target> targets;
+  /// `measurement_frame:` (4 rows): `T_measurement_base`, the pose of the robot's base frame in the frame its
+  /// measurements were taken in (a tracker's), as `calibrate --out` records it; FK in that frame is
+  /// `T_measurement_base T_base_tool(q)` (`fk --frame measurement`).
+  std::optional<Pose> measurement_frame;
 
   double angleFactor() const;  ///< radians per angle_unit
   int dof() const { return poe ? poe->dof() : dh->dof(); }
@@ -87,12 +91,14 @@ RobotFile inUnit(const RobotFile& file, const std::string& unit);
 /// with 17 significant digits, the tool as `tool_pose`), with `like`'s length and angle units (offsets and
 /// revolute ranges converted to its angle_unit), `name`, `description` and `comments` as leading `#` lines.
 /// Strings are emitted by yaml-cpp (quoted and escaped as needed). `targets` become the file's `targets:`
-/// (points with 17 significant digits: they read back bit for bit; none: no key).
+/// (points with 17 significant digits: they read back bit for bit; none: no key). `measurement_frame`: the
+/// `measurement_frame:` key (4 rows, 17 significant digits; none: no key).
 /// @throws std::invalid_argument for targets readRobotFile would refuse (a name that is not a target name or
 /// repeats, a target without point_tool, a point not finite or above 1e100, more than kMaxTargets)
 std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
                                const std::string& description, const std::vector<std::string>& comments,
-                               const std::vector<Target>& targets = {});
+                               const std::vector<Target>& targets = {},
+                               const std::optional<Pose>& measurement_frame = std::nullopt);
 
 /// A D-H robot file of `model` (docs/file_formats.md; readRobotFile reads it back to rounding: numbers with
 /// 17 significant digits, strings quoted and escaped by yaml-cpp) with `like`'s units (angles, pitch and

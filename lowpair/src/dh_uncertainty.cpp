@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
+#include "lowpair/base_frame.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
 
@@ -77,9 +79,15 @@ VecX dhDifference(const VecX& a, const VecX& b, const std::vector<bool>& angle) 
 
 }  // namespace
 
-DhUncertainty dhUncertainty(const CalibrationResult& result) {
+namespace {
+
+// `place`: where every model the propagation visits is put before its conversion (the measurement frame as
+// calibrated, or the nominal's base frame); `gauge`: flag the base row's and joint 1's row's entries no
+// parameter moves.
+DhUncertainty propagate(const CalibrationResult& result, const std::function<PoeModel(const PoeModel&)>& place,
+                        bool gauge) {
   const ErrorModel& em = result.error_model;
-  DhUncertainty out{poeToDh(result.model), {}, {}, {}, {}, 0.0, 0.0, {}, {}};
+  DhUncertainty out{poeToDh(place(result.model)), {}, {}, {}, {}, 0.0, 0.0, {}, {}};
   std::vector<bool> angle;
   const VecX center = dhNumbers(out.conversion.model, &angle);
   const int n = result.model.dof();
@@ -90,8 +98,8 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
   for (const DhJoint& j : out.conversion.model.joints()) same_kinds.row_kinds.push_back(j.link.kind);
   auto spread = [&](const VecX& direction) -> VecX {  // half the D-H difference between +direction and -direction
     try {
-      VecX plus = dhNumbers(poeToDh(em.apply(direction), same_kinds).model);
-      VecX minus = dhNumbers(poeToDh(em.apply(-direction), same_kinds).model);
+      VecX plus = dhNumbers(poeToDh(place(em.apply(direction)), same_kinds).model);
+      VecX minus = dhNumbers(poeToDh(place(em.apply(-direction)), same_kinds).model);
       alignBranches(plus, center, n);
       alignBranches(minus, center, n);
       return 0.5 * dhDifference(plus, minus, angle);
@@ -125,9 +133,22 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
       if (!(std::abs(moved[k]) <= kMoved * kProbe * dh_unit[k])) variance[k] = kInf;
     }
   }
-  // d of a row placed by a parallel axis is the conversion's free choice (0): nothing can determine it
+  // the gauge: an entry of the base row or joint 1's row that no parameter moves (a probe along each, as
+  // above) is set by the base-frame rule, not measured
+  std::vector<bool> gauge_fixed(8, gauge);
+  if (gauge) {
+    for (int p = 0; p < em.size(); ++p) {
+      const VecX moved = spread(kProbe * per_unit[p] * VecX::Unit(em.size(), p));
+      for (Eigen::Index k = 0; k < 8 && k < moved.size(); ++k) {
+        if (!(std::abs(moved[k]) <= kMoved * kProbe * dh_unit[k])) gauge_fixed[static_cast<size_t>(k)] = false;
+      }
+    }
+  }
+  // d of a row placed by a parallel axis is the conversion's free choice (0): nothing can determine it;
+  // except the base row in the base frame, whose z is joint 1's line: its d (0) is the gauge's, as its a
   for (size_t r = 0; r < out.conversion.rows.size(); ++r) {
-    if (out.conversion.rows[r].parallel) variance[r == 0 ? 1 : 4 + 6 * static_cast<Eigen::Index>(r - 1) + 1] = kInf;
+    if (!out.conversion.rows[r].parallel || (r == 0 && gauge_fixed[1])) continue;
+    variance[r == 0 ? 1 : 4 + 6 * static_cast<Eigen::Index>(r - 1) + 1] = kInf;
   }
   // a D-H number is not known better than its rounding (eps times its size or unit): a noise-free fit's
   // one-sigma steps below that move it by exactly 0, which must not read as "+- 0"
@@ -169,10 +190,21 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
     deviation.kind = DhRowKind::Hayati;
     deviation.beta = sd[betaEntry(r, n)];
   }
+  out.links_fixed.resize(static_cast<size_t>(n));
+  for (int r = 0; r < 2 && r <= n; ++r) {
+    DhUncertainty::Fixed& f = r == 0 ? out.base_fixed : out.links_fixed[0];
+    DhParams& deviation = r == 0 ? out.base : out.links[0];
+    bool* flags[4] = {&f.gauge_theta, &f.gauge_d, &f.gauge_alpha, &f.gauge_a};
+    double* entries[4] = {&deviation.theta, &deviation.d, &deviation.alpha, &deviation.a};
+    for (int e = 0; e < 4; ++e) {
+      if (!gauge_fixed[static_cast<size_t>(4 * r + e)] || !std::isfinite(*entries[e])) continue;
+      *flags[e] = true;
+      *entries[e] = 0.0;
+    }
+  }
   // a row placed by a prismatic axis (the base for joint 1, link_{i-1} for joint i) has a = d = 0 by the
   // conversion's convention; an offset of joint i-1 folds into that row's d when joint i-1 slides
   // (prismatic, helical) and is nonzero or fitted
-  out.links_fixed.resize(static_cast<size_t>(n));
   for (int r = 0; r <= n; ++r) {
     const DhParams& central = r == 0 ? out.conversion.model.base() : out.conversion.model.joint(r - 1).link;
     if (!central.hayati() || central.d != 0.0) continue;
@@ -200,6 +232,61 @@ DhUncertainty dhUncertainty(const CalibrationResult& result) {
     }
   }
   return out;
+}
+
+}  // namespace
+
+DhUncertainty dhUncertainty(const CalibrationResult& result) {
+  return propagate(result, [](const PoeModel& m) { return m; }, false);
+}
+
+DhUncertainty dhUncertainty(const CalibrationResult& result, const PoeModel& nominal) {
+  const BaseFrameRule rule = baseFrameRule(nominal);
+  return propagate(result, [&](const PoeModel& m) { return toNominalBase(m, nominal, rule).model; }, true);
+}
+
+MeasurementFrameUncertainty measurementFrameUncertainty(const CalibrationResult& result, const PoeModel& nominal) {
+  const BaseFrameRule rule = baseFrameRule(nominal);
+  const ErrorModel& em = result.error_model;
+  const Pose center = toNominalBase(result.model, nominal, rule).T_measurement_base;
+  // the change of T_measurement_base: [rotation about the measurement frame's axes; position]
+  auto change = [&](const VecX& delta) -> Vec6 {
+    const Pose T = toNominalBase(em.apply(delta), nominal, rule).T_measurement_base;
+    Vec6 d;
+    d << logSO3(T.R * center.R.transpose()), T.p - center.p;
+    return d;
+  };
+  Vec6 variance = Vec6::Zero();
+  for (Eigen::Index i = 0; i < result.principal_axes.cols(); ++i) {
+    try {
+      const Vec6 half = 0.5 * (change(result.principal_axes.col(i)) - change(-result.principal_axes.col(i)));
+      variance += half.cwiseAbs2();
+    } catch (const std::invalid_argument&) {  // a one-sigma step through a non-positive scale
+      variance.setConstant(kInf);
+    }
+  }
+  // an undetermined direction that moves the frame leaves it undetermined (probe as dhUncertainty)
+  constexpr double kProbe = 1e-6, kMoved = 1e-6;
+  const double L = result.model.lengthScale();
+  for (Eigen::Index i = 0; i < result.undetermined_directions.cols(); ++i) {
+    VecX dir = result.undetermined_directions.col(i);
+    VecX scaled = dir;
+    for (int k = 0; k < em.size(); ++k) {
+      const std::string& unit = em.parameters()[static_cast<size_t>(k)].unit;
+      if (unit != "rad" && unit != "1") scaled[k] /= L;
+    }
+    const Vec6 moved = change(kProbe * dir / scaled.norm());
+    for (int k = 0; k < 6; ++k) {
+      if (!(std::abs(moved[k]) <= kMoved * kProbe * (k < 3 ? 1.0 : L))) variance[k] = kInf;
+    }
+  }
+  if (!result.noise_stated && !(result.variance_factor >= 0.0)) variance.setConstant(kInf);
+  for (int k = 0; k < 6; ++k) {  // not below rounding
+    const double resolution = kEps * (k < 3 ? 1.0 : std::max(L, std::abs(center.p[k - 3])));
+    variance[k] = std::max(variance[k], resolution * resolution);
+  }
+  const Vec6 sd = variance.cwiseSqrt();
+  return {sd.head<3>(), sd.tail<3>()};
 }
 
 }  // namespace lowpair

@@ -1,5 +1,6 @@
 #include "lowpair/joint.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -23,7 +24,7 @@ double safeNorm(const Vec3& u) {
   return plain > kPlainNormMin && plain < kPlainNormMax ? plain : u.stableNorm();
 }
 
-Joint normalizeJoint(const JointSpec& spec, int index) {
+Joint normalizeJoint(const JointSpec& spec, int index, double size) {
   const std::string label = jointLabel(index, spec.name);
   LP_CHECK(spec.twist.allFinite(), label << ": twist has a non-finite entry");
   LP_CHECK(std::isfinite(spec.offset), label << ": offset is not finite");
@@ -56,7 +57,9 @@ Joint normalizeJoint(const JointSpec& spec, int index) {
   Vec3 w_unit = w / w_norm;
   Vec3 v_unit = v / w_norm;
   const double pitch = w_unit.dot(v_unit);
-  const bool pitch_is_rounding = std::abs(w.dot(v)) <= kPitchZero * kEps * w_norm * v_norm;
+  // judged against the robot's size when known: a twist moved metres away carries rounding of eps times the
+  // move in v, which can be far above eps |v| when its axis ends up near the origin
+  const bool pitch_is_rounding = std::abs(w.dot(v)) <= kPitchZero * kEps * w_norm * std::max(v_norm, w_norm * size);
   JointType type = spec.type ? *spec.type : (pitch_is_rounding ? JointType::Revolute : JointType::Helical);
   if (type == JointType::Revolute) {
     LP_CHECK(pitch_is_rounding,
@@ -75,6 +78,18 @@ Joint normalizeJoint(const JointSpec& spec, int index) {
            label << ": twist cannot be normalized in double precision (|w| = " << w_norm << ", |v| = " << v_norm
                  << ")");
   return j;
+}
+
+double lengthScaleOfSpecs(const std::vector<JointSpec>& joints, const Vec3& p_tool) {
+  double size = p_tool.allFinite() ? safeNorm(p_tool) : 0.0;
+  for (const JointSpec& s : joints) {
+    const Vec3 w = s.twist.head<3>(), v = s.twist.tail<3>();
+    const double w_norm = safeNorm(w);
+    if (w_norm == 0.0 || !s.twist.allFinite()) continue;
+    const double distance = safeNorm((w / w_norm).cross(v / w_norm));
+    if (std::isfinite(distance)) size = std::max(size, distance);
+  }
+  return size;
 }
 
 }  // namespace lowpair

@@ -262,7 +262,8 @@ void checkSize(double size) {
 PoeModel::PoeModel(const std::vector<JointSpec>& joints, const Pose& tool_pose, std::string name)
     : name_(std::move(name)) {
   joints_.reserve(joints.size());
-  for (size_t i = 0; i < joints.size(); ++i) joints_.push_back(normalizeJoint(joints[i], static_cast<int>(i)));
+  const double size = lengthScaleOfSpecs(joints, tool_pose.p);
+  for (size_t i = 0; i < joints.size(); ++i) joints_.push_back(normalizeJoint(joints[i], static_cast<int>(i), size));
   LP_CHECK(tool_pose.p.allFinite(), "tool: position has a non-finite entry");
   tool_pose_.R = checkedRotation(tool_pose.R, "tool");
   tool_pose_.p = tool_pose.p;

@@ -135,7 +135,9 @@ Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::option
   calibrated.length_unit = r.file.length_unit;
   calibrated.angle_unit = r.file.angle_unit;
   calibrated.description = "calibrated by lowpair.calibrate (Python) from arrays";
-  calibrated.poe = report->result.model;
+  // in the nominal's base frame, with the measurement frame recorded (calibrate --out's default)
+  calibrated.poe = commands::calibratedModel(*report, false);
+  calibrated.measurement_frame = commands::recordedMeasurementFrame(*report, false);
   calibrated.targets = commands::calibratedTargets(*report);
   auto robot = std::make_shared<Robot>(std::move(calibrated), commands::calibrationProvenance(*report));
   json j = commands::calibrationJson(*report);
@@ -192,7 +194,7 @@ py::class_<Calibration> exposeCalibrationSummary(py::module_& m) {
            "to_dict() -> dict: the content of `lowpair calibrate --json` (measurements.path '<arrays>', validation.path\n"
            "'<validation arrays>'; every `line` is the 0-based row of the arrays).")
       .def_property_readonly("robot", [](const Calibration& c) { return c.robot; },
-                             "The calibrated Robot (in the measurement frame); save() writes what `calibrate --out` "
+                             "The calibrated Robot (in the nominal's base frame, its measurement_frame the base in the measurement frame); save() writes what `calibrate --out` "
                              "writes. Present even when not accepted: check `accepted`.")
       .def_property_readonly("measure", [](const Calibration& c) { return measureName(c.report.result.measure); },
                              "'pose', 'position' or 'targets': what the arrays held.")

@@ -84,7 +84,9 @@ def test_calibrated_robot_saves_and_predicts(walkthrough):
                             free_pitch=True)
     assert isinstance(cal.robot, lowpair.Robot) and cal.robot.name == robot.name + "-calibrated"
     Qv, Pv, _ = read_csv(v, robot.dof)
-    predicted = cal.robot.fk(Qv)
+    # the robot is in the nominal's base frame; its measurement_frame predicts in the measurements' frame
+    assert cal.robot.measurement_frame is not None
+    predicted = cal.robot.measurement_frame @ cal.robot.fk(Qv)
     rms = np.sqrt(np.mean(np.sum((predicted[:, :3, 3] - Pv) ** 2, axis=1)))
     assert rms < 0.05  # mm; the walk-through's 0.0155
     saved = str(tmp / "cal_py.yaml")
@@ -92,7 +94,8 @@ def test_calibrated_robot_saves_and_predicts(walkthrough):
     again = lowpair.load(saved)
     cli = lowpair.load(cal_yaml)  # calibrate --out
     for other in (again, cli):
-        assert np.allclose(other.fk(Qv), predicted, rtol=0, atol=1e-12 * robot.length_scale)
+        assert np.array_equal(other.measurement_frame, cal.robot.measurement_frame)
+        assert np.allclose(other.measurement_frame @ other.fk(Qv), predicted, rtol=0, atol=1e-12 * robot.length_scale)
     # the same model text as the CLI's file but for the provenance lines
     strip = lambda path: [l for l in open(path) if not l.startswith("#") and not l.startswith("description")]  # noqa: E731
     assert strip(saved) == strip(cal_yaml)

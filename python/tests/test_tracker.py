@@ -129,10 +129,11 @@ def test_tracker_calibration_equals_cli(tracker_data):
     assert sorted(cal.targets) == sorted(SMRS) and all(v.shape == (3,) for v in cal.targets.values())
     # the frame registered: the nominal's base seen from the tracker is ~3.2 m away (the frame's translation)
     assert np.linalg.norm(cal.measurement_frame[:3, 3]) == pytest.approx(np.linalg.norm(FRAME[3:]), rel=0.01)
-    # the calibrated robot predicts the held-out points in the tracker frame
+    # the calibrated robot (in the nominal's base frame) with its measurement_frame predicts the held-out
+    # points in the tracker frame
     robot = cal.robot
     assert sorted(robot.targets) == sorted(SMRS)
-    T = robot.fk(held_out.q, model="poe")
+    T = robot.measurement_frame @ robot.fk(held_out.q, model="poe")
     points = np.array([T[k, :3, :3] @ robot.targets[name] + T[k, :3, 3] for k, name in enumerate(held_out.targets)])
     rms = np.sqrt(np.mean(np.sum((points - held_out.positions) ** 2, axis=1)))
     assert rms == pytest.approx(cal.validation["after"]["rms_position"], rel=1e-6)

@@ -5,6 +5,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "lowpair/types.hpp"
 
@@ -66,11 +67,17 @@ struct Joint : JointMotion {
 double safeNorm(const Vec3& u);
 
 /// Normalizes a joint twist (Wu et al. eq. 1) and infers or checks its type: prismatic if `w = 0`;
-/// revolute if `|w.v| <= kPitchZero eps |w| |v|` (then the rounding-level pitch is removed); helical
-/// otherwise. @param index 0-based joint index, used in messages.
+/// revolute if `|w.v| <= kPitchZero eps |w| max(|v|, |w| size)` (then the rounding-level pitch is removed);
+/// helical otherwise. @param index 0-based joint index, used in messages. @param size the robot's size (a
+/// length, lengthScaleOfSpecs): rounding is judged against it, not only against |v| (0: against |v|).
 /// @throws std::invalid_argument for non-finite numbers, a zero twist, or a declared type that
 ///         contradicts the twist (e.g. a helical twist declared revolute).
-Joint normalizeJoint(const JointSpec& spec, int index);
+Joint normalizeJoint(const JointSpec& spec, int index, double size = 0.0);
+
+/// The robot's size as its unnormalized joint twists and tool position give it before normalization: the
+/// largest of |p_tool| and each revolute/helical axis's distance from the origin `|w x v| / |w|^2` (what
+/// normalizeJoint judges rounding against).
+double lengthScaleOfSpecs(const std::vector<JointSpec>& joints, const Vec3& p_tool);
 
 /// `"joint 3"` or `"joint 3 (elbow)"` for messages (1-based).
 std::string jointLabel(int index, const std::string& name);

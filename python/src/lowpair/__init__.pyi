@@ -46,6 +46,17 @@ class Robot:
     @property
     def targets(self) -> Dict[str, Optional[Array]]:
         """name -> (3,) point in the tool frame: the file's targets (SMRs)."""
+    @property
+    def twists(self) -> Array:
+        """(n, 6) each joint's twist [w; v] in the base frame at the zero configuration, times its scale."""
+    @property
+    def tool_pose(self) -> Array:
+        """(4, 4) the tool pose exp(xi_T)."""
+    @property
+    def measurement_frame(self) -> Optional[Array]:
+        """(4, 4) T_measurement_base recorded by a calibration, or None."""
+    def transformed(self, T: ArrayLike) -> Robot:
+        """The same robot seen from another frame: fk(q) becomes T @ fk(q)."""
     def fk(self, q: ArrayLike, model: Optional[Literal["poe", "dh"]] = None, out: Optional[Array] = None) -> Array:
         """q (n,) -> (4, 4); q (N, n) -> (N, 4, 4) (batched, GIL released); out: filled and returned."""
     def jacobian(self, q: ArrayLike, frame: Literal["spatial", "body", "geometric"] = "spatial") -> Array:
