@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "lowpair/check.hpp"
+#include "check.hpp"
 #include "lowpair/registration.hpp"
 
 namespace lowpair {
