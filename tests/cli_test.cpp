@@ -31,7 +31,7 @@ poe:
 }  // namespace
 
 TEST(CliPoe2dh, PumaActualJsonReproducesTableII) {
-  const CliRun r = run("poe2dh " + model("puma560_okamura_actual.yaml") + " --json");
+  const CliRun r = run("poe2dh " + model("puma560_okamura_actual.yaml") + " --json --standard");
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   const double deg = M_PI / 180;
@@ -62,11 +62,11 @@ TEST(CliPoe2dh, NominalTableHasExactZeros) {
 }
 
 TEST(CliPoe2dh, HumanAndModifiedTables) {
-  const CliRun human = run("poe2dh " + model("puma560_okamura_actual.yaml"));
+  const CliRun human = run("poe2dh " + model("puma560_okamura_actual.yaml") + " --standard");
   ASSERT_EQ(human.status, 0) << human.err;
   EXPECT_NE(human.out.find("-567.6554"), std::string::npos) << human.out;
   EXPECT_NE(human.out.find("theta(deg)"), std::string::npos);
-  const CliRun mod = run("poe2dh " + model("puma560_okamura_actual.yaml") + " --modified --json");
+  const CliRun mod = run("poe2dh " + model("puma560_okamura_actual.yaml") + " --modified --json --standard");
   ASSERT_EQ(mod.status, 0) << mod.err;
   const auto j = nlohmann::json::parse(mod.out);
   EXPECT_EQ(j["convention"], "modified");
@@ -98,7 +98,7 @@ poe:
     - {name: elbow, twist: [9.999999999999982e-08, 0, 0.999999999999995, 0.399999999999998, -0.2999999999999985, -3.9999999999999935e-08]}
   tool_pose: [[1.0, 0, 1e-09, 0.5], [0, 1, 0, 0.1], [-1e-09, 0, 1.0, 0.2], [0, 0, 0, 1]]
 )");
-  const CliRun r = run("poe2dh " + f);
+  const CliRun r = run("poe2dh " + f + " --standard");  // the standard table: the Hayati rows have no such d
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string expected[3] = {
       "warning: row of joint 1 (waist): |d| = 3e+06, |a| = 0.4 exceed 1e+03 L (L = 0.548); the line before and "
@@ -108,7 +108,7 @@ poe:
       "warning: tool: |d_T| = 2.02e+06 exceeds 1e+03 L: the last joint axis is nearly parallel to the tool z axis\n"};
   for (const std::string& w : expected) EXPECT_NE(r.out.find(w), std::string::npos) << w << "\nnot in\n" << r.out;
   EXPECT_NE(r.out.find("FK check: POE vs D-H over 65 configurations"), std::string::npos) << r.out;
-  const auto j = nlohmann::json::parse(run("poe2dh " + f + " --json").out);
+  const auto j = nlohmann::json::parse(run("poe2dh " + f + " --json --standard").out);
   ASSERT_EQ(j["warnings"].size(), 3u);
   EXPECT_EQ("warning: " + j["warnings"][2].get<std::string>() + "\n", expected[2]);
   EXPECT_EQ(j["conditioning"][1]["ill_conditioned"], true);

@@ -312,7 +312,7 @@ TEST(HostileInput, ModelMagnitudesAreBoundedAndNamed) {
   const std::string tilted = robot("nearly_parallel_far",
                                    "    - {twist: [0, 0, 1, 0, 0, 0]}\n    - {twist: [0, 1e-13, 1, 1e90, 0, 0]}\n",
                                    "[0, 0, 0, 1, 0, 0]");
-  const CliRun far_dh = runCli("poe2dh " + shellQuote(tilted) + " --json");
+  const CliRun far_dh = runCli("poe2dh " + shellQuote(tilted) + " --json --standard");  // the standard table
   ASSERT_EQ(far_dh.status, 0) << far_dh.err;
   const auto tilted_json = nlohmann::json::parse(far_dh.out);
   EXPECT_FALSE(hasNull(tilted_json)) << far_dh.out;

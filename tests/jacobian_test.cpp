@@ -137,14 +137,24 @@ Mat4r dhRow(Real theta, Real d, Real alpha, Real a) {
   return A;
 }
 
-// H(x) = A(base) prod_i [Rz(j x_i) Tz(k x_i) A(link_i)] Rz(theta_T) Tz(d_T) (eq. 10) in the joint motions x.
+// A Hayati row's extra turn Ry(beta) (docs/conventions.md "Hayati rows"); the identity in a standard row.
+Mat4r hayatiTurn(const DhParams& row) {
+  Mat4r Y = Mat4r::Identity();
+  if (!row.hayati()) return Y;
+  const Real cb = std::cos(Real(row.beta)), sb = std::sin(Real(row.beta));
+  Y(0, 0) = cb, Y(0, 2) = sb, Y(2, 0) = -sb, Y(2, 2) = cb;
+  return Y;
+}
+
+// H(x) = A(base) prod_i [Rz(j x_i) Tz(k x_i) A(link_i)] Rz(theta_T) Tz(d_T) (eq. 10) in the joint motions x,
+// each A(row) of a Hayati row followed by Ry(beta).
 Mat4r dhFk(const DhModel& model, const VecXr& x) {
   const DhParams& b = model.base();
-  Mat4r G = dhRow(b.theta, b.d, b.alpha, b.a);
+  Mat4r G = dhRow(b.theta, b.d, b.alpha, b.a) * hayatiTurn(b);
   for (int i = 0; i < model.dof(); ++i) {
     const DhJoint& j = model.joint(i);
     const DhParams& l = j.link;
-    G = G * dhRow(l.theta + j.turnRate() * x[i], l.d + j.slideRate() * x[i], l.alpha, l.a);
+    G = G * dhRow(l.theta + j.turnRate() * x[i], l.d + j.slideRate() * x[i], l.alpha, l.a) * hayatiTurn(l);
   }
   return G * dhRow(model.toolTheta(), model.toolD(), 0, 0);
 }

@@ -26,8 +26,9 @@ print(f"rank {cal.rank} of {cal.expected}, {cal.iterations} iterations, accepted
 print(f"fit RMS position {cal.before['rms_position']:.4g} -> {cal.after['rms_position']:.4g} {nominal.length_unit}")
 print(f"held out RMS position {before:.4g} -> {after:.4g} {nominal.length_unit}")
 
-# the calibrated robot predicts the held-out positions (its own FK, in the measurement frame)
-T = cal.robot.fk(held_out.q, model="poe")
+# the calibrated robot predicts the held-out positions: its FK (in the nominal's base frame) moved into the
+# measurement frame by its measurement_frame (T_measurement_base)
+T = cal.robot.measurement_frame @ cal.robot.fk(held_out.q, model="poe")
 rms = np.sqrt(np.mean(np.sum((T[:, :3, 3] - held_out.positions) ** 2, axis=1)))
 
 # the errors put in are tens of millimetres; after the fit the held-out error is of the order of the noise

@@ -33,8 +33,8 @@ with tempfile.TemporaryDirectory() as folder:
     actual = lowpair.load(with_targets("models/puma560_okamura_actual.yaml", folder))
 nominal = lowpair.load("models/puma560_okamura_nominal.yaml")
 
-# 1. measure: 50 poses x 3 SMRs, in the robot's base frame (a tracker set up on the base; with frame=[...] the
-#    calibrated robot would be in the tracker's frame, and compensation needs the nominal's frame)
+# 1. measure: 50 poses x 3 SMRs, in the actual robot's base frame (a tracker anywhere else, frame=[...], works the
+#    same: calibrate returns the robot in the nominal's base frame and the measurement frame beside it)
 fit = lowpair.simulate(actual, poses=50, seed=3, measure="targets", noise_position=0.01, blunders=(4, 5.0))
 
 # 2. calibrate with a robust loss: the blunders are flagged, not fitted
@@ -59,8 +59,10 @@ def rms(d):
     return np.sqrt(np.mean(np.sum(d ** 2, axis=-1)))
 
 
-# where the program means the SMRs to be: the nominal's tool frame with the calibrated SMR points
-meant = smr_points(nominal.fk(program, model="poe"), cal.targets)
+# where the program means the SMRs to be: the nominal's tool frame with the calibrated SMR points, in the
+# measurement frame (the actual's base is the nominal's moved by cal.robot.measurement_frame: the rigid motion
+# of the actual's base error, which no joint command can undo)
+meant = smr_points(cal.robot.measurement_frame @ nominal.fk(program, model="poe"), cal.targets)
 real = {name: np.array(p) for name, p in SMRS.items()}
 before = smr_points(actual.fk(program, model="poe"), real) - meant                # the actual robot at q
 after = smr_points(actual.fk(comp.q, model="poe"), real)[comp.ok] - meant[comp.ok]  # ... at the compensated q

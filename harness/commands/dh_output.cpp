@@ -28,10 +28,10 @@ void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const D
   auto header = [&] {
     std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s", "row", "joint", "theta(deg)",
                   ("d(" + u + ")").c_str(), "alpha(deg)", ("a(" + u + ")").c_str(), ("pitch(" + pu + ")").c_str(), "scale");
-    out << line << (hayati ? "      beta(deg)" : "") << "\n";
+    out << line << (hayati ? "   beta(deg)" : "") << "\n";  // 120 columns with it
   };
   auto tableRow = [&](const std::string& label, const std::string& type, const std::array<std::string, 7>& e) {
-    std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s %14s\n", label.c_str(), type.c_str(),
+    std::snprintf(line, sizeof line, "%-6s %-9s %14s %16s %14s %16s %14s %12s %11s\n", label.c_str(), type.c_str(),
                   e[0].c_str(), e[1].c_str(), e[2].c_str(), e[3].c_str(), e[4].c_str(), e[5].c_str(), e[6].c_str());
     std::string text = line;
     text.erase(text.find_last_not_of(" \n") + 1);  // no trailing blanks where a row has no pitch or scale

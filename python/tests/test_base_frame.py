@@ -58,14 +58,14 @@ def test_calibrate_returns_the_robot_in_the_nominals_base_frame(far_tracker):
     w, v = robot.twists[0, :3], robot.twists[0, 3:]
     assert np.allclose(w / np.linalg.norm(w), nominal.twists[0, :3] / np.linalg.norm(nominal.twists[0, :3]),
                        rtol=0, atol=1e-12)
-    assert np.linalg.norm(np.cross(w, v)) / np.dot(w, w) <= 1e-9 * nominal.size
+    assert np.linalg.norm(np.cross(w, v)) / np.dot(w, w) <= 1e-9 * nominal.length_scale
     # the measurement frame is recorded: the tracker's 3.2 m, and the JSON's base_frame
     F = robot.measurement_frame
     assert F.shape == (4, 4) and np.linalg.norm(F[:3, 3]) > 3000
     assert np.array_equal(F, np.array(cal.to_dict()["base_frame"]["T_measurement_base"]))
     # moved into the measurement frame it is the robot `calibrate --frame measurement` writes
     q = np.random.default_rng(1).uniform(-np.pi, np.pi, size=(50, nominal.dof))
-    assert np.allclose(robot.transformed(F).fk(q), in_measurement_frame.fk(q), rtol=0, atol=1e-9 * nominal.size)
+    assert np.allclose(robot.transformed(F).fk(q), in_measurement_frame.fk(q), rtol=0, atol=1e-9 * nominal.length_scale)
     # the old code returned that robot: metres from the base-frame one, not the actual's base error
     assert np.max(np.abs(robot.fk(q)[:, :3, 3] - in_measurement_frame.fk(q)[:, :3, 3])) > 1000
     # saved and loaded, the key reads back bit for bit
@@ -84,7 +84,7 @@ def test_transformed_moves_fk_by_T_exactly(far_tracker):
         T = random_motion(rng, 3000.0)
         moved = robot.transformed(T)
         expected = T @ robot.fk(q)
-        reach = robot.size + np.linalg.norm(T[:3, 3])
+        reach = robot.length_scale + np.linalg.norm(T[:3, 3])
         assert np.max(np.abs(moved.fk(q)[:, :3, :3] - expected[:, :3, :3])) <= 1e-13
         assert np.max(np.abs(moved.fk(q)[:, :3, 3] - expected[:, :3, 3])) <= 1e-13 * reach
         assert np.allclose(moved.tool_pose, T @ robot.tool_pose, rtol=0, atol=1e-13 * reach)
@@ -113,10 +113,10 @@ def test_twists_tool_pose_and_measurement_frame_read_back():
     actual = lowpair.load(ACTUAL)
     # twist times scale: the file's numbers to rounding
     assert actual.twists.shape == (6, 6)
-    assert np.allclose(actual.twists, ACTUAL_TWISTS, rtol=1e-14, atol=1e-14 * actual.size)
+    assert np.allclose(actual.twists, ACTUAL_TWISTS, rtol=1e-14, atol=1e-14 * actual.length_scale)
     # the tool pose is fk at the zero configuration (the file has no offsets)
     assert np.allclose(actual.fk(np.zeros(actual.dof), model="poe"), actual.tool_pose, rtol=0,
-                       atol=1e-13 * actual.size)
+                       atol=1e-13 * actual.length_scale)
     assert actual.measurement_frame is None
     nominal = lowpair.load(NOMINAL)
     assert np.array_equal(nominal.twists[:2], np.array([[0, 0, 1, 0, 0, 0], [0, -1, 0, 0, 0, 0]], dtype=float))
