@@ -11,9 +11,11 @@
 
 #include "io/robot_file.hpp"
 #include "lowpair/convert.hpp"
+#include "hayati_helpers.hpp"
 #include "lowpair/se3.hpp"
 
 using namespace lowpair;
+using hayati_helpers::poeDifference;
 
 namespace {
 
@@ -53,17 +55,6 @@ io::RobotFile writeAndRead(const DhModel& dh, const std::string& angle_unit, std
   return back;
 }
 
-double poeDifference(const PoeModel& a, const PoeModel& b) {
-  const double L = a.lengthScale();
-  double out = 0.0;
-  for (int i = 0; i < a.dof(); ++i) {
-    const Vec6 d = a.joint(i).twist - b.joint(i).twist;
-    out = std::max({out, d.head<3>().cwiseAbs().maxCoeff(), d.tail<3>().cwiseAbs().maxCoeff() / L});
-  }
-  const Mat3 dR = a.toolPose().R - b.toolPose().R;
-  out = std::max(out, dR.cwiseAbs().maxCoeff());
-  return std::max(out, (a.toolPose().p - b.toolPose().p).norm() / L);
-}
 
 }  // namespace
 

@@ -13,11 +13,13 @@
 #include "lowpair/convert.hpp"
 #include "lowpair/error_model.hpp"
 #include "lowpair/kinematics.hpp"
+#include "hayati_helpers.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
 #include "random_robot.hpp"
 
 using namespace lowpair;
+using hayati_helpers::poeDifference;
 
 namespace {
 
@@ -67,17 +69,6 @@ int hayatiRows(const DhModel& dh) {
   return count;
 }
 
-// The largest difference of twists (angular parts in rad, linear parts over L) and of tool poses.
-double poeDifference(const PoeModel& a, const PoeModel& b) {
-  const double L = a.lengthScale();
-  double out = 0.0;
-  for (int i = 0; i < a.dof(); ++i) {
-    const Vec6 d = a.joint(i).twist - b.joint(i).twist;
-    out = std::max({out, d.head<3>().cwiseAbs().maxCoeff(), d.tail<3>().cwiseAbs().maxCoeff() / L});
-  }
-  out = std::max(out, rotationError(a.toolPose().R, b.toolPose().R));
-  return std::max(out, (a.toolPose().p - b.toolPose().p).norm() / L);
-}
 
 }  // namespace
 

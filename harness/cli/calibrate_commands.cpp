@@ -11,6 +11,7 @@
 #include "commands/calibration_inputs.hpp"
 #include "commands/calibration_output.hpp"
 #include "commands/calibration_run.hpp"
+#include "commands/simulation.hpp"
 #include "lowpair/tolerances.hpp"
 #include "cli/commands.hpp"
 #include "lowpair/calibration.hpp"
@@ -31,15 +32,6 @@ using nlohmann::json;
 
 namespace {
 
-// The robot file's targets' points, in order; Measure::Targets needs at least one.
-std::vector<Vec3> fileTargets(const RobotFile& file) {
-  if (file.targets.empty()) {
-    throw UsageError(file.path, "--measure targets needs a `targets:` list in the robot file (docs/file_formats.md)");
-  }
-  std::vector<Vec3> points;
-  for (const Target& t : file.targets) points.push_back(*t.point_tool);
-  return points;
-}
 
 struct IdentifiabilityOptions {
   RobotSource robot;
@@ -67,7 +59,7 @@ int runIdentifiability(const IdentifiabilityOptions& o) {
   for (int i = 0; i < o.poses; ++i) randomSample(static_cast<unsigned long long>(o.seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
   ErrorModelSpec spec;
   spec.free_pitch = o.free_pitch;
-  if (measure == Measure::Targets) spec.targets = fileTargets(file);
+  if (measure == Measure::Targets) spec.targets = robotFileTargetPoints(file, cliSpelling());
   const Identifiability id = analyzeIdentifiability(model, q, measure, spec);
   if (o.as_json) {
     json j = identifiabilityJson(file, id);

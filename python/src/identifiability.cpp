@@ -10,20 +10,13 @@
 #include "robot.hpp"
 #include "commands/calibration_output.hpp"
 #include "commands/sampling.hpp"
+#include "commands/simulation.hpp"
 
 namespace lowpair::python {
 
 namespace {
 
 
-std::vector<Vec3> fileTargets(const io::RobotFile& file) {
-  if (file.targets.empty()) {
-    throw UsageError(file.path, "measure='targets' needs a `targets:` list in the robot file (docs/file_formats.md)");
-  }
-  std::vector<Vec3> points;
-  for (const Target& t : file.targets) points.push_back(*t.point_tool);
-  return points;
-}
 
 struct IdentifiabilityResult {
   Identifiability id;
@@ -49,7 +42,7 @@ IdentifiabilityResult identifiability(const Robot& r, const std::string& measure
   }
   ErrorModelSpec spec;
   spec.free_pitch = free_pitch;
-  if (measure == Measure::Targets) spec.targets = fileTargets(r.file);
+  if (measure == Measure::Targets) spec.targets = commands::robotFileTargetPoints(r.file, pythonSpelling());
   Identifiability id;
   {
     py::gil_scoped_release release;
