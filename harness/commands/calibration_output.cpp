@@ -226,6 +226,59 @@ std::string rejectionText(const CalibrationReport& r) {
   return s.str();
 }
 
+namespace {
+
+// calibrationJson's "parameters" (value and standard deviation of each) and "correlation" (of the determined ones)
+void parameterJson(const CalibrationResult& c, json& o) {
+  json params = json::array();
+  const auto& ps = c.error_model.parameters();
+  for (size_t k = 0; k < ps.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    params.push_back({{"name", ps[k].name}, {"unit", ps[k].unit}, {"value", c.estimate[i]},
+                      {"standard_deviation", finiteOrNull(c.standard_deviation[i])}});
+  }
+  o["parameters"] = params;
+  // correlations of the determined parameters (finite, nonzero standard deviation), by index into
+  // "parameters": what a near-singular fit trades against what
+  std::vector<Eigen::Index> determined;
+  for (Eigen::Index k = 0; k < c.standard_deviation.size(); ++k) {
+    if (std::isfinite(c.standard_deviation[k]) && c.standard_deviation[k] > 0 && k < c.covariance.rows()) {
+      determined.push_back(k);
+    }
+  }
+  json correlation = json::array();
+  for (const Eigen::Index a : determined) {
+    json row = json::array();
+    for (const Eigen::Index b : determined) {
+      row.push_back(finiteOrNull(c.covariance(a, b) / (c.standard_deviation[a] * c.standard_deviation[b])));
+    }
+    correlation.push_back(row);
+  }
+  o["correlation"] = {{"parameters", determined}, {"matrix", correlation}};
+}
+
+// calibrationJson's "residuals": one per measurement, with its file line (and target)
+json residualsJson(const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  json residuals = json::array();
+  for (size_t k = 0; k < c.residuals.size(); ++k) {
+    const MeasurementResidual& m = c.residuals[k];
+    json e = {{"line", k < r.fit.lines.size() ? json(r.fit.lines[k]) : json(nullptr)},
+              {"position", m.position},
+              {"rotation", finiteOrNull(m.rotation)},
+              {"normalized", m.normalized},
+              {"weight", m.weight},
+              {"outlier", m.outlier}};
+    if (r.fit.measure == Measure::Targets) {
+      e["target"] = r.target_names[static_cast<size_t>(r.fit.measurements[k].target)];
+    }
+    residuals.push_back(e);
+  }
+  return residuals;
+}
+
+}  // namespace
+
 json calibrationJson(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   json o;
@@ -279,21 +332,7 @@ json calibrationJson(const CalibrationReport& r) {
   o["outliers"] = c.outliers;
   o["reweightings"] = c.reweightings;
   o["parameter_set"] = parameterSetName(c.parameter_set);
-  json residuals = json::array();
-  for (size_t k = 0; k < c.residuals.size(); ++k) {
-    const MeasurementResidual& m = c.residuals[k];
-    json e = {{"line", k < r.fit.lines.size() ? json(r.fit.lines[k]) : json(nullptr)},
-              {"position", m.position},
-              {"rotation", finiteOrNull(m.rotation)},
-              {"normalized", m.normalized},
-              {"weight", m.weight},
-              {"outlier", m.outlier}};
-    if (r.fit.measure == Measure::Targets) {
-      e["target"] = r.target_names[static_cast<size_t>(r.fit.measurements[k].target)];
-    }
-    residuals.push_back(e);
-  }
-  o["residuals"] = residuals;
+  o["residuals"] = residualsJson(r);
   json targets = json::array();
   for (size_t t = 0; t < c.targets.size(); ++t) {
     targets.push_back({{"name", r.target_names[t]},
@@ -322,32 +361,8 @@ json calibrationJson(const CalibrationReport& r) {
   o["rank"] = c.rank.rank;
   o["expected"] = c.expected.total();
   o["joints"] = countJson(c.expected);
-  json params = json::array();
-  const auto& ps = c.error_model.parameters();
-  for (size_t k = 0; k < ps.size(); ++k) {
-    const auto i = static_cast<Eigen::Index>(k);
-    params.push_back({{"name", ps[k].name}, {"unit", ps[k].unit}, {"value", c.estimate[i]},
-                      {"standard_deviation", finiteOrNull(c.standard_deviation[i])}});
-  }
-  o["parameters"] = params;
-  // correlations of the determined parameters (finite, nonzero standard deviation), by index into
-  // "parameters": what a near-singular fit trades against what
-  std::vector<Eigen::Index> determined;
-  for (Eigen::Index k = 0; k < c.standard_deviation.size(); ++k) {
-    if (std::isfinite(c.standard_deviation[k]) && c.standard_deviation[k] > 0 && k < c.covariance.rows()) {
-      determined.push_back(k);
-    }
-  }
-  json correlation = json::array();
-  for (const Eigen::Index a : determined) {
-    json row = json::array();
-    for (const Eigen::Index b : determined) {
-      row.push_back(finiteOrNull(c.covariance(a, b) / (c.standard_deviation[a] * c.standard_deviation[b])));
-    }
-    correlation.push_back(row);
-  }
-  o["correlation"] = {{"parameters", determined}, {"matrix", correlation}};
-  o["undetermined"] = undeterminedJson(c.rank, parameterNames(ps));
+  parameterJson(c, o);
+  o["undetermined"] = undeterminedJson(c.rank, parameterNames(c.error_model.parameters()));
   // the calibrated D-H table with standard deviations (angles rad, pitch length/rad; null = undetermined)
   o["dh"] = dhUncertaintyJson(r.dh);
   o["warnings"] = r.warnings;

@@ -184,6 +184,67 @@ std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list) {
 
 }  // namespace
 
+namespace {
+
+// The `dh:` section: base, joints (a row with `beta` is a Hayati row) and tool; angles times k (deg -> rad).
+DhModel readDhSection(YamlReader& in, const std::string& path, const YAML::Node& dh, double k, const std::string& name) {
+  in.allowOnly(dh, "dh", {"base", "joints", "tool"});
+  auto params = [&](const YAML::Node& node, const std::string& where) {
+    DhParams r;
+    r.theta = in.numberOr(node, "theta", 0.0, where) * k;
+    r.d = in.numberOr(node, "d", 0.0, where);
+    r.alpha = in.numberOr(node, "alpha", 0.0, where) * k;
+    r.a = in.numberOr(node, "a", 0.0, where);
+    // beta: a Hayati row Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta) (conventions.md, "Hayati rows")
+    if (node["beta"]) {
+      r.kind = DhRowKind::Hayati;
+      r.beta = in.number(node["beta"], where + ".beta") * k;
+    }
+    return r;
+  };
+  DhParams base;
+  if (dh["base"]) {
+    in.allowOnly(dh["base"], "dh.base", {"theta", "d", "alpha", "a", "beta"});
+    base = params(dh["base"], "dh.base");
+  }
+  const YAML::Node joints = dh["joints"];
+  if (!joints.IsDefined() || !joints.IsSequence() || joints.size() == 0) {
+    yamlError(path, joints.IsDefined() ? joints : dh, "dh.joints must be a non-empty list");
+  }
+  std::vector<DhJoint> list;
+  for (size_t i = 0; i < joints.size(); ++i) {
+    const YAML::Node j = joints[i];
+    const std::string where = "dh.joints[" + std::to_string(i) + "]";
+    in.allowOnly(j, where, {"name", "type", "theta", "d", "alpha", "a", "beta", "pitch", "scale", "range"});
+    DhJoint dj;
+    if (j["name"]) dj.name = in.string(j["name"], where + ".name");
+    const auto type = in.type(j["type"], where + ".type");
+    if (!type) yamlError(path, j, where + ": missing 'type' (revolute, prismatic or helical)");
+    dj.type = *type;
+    dj.link = params(j, where);
+    if (j["pitch"]) {
+      if (dj.type != JointType::Helical) {
+        yamlError(path, j["pitch"], where + ": 'pitch' is only for helical joints (this one is " +
+                                   jointTypeName(dj.type) + ")");
+      }
+      dj.pitch = in.number(j["pitch"], where + ".pitch") / k;  // length per angle_unit -> per rad
+    }
+    dj.scale = in.numberOr(j, "scale", 1.0, where);
+    if (!(dj.scale > 0.0)) yamlError(path, j["scale"], where + ".scale must be positive");
+    dj.range = in.range(j["range"], where + ".range", dj.type == JointType::Prismatic ? 1.0 : k);
+    list.push_back(dj);
+  }
+  double tool_theta = 0.0, tool_d = 0.0;
+  if (dh["tool"]) {
+    in.allowOnly(dh["tool"], "dh.tool", {"theta", "d"});
+    tool_theta = in.numberOr(dh["tool"], "theta", 0.0, "dh.tool") * k;
+    tool_d = in.numberOr(dh["tool"], "d", 0.0, "dh.tool");
+  }
+  return DhModel(base, std::move(list), tool_theta, tool_d, name);
+}
+
+}  // namespace
+
 RobotFile readRobotFile(const std::string& path) {
   const YAML::Node root = loadYamlFile(path);
   YamlReader in(path);
@@ -255,60 +316,7 @@ RobotFile readRobotFile(const std::string& path) {
       }
       file.poe.emplace(specs, tool, file.name);
     } else {
-      const YAML::Node dh = root["dh"];
-      in.allowOnly(dh, "dh", {"base", "joints", "tool"});
-      auto params = [&](const YAML::Node& node, const std::string& where) {
-        DhParams r;
-        r.theta = in.numberOr(node, "theta", 0.0, where) * k;
-        r.d = in.numberOr(node, "d", 0.0, where);
-        r.alpha = in.numberOr(node, "alpha", 0.0, where) * k;
-        r.a = in.numberOr(node, "a", 0.0, where);
-        // beta: a Hayati row Rz(theta) Tz(d) Tx(a) Rx(alpha) Ry(beta) (conventions.md, "Hayati rows")
-        if (node["beta"]) {
-          r.kind = DhRowKind::Hayati;
-          r.beta = in.number(node["beta"], where + ".beta") * k;
-        }
-        return r;
-      };
-      DhParams base;
-      if (dh["base"]) {
-        in.allowOnly(dh["base"], "dh.base", {"theta", "d", "alpha", "a", "beta"});
-        base = params(dh["base"], "dh.base");
-      }
-      const YAML::Node joints = dh["joints"];
-      if (!joints.IsDefined() || !joints.IsSequence() || joints.size() == 0) {
-        yamlError(path, joints.IsDefined() ? joints : dh, "dh.joints must be a non-empty list");
-      }
-      std::vector<DhJoint> list;
-      for (size_t i = 0; i < joints.size(); ++i) {
-        const YAML::Node j = joints[i];
-        const std::string where = "dh.joints[" + std::to_string(i) + "]";
-        in.allowOnly(j, where, {"name", "type", "theta", "d", "alpha", "a", "beta", "pitch", "scale", "range"});
-        DhJoint dj;
-        if (j["name"]) dj.name = in.string(j["name"], where + ".name");
-        const auto type = in.type(j["type"], where + ".type");
-        if (!type) yamlError(path, j, where + ": missing 'type' (revolute, prismatic or helical)");
-        dj.type = *type;
-        dj.link = params(j, where);
-        if (j["pitch"]) {
-          if (dj.type != JointType::Helical) {
-            yamlError(path, j["pitch"], where + ": 'pitch' is only for helical joints (this one is " +
-                                       jointTypeName(dj.type) + ")");
-          }
-          dj.pitch = in.number(j["pitch"], where + ".pitch") / k;  // length per angle_unit -> per rad
-        }
-        dj.scale = in.numberOr(j, "scale", 1.0, where);
-        if (!(dj.scale > 0.0)) yamlError(path, j["scale"], where + ".scale must be positive");
-        dj.range = in.range(j["range"], where + ".range", dj.type == JointType::Prismatic ? 1.0 : k);
-        list.push_back(dj);
-      }
-      double tool_theta = 0.0, tool_d = 0.0;
-      if (dh["tool"]) {
-        in.allowOnly(dh["tool"], "dh.tool", {"theta", "d"});
-        tool_theta = in.numberOr(dh["tool"], "theta", 0.0, "dh.tool") * k;
-        tool_d = in.numberOr(dh["tool"], "d", 0.0, "dh.tool");
-      }
-      file.dh.emplace(base, std::move(list), tool_theta, tool_d, file.name);
+      file.dh = readDhSection(in, path, root["dh"], k, file.name);
     }
     if (root["targets"]) file.targets = readTargets(in, root["targets"]);
     if (root["measurement_frame"]) {

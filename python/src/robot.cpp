@@ -30,13 +30,63 @@ py::array_t<double> rangesArray(const Robot& r) {
   return out;
 }
 
+// Robot.transformed(T): the same robot seen from another frame (every twist Ad(T) xi, the tool T exp(xi_T)).
+RobotPtr transformedRobot(const Robot& r, const InArray& T) {
+  if (T.ndim() != 2 || T.shape(0) != 4 || T.shape(1) != 4) {
+    throw UsageError("T", "expected a (4, 4) array, got " + shapeText(T));
+  }
+  Mat4 M;
+  for (int i = 0; i < 4; ++i) {
+    for (int k = 0; k < 4; ++k) M(i, k) = T.at(i, k);
+  }
+  requireFinite(M.data(), 16, 16, "T", "entry");
+  const Pose P = Pose::fromMatrix(M);
+  if (M.row(3) != Eigen::RowVector4d(0, 0, 0, 1) ||
+      !((P.R.transpose() * P.R - Mat3::Identity()).norm() <= kRotationOrthonormal) || P.R.determinant() <= 0) {
+    throw UsageError("T", "expected a rigid motion [R p; 0 0 0 1] with R a rotation");
+  }
+  io::RobotFile f = r.file;
+  f.dh.reset();
+  f.path.clear();
+  f.poe = movedModel(r.poe, P);
+  // the new base is T the old one: its pose in the measurement frame is T_measurement_base T^-1
+  if (f.measurement_frame) f.measurement_frame = *f.measurement_frame * P.inverse();
+  return std::make_shared<Robot>(std::move(f), r.comments);
+}
+
+// The robot's frames: twists, tool pose, the recorded measurement frame, and transformed(T).
+void exposeRobotFrames(py::class_<Robot, RobotPtr>& robot) {
+  robot.def_property_readonly(
+          "twists",
+          [](const Robot& r) {
+            MatX t(r.dof(), 6);
+            for (int i = 0; i < r.dof(); ++i) t.row(i) = (r.poe.joint(i).twist * r.poe.joint(i).scale).transpose();
+            return matrixArray(t);
+          },
+          "(n, 6) float64 array: each joint's twist [w; v] in the base frame at the zero configuration, times its "
+          "scale (as a robot file's poe.joints[i].twist).")
+      .def_property_readonly("tool_pose", [](const Robot& r) { return poseArray(r.poe.toolPose()); },
+                             "(4, 4) float64 array: the tool pose exp(xi_T) (T_base_tool at q = -offsets).")
+      .def_property_readonly(
+          "measurement_frame",
+          [](const Robot& r) { return r.file.measurement_frame ? py::object(poseArray(*r.file.measurement_frame)) : py::object(py::none()); },
+          "(4, 4) T_measurement_base recorded by a calibration (the base in the measurement frame), or None.")
+      .def(
+          "transformed",
+          &transformedRobot,
+          py::arg("T"),
+          "transformed(T) -> Robot\n\n"
+          "The same robot seen from another frame: every twist Ad(T) xi, the tool T exp(xi_T), so that its fk is "
+          "T @ fk(q). T: (4, 4) rigid motion [R p; 0 0 0 1] (length_unit).");
+}
+
 }  // namespace
 
 void exposeRobot(py::module_& m) {
-  py::class_<Robot, RobotPtr>(m, "Robot",
+  py::class_<Robot, RobotPtr> robot(m, "Robot",
                               "An immutable serial robot (POE model, and the D-H model of a D-H robot file). Made by "
-                              "lowpair.load or lowpair.calibrate; safe to use from several threads at once.")
-      .def_property_readonly("name", [](const Robot& r) { return r.file.name; }, "The robot's name (str).")
+                              "lowpair.load or lowpair.calibrate; safe to use from several threads at once.");
+  robot.def_property_readonly("name", [](const Robot& r) { return r.file.name; }, "The robot's name (str).")
       .def_property_readonly("path", [](const Robot& r) { return r.file.path; }, "The file it was read from ('' if made).")
       .def_property_readonly("description", [](const Robot& r) { return r.file.description; }, "The file's description.")
       .def_property_readonly("dof", &Robot::dof, "Number of joints n (int).")
@@ -77,49 +127,6 @@ void exposeRobot(py::module_& m) {
             return out;
           },
           "dict name -> (3,) point in the tool frame (length_unit): the file's `targets:` (laser-tracker SMRs).")
-      .def_property_readonly(
-          "twists",
-          [](const Robot& r) {
-            MatX t(r.dof(), 6);
-            for (int i = 0; i < r.dof(); ++i) t.row(i) = (r.poe.joint(i).twist * r.poe.joint(i).scale).transpose();
-            return matrixArray(t);
-          },
-          "(n, 6) float64 array: each joint's twist [w; v] in the base frame at the zero configuration, times its "
-          "scale (as a robot file's poe.joints[i].twist).")
-      .def_property_readonly("tool_pose", [](const Robot& r) { return poseArray(r.poe.toolPose()); },
-                             "(4, 4) float64 array: the tool pose exp(xi_T) (T_base_tool at q = -offsets).")
-      .def_property_readonly(
-          "measurement_frame",
-          [](const Robot& r) { return r.file.measurement_frame ? py::object(poseArray(*r.file.measurement_frame)) : py::object(py::none()); },
-          "(4, 4) T_measurement_base recorded by a calibration (the base in the measurement frame), or None.")
-      .def(
-          "transformed",
-          [](const Robot& r, const InArray& T) {
-            if (T.ndim() != 2 || T.shape(0) != 4 || T.shape(1) != 4) {
-              throw UsageError("T", "expected a (4, 4) array, got " + shapeText(T));
-            }
-            Mat4 M;
-            for (int i = 0; i < 4; ++i) {
-              for (int k = 0; k < 4; ++k) M(i, k) = T.at(i, k);
-            }
-            requireFinite(M.data(), 16, 16, "T", "entry");
-            const Pose P = Pose::fromMatrix(M);
-            if (M.row(3) != Eigen::RowVector4d(0, 0, 0, 1) ||
-                !((P.R.transpose() * P.R - Mat3::Identity()).norm() <= kRotationOrthonormal) || P.R.determinant() <= 0) {
-              throw UsageError("T", "expected a rigid motion [R p; 0 0 0 1] with R a rotation");
-            }
-            io::RobotFile f = r.file;
-            f.dh.reset();
-            f.path.clear();
-            f.poe = movedModel(r.poe, P);
-            // the new base is T the old one: its pose in the measurement frame is T_measurement_base T^-1
-            if (f.measurement_frame) f.measurement_frame = *f.measurement_frame * P.inverse();
-            return std::make_shared<Robot>(std::move(f), r.comments);
-          },
-          py::arg("T"),
-          "transformed(T) -> Robot\n\n"
-          "The same robot seen from another frame: every twist Ad(T) xi, the tool T exp(xi_T), so that its fk is "
-          "T @ fk(q). T: (4, 4) rigid motion [R p; 0 0 0 1] (length_unit).")
       .def("fk", &fk, py::arg("q"), py::arg("model") = py::none(), py::arg("out") = py::none(),
            "fk(q, model=None, out=None) -> numpy.ndarray\n\n"
            "Forward kinematics T_base_tool(q).\n\n"
@@ -158,6 +165,7 @@ void exposeRobot(py::module_& m) {
         return "<lowpair.Robot '" + r.file.name + "' (" + std::to_string(r.dof()) + " joints, " +
                (r.ownDh() ? "dh" : "poe") + (r.file.length_unit.empty() ? "" : ", " + r.file.length_unit) + ")>";
       });
+  exposeRobotFrames(robot);
 
   m.def(
       "load",
