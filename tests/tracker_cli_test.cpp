@@ -440,3 +440,32 @@ TEST(TrackerSimulate, CalibrateFlagsExactlyTheListedBlunderLines) {
   for (const auto& [row, line] : listed) lines.push_back(line);
   EXPECT_EQ(flagged, lines);
 }
+
+// A stated noise the data contradict by 100x either way is refused: exit 1, nothing written, and the message
+// names units first. 100x too large (noise in the wrong unit, residuals a hundredth of it): variance factor
+// 1e-4 < 1/100 (accepted at exit 0 before, with a warning that did not mention units); 100x too small: 1e4 > 100.
+TEST(TrackerVerdict, NoiseStatedHundredTimesOffIsRefusedNamingUnits) {
+  const std::string m = scratch() + "/noise_unit.csv";
+  ASSERT_EQ(runCli("simulate " + kActualYaml + " --poses 40 --seed 4 --noise-position 0.01 --noise-rotation 1e-5 --out " +
+                   shellQuote(m)).status,
+            0);
+  const std::string out = scratch() + "/noise_unit.yaml";
+  const std::string calibrate =
+      "calibrate " + kNominal + " --free-pitch --measurements " + shellQuote(m) + " --out " + shellQuote(out);
+  for (const char* noise : {"1 --noise-rotation 1e-3", "0.0001 --noise-rotation 1e-7"}) {
+    fs::remove(out);
+    const CliRun r = runCli(calibrate + " --noise-position " + noise);
+    EXPECT_EQ(r.status, 1) << noise << "\n" << r.out << r.err;
+    EXPECT_FALSE(fs::exists(out)) << noise;
+    EXPECT_NE(r.err.find("calibration rejected, nothing written: variance factor"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("unit"), std::string::npos) << r.err;
+  }
+  const CliRun low = runCli(calibrate + " --noise-position 1 --noise-rotation 1e-3");
+  EXPECT_NE(low.err.find("< 0.01: the residuals are "), std::string::npos) << low.err;
+  EXPECT_NE(low.err.find("check its unit first"), std::string::npos) << low.err;
+  // the noise the data were made with is accepted and writes the file
+  fs::remove(out);
+  const CliRun right = runCli(calibrate + " --noise-position 0.01 --noise-rotation 1e-5");
+  EXPECT_EQ(right.status, 0) << right.out << right.err;
+  EXPECT_TRUE(fs::exists(out));
+}
