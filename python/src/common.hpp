@@ -114,7 +114,13 @@ double* outBuffer(const std::optional<py::array>& out, const std::array<py::ssiz
   if (!ok) {
     std::string want = "(";
     for (size_t k = 0; k < D; ++k) want += (k ? ", " : "") + std::to_string(shape[k]);
-    throw UsageError("out", "expected a writeable C-contiguous float64 array of shape " + want + "), got shape " +
+    // what differs, each named: dtype, order, writeability, shape
+    const std::string dtype = py::str(a.dtype()).cast<std::string>();
+    const std::string order = (a.flags() & py::array::c_style) ? "C-contiguous"
+                              : (a.flags() & py::array::f_style) ? "Fortran-ordered"
+                                                                 : "non-contiguous";
+    throw UsageError("out", "expected a writeable C-contiguous float64 array of shape " + want + "), got a " +
+                                (a.writeable() ? "" : "read-only ") + order + " " + dtype + " array of shape " +
                                 shapeText(a));
   }
   return static_cast<double*>(const_cast<void*>(a.data()));  // writeable, checked above

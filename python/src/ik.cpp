@@ -30,17 +30,21 @@ struct IkSolutions {
 // (the targets CSV's columns, converted as its reader converts them).
 std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>& rotations, bool& pose) {
   std::vector<Pose> out;
-  if (targets.ndim() == 3 && targets.shape(1) == 4 && targets.shape(2) == 4) {
+  // (N, 4, 4) transforms, or one (4, 4) transform: a batch of one
+  const bool one = targets.ndim() == 2 && targets.shape(0) == 4 && targets.shape(1) == 4;
+  if (one || (targets.ndim() == 3 && targets.shape(1) == 4 && targets.shape(2) == 4)) {
     if (rotations) throw UsageError("rotations", "the targets are 4 x 4 transforms: they hold their rotations");
     pose = true;
-    auto t = targets.unchecked<3>();
-    for (py::ssize_t k = 0; k < t.shape(0); ++k) {
+    const py::ssize_t count = one ? 1 : targets.shape(0);
+    // entry (a, c) of transform k, through the array's strides (a view may be any order)
+    auto m = [&](py::ssize_t k, py::ssize_t a, py::ssize_t c) { return one ? targets.at(a, c) : targets.at(k, a, c); };
+    for (py::ssize_t k = 0; k < count; ++k) {
       Pose T;
       for (int a = 0; a < 3; ++a) {
-        for (int c = 0; c < 3; ++c) T.R(a, c) = t(k, a, c);
-        T.p(a) = t(k, a, 3);
+        for (int c = 0; c < 3; ++c) T.R(a, c) = m(k, a, c);
+        T.p(a) = m(k, a, 3);
       }
-      if (!(t(k, 3, 0) == 0.0 && t(k, 3, 1) == 0.0 && t(k, 3, 2) == 0.0 && t(k, 3, 3) == 1.0)) {
+      if (!(m(k, 3, 0) == 0.0 && m(k, 3, 1) == 0.0 && m(k, 3, 2) == 0.0 && m(k, 3, 3) == 1.0)) {
         throw UsageError("targets", "[" + std::to_string(k) + "]: the last row of a transform must be [0, 0, 0, 1]");
       }
       out.push_back(T);

@@ -169,7 +169,15 @@ void exposeRobot(py::module_& m) {
 
   m.def(
       "load",
-      [](const std::string& path, std::optional<std::string> tip, std::optional<std::string> base) {
+      [](const py::object& path_arg, std::optional<std::string> tip, std::optional<std::string> base) {
+        // a str or any os.PathLike (pathlib.Path), as open() takes
+        if (!py::isinstance<py::str>(path_arg) && !py::hasattr(path_arg, "__fspath__")) {
+          throw UsageError("path", "expected a str or os.PathLike, got " +
+                                       py::str(py::type::handle_of(path_arg).attr("__name__")).cast<std::string>());
+        }
+        const py::object fs_path = py::module_::import("os").attr("fspath")(path_arg);
+        if (!py::isinstance<py::str>(fs_path)) throw UsageError("path", "expected a text path (str), got bytes");
+        const std::string path = fs_path.cast<std::string>();
         io::RobotFile file;
         {
           py::gil_scoped_release release;

@@ -78,3 +78,31 @@ def test_version_is_the_packages():
     import re
     cmake = open("CMakeLists.txt").read()
     assert lowpair.__version__ == re.search(r"project\(lowpair VERSION (\d+\.\d+\.\d+)", cmake).group(1)
+
+
+def test_load_takes_a_pathlike_and_names_other_types():
+    import pathlib
+    assert lowpair.load(pathlib.Path(PUMA)).name == lowpair.load(PUMA).name
+    with pytest.raises(lowpair.Error, match=r"^path: expected a str or os.PathLike, got int"):
+        lowpair.load(3)
+
+
+def test_ik_takes_one_4x4_pose_as_a_batch_of_one(puma):
+    q = random_q(puma, 1, seed=8)
+    T = puma.fk(q[0], model="poe")
+    one, batch = lowpair.ik(puma, T, q0=q[0]), lowpair.ik(puma, T[None], q0=q[0])
+    assert len(one) == 1 and one.to_dict() == batch.to_dict()
+    # a transposed view reads through its strides: the same transform
+    assert lowpair.ik(puma, np.ascontiguousarray(T.T).T, q0=q[0]).to_dict() == one.to_dict()
+
+
+@pytest.mark.parametrize("buf,what", [(np.zeros((10, 4, 4), dtype=np.float32), "C-contiguous float32"),
+                                      (np.zeros((10, 4, 4), order="F"), "Fortran-ordered float64"),
+                                      (np.zeros((10, 4, 4))[:, :, ::-1], "non-contiguous float64")])
+def test_out_of_the_wrong_kind_names_what_differs(puma, buf, what):
+    with pytest.raises(lowpair.Error, match=f"got a {what} array of shape \\(10, 4, 4\\)"):
+        puma.fk(random_q(puma, 10, seed=9), out=buf)
+    ro = np.zeros((10, 4, 4))
+    ro.setflags(write=False)
+    with pytest.raises(lowpair.Error, match="got a read-only C-contiguous float64 array"):
+        puma.fk(random_q(puma, 10, seed=9), out=ro)
