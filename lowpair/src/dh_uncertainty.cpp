@@ -81,6 +81,56 @@ VecX dhDifference(const VecX& a, const VecX& b, const std::vector<bool>& angle) 
 
 namespace {
 
+// The entries of the base row and joint 1's row that the gauge (the base-frame rule) sets: flagged, sd 0.
+void markGaugeFixed(DhUncertainty& out, const std::vector<bool>& gauge_fixed, int n) {
+  for (int r = 0; r < 2 && r <= n; ++r) {
+    DhUncertainty::Fixed& f = r == 0 ? out.base_fixed : out.links_fixed[0];
+    DhParams& deviation = r == 0 ? out.base : out.links[0];
+    bool* flags[4] = {&f.gauge_theta, &f.gauge_d, &f.gauge_alpha, &f.gauge_a};
+    double* entries[4] = {&deviation.theta, &deviation.d, &deviation.alpha, &deviation.a};
+    for (int e = 0; e < 4; ++e) {
+      if (!gauge_fixed[static_cast<size_t>(4 * r + e)] || !std::isfinite(*entries[e])) continue;
+      *flags[e] = true;
+      *entries[e] = 0.0;
+    }
+  }
+}
+
+// The entries the D-H convention sets (a Hayati row's d, a row placed by a prismatic axis): flagged, sd 0.
+void markConventionFixed(DhUncertainty& out, const CalibrationResult& result) {
+  const ErrorModel& em = result.error_model;
+  const int n = result.model.dof();
+  // a row placed by a prismatic axis (the base for joint 1, link_{i-1} for joint i) has a = d = 0 by the
+  // conversion's convention; an offset of joint i-1 folds into that row's d when joint i-1 slides
+  // (prismatic, helical) and is nonzero or fitted
+  for (int r = 0; r <= n; ++r) {
+    const DhParams& central = r == 0 ? out.conversion.model.base() : out.conversion.model.joint(r - 1).link;
+    if (!central.hayati() || central.d != 0.0) continue;
+    (r == 0 ? out.base_fixed : out.links_fixed[static_cast<size_t>(r - 1)]).d = true;
+    (r == 0 ? out.base : out.links[static_cast<size_t>(r - 1)]).d = 0.0;
+  }
+  for (int i = 0; i < n; ++i) {
+    if (result.model.joint(i).type != JointType::Prismatic) continue;
+    DhUncertainty::Fixed& fixed = i == 0 ? out.base_fixed : out.links_fixed[static_cast<size_t>(i - 1)];
+    DhParams& deviation = i == 0 ? out.base : out.links[static_cast<size_t>(i - 1)];
+    fixed.a = true;
+    deviation.a = 0.0;
+    // (a revolute joint with a fitted pitch slides too: d += pitch * scale * offset)
+    auto fitted = [&](ParameterKind kind) {
+      return std::any_of(em.parameters().begin(), em.parameters().end(),
+                         [&](const Parameter& p) { return p.kind == kind && p.joint == i - 1; });
+    };
+    bool offset_moves_d = false;
+    if (i > 0 && (result.model.joint(i - 1).type != JointType::Revolute || fitted(ParameterKind::Pitch))) {
+      offset_moves_d = result.model.joint(i - 1).offset != 0.0 || fitted(ParameterKind::Offset);
+    }
+    if (!offset_moves_d) {
+      fixed.d = true;
+      deviation.d = 0.0;
+    }
+  }
+}
+
 // `place`: where every model the propagation visits is put before its conversion (the measurement frame as
 // calibrated, or the nominal's base frame); `gauge`: flag the base row's and joint 1's row's entries no
 // parameter moves.
@@ -191,46 +241,8 @@ DhUncertainty propagate(const CalibrationResult& result, const std::function<Poe
     deviation.beta = sd[betaEntry(r, n)];
   }
   out.links_fixed.resize(static_cast<size_t>(n));
-  for (int r = 0; r < 2 && r <= n; ++r) {
-    DhUncertainty::Fixed& f = r == 0 ? out.base_fixed : out.links_fixed[0];
-    DhParams& deviation = r == 0 ? out.base : out.links[0];
-    bool* flags[4] = {&f.gauge_theta, &f.gauge_d, &f.gauge_alpha, &f.gauge_a};
-    double* entries[4] = {&deviation.theta, &deviation.d, &deviation.alpha, &deviation.a};
-    for (int e = 0; e < 4; ++e) {
-      if (!gauge_fixed[static_cast<size_t>(4 * r + e)] || !std::isfinite(*entries[e])) continue;
-      *flags[e] = true;
-      *entries[e] = 0.0;
-    }
-  }
-  // a row placed by a prismatic axis (the base for joint 1, link_{i-1} for joint i) has a = d = 0 by the
-  // conversion's convention; an offset of joint i-1 folds into that row's d when joint i-1 slides
-  // (prismatic, helical) and is nonzero or fitted
-  for (int r = 0; r <= n; ++r) {
-    const DhParams& central = r == 0 ? out.conversion.model.base() : out.conversion.model.joint(r - 1).link;
-    if (!central.hayati() || central.d != 0.0) continue;
-    (r == 0 ? out.base_fixed : out.links_fixed[static_cast<size_t>(r - 1)]).d = true;
-    (r == 0 ? out.base : out.links[static_cast<size_t>(r - 1)]).d = 0.0;
-  }
-  for (int i = 0; i < n; ++i) {
-    if (result.model.joint(i).type != JointType::Prismatic) continue;
-    DhUncertainty::Fixed& fixed = i == 0 ? out.base_fixed : out.links_fixed[static_cast<size_t>(i - 1)];
-    DhParams& deviation = i == 0 ? out.base : out.links[static_cast<size_t>(i - 1)];
-    fixed.a = true;
-    deviation.a = 0.0;
-    // (a revolute joint with a fitted pitch slides too: d += pitch * scale * offset)
-    auto fitted = [&](ParameterKind kind) {
-      return std::any_of(em.parameters().begin(), em.parameters().end(),
-                         [&](const Parameter& p) { return p.kind == kind && p.joint == i - 1; });
-    };
-    bool offset_moves_d = false;
-    if (i > 0 && (result.model.joint(i - 1).type != JointType::Revolute || fitted(ParameterKind::Pitch))) {
-      offset_moves_d = result.model.joint(i - 1).offset != 0.0 || fitted(ParameterKind::Offset);
-    }
-    if (!offset_moves_d) {
-      fixed.d = true;
-      deviation.d = 0.0;
-    }
-  }
+  markGaugeFixed(out, gauge_fixed, n);
+  markConventionFixed(out, result);
   return out;
 }
 
