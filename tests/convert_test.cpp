@@ -18,9 +18,9 @@ constexpr double kDeg = M_PI / 180.0;
 
 // Every row standard (the paper's tables): by default a row between nearly parallel axes whose standard d
 // would exceed L is a Hayati row (docs/conventions.md), which the paper does not use.
-ConvertOptions standardRows(int dof) {
+ConvertOptions standardRows() {
   ConvertOptions options;
-  options.row_kinds.assign(static_cast<size_t>(dof + 1), DhRowKind::Standard);
+  options.standard_only = true;
   return options;
 }
 
@@ -107,7 +107,7 @@ TEST(PoeToDh, ReproducesTableIINominal) {
 }
 
 TEST(PoeToDh, ReproducesTableIIActual) {
-  const DhConversion c = poeToDh(pumaActual(), standardRows(6));
+  const DhConversion c = poeToDh(pumaActual(), standardRows());
   const DhModel& m = c.model;
   expectRow(m.base(), {p4(63.4349), p4(1.0000), p4(2.5632), p4(0)}, "base");
   const Table2Row rows[6] = {
@@ -212,7 +212,7 @@ TEST(PoeToDh, NearlyParallelAxesAreAccurateAndReported) {
     EXPECT_FALSE(h.rows[1].ill_conditioned) << "tilt " << tilt;
     EXPECT_EQ(h.model.joint(0).link.hayati(), !h.rows[1].parallel && h.rows[1].standard_d > poe.lengthScale());
     EXPECT_LE(checkDhConversion(poe, h.model).max_translation, 1e-12 * poe.lengthScale()) << "tilt " << tilt;
-    const DhConversion c = poeToDh(poe, standardRows(3));
+    const DhConversion c = poeToDh(poe, standardRows());
     const FkCheck check = checkDhConversion(poe, c.model);
     const double bound = 1e-12 * check.scale;
     EXPECT_LE(check.max_translation, bound) << "tilt " << tilt;

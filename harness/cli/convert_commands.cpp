@@ -149,7 +149,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     options.parallel_threshold = o->parallel_threshold;
     options.validate();
     const PoeModel poe = file.poeModel();
-    if (o->standard) options.row_kinds.assign(static_cast<size_t>(poe.dof()) + 1, DhRowKind::Standard);
+    options.standard_only = o->standard;
     const DhConversion c = poeToDh(poe, options);
     const FkCheck check = checkDhConversion(poe, c.model);
     if (o->as_json) {

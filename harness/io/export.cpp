@@ -309,7 +309,7 @@ ExportFrames exportFrames(const PoeModel& motion_model) {
   // the joint frames of a URDF or MJCF are the standard D-H frames (the header says so): a Hayati row's extra
   // turn has no place in a joint's origin as these writers build it, and a joint frame far out is no defect
   ConvertOptions standard;
-  standard.row_kinds.assign(static_cast<size_t>(motion_model.dof()) + 1, DhRowKind::Standard);
+  standard.standard_only = true;
   const DhConversion conversion = poeToDh(motion_model, standard);
   frames.size = motion_model.lengthScale();
   frames.dh_scale = conversion.scale;

@@ -217,6 +217,7 @@ DhConversion poeToDh(const PoeModel& model, const ConvertOptions& options) {
                         double hayati_longest) {
     if (parallel) return false;
     if (!options.row_kinds.empty()) return options.row_kinds[static_cast<size_t>(r)] == DhRowKind::Hayati;
+    if (options.standard_only) return false;
     return standard_longest_d > kHayatiLength * L && hayati_longest < standard_longest;
   };
 

@@ -35,19 +35,24 @@ std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>
   if (one || (targets.ndim() == 3 && targets.shape(1) == 4 && targets.shape(2) == 4)) {
     if (rotations) throw UsageError("rotations", "the targets are 4 x 4 transforms: they hold their rotations");
     pose = true;
-    const py::ssize_t count = one ? 1 : targets.shape(0);
-    // entry (a, c) of transform k, through the array's strides (a view may be any order)
-    auto m = [&](py::ssize_t k, py::ssize_t a, py::ssize_t c) { return one ? targets.at(a, c) : targets.at(k, a, c); };
-    for (py::ssize_t k = 0; k < count; ++k) {
+    // transform k from m(a, c), its entries read through the array's strides (a view may be in any order)
+    auto transform = [&](py::ssize_t k, const auto& m) {
       Pose T;
       for (int a = 0; a < 3; ++a) {
-        for (int c = 0; c < 3; ++c) T.R(a, c) = m(k, a, c);
-        T.p(a) = m(k, a, 3);
+        for (int c = 0; c < 3; ++c) T.R(a, c) = m(a, c);
+        T.p(a) = m(a, 3);
       }
-      if (!(m(k, 3, 0) == 0.0 && m(k, 3, 1) == 0.0 && m(k, 3, 2) == 0.0 && m(k, 3, 3) == 1.0)) {
+      if (!(m(3, 0) == 0.0 && m(3, 1) == 0.0 && m(3, 2) == 0.0 && m(3, 3) == 1.0)) {
         throw UsageError("targets", "[" + std::to_string(k) + "]: the last row of a transform must be [0, 0, 0, 1]");
       }
       out.push_back(T);
+    };
+    if (one) {
+      const auto t = targets.unchecked<2>();
+      transform(0, [&](py::ssize_t a, py::ssize_t c) { return t(a, c); });
+    } else {
+      const auto t = targets.unchecked<3>();
+      for (py::ssize_t k = 0; k < t.shape(0); ++k) transform(k, [&](py::ssize_t a, py::ssize_t c) { return t(k, a, c); });
     }
   } else if (targets.ndim() == 2 && targets.shape(1) == 3) {
     pose = rotations.has_value();

@@ -20,6 +20,9 @@ struct ConvertOptions {
   /// table's kinds). A row forced Hayati still takes the parallel branch when its axes are parallel within
   /// the threshold (then it is standard).
   std::vector<DhRowKind> row_kinds;
+  /// Standard rows only, as published tables give them (Wu et al.'s Table II): the Hayati rule is not applied,
+  /// so a row between nearly parallel axes may have a d far beyond L. Ignored when row_kinds is given.
+  bool standard_only = false;
 
   /// The rule poeToDh applies (the CLI and the Python module call it too).
   /// @throws std::invalid_argument unless parallel_threshold is in [0, 1)
