@@ -103,7 +103,10 @@ ErrorModelSpec fitSpec(const CalibrationOptions& options, const Registration& re
   spec.set = options.parameters;
   spec.names = options.parameter_names;
   spec.targets = reg.targets;
-  for (const Target& t : options.targets) spec.target_names.push_back(t.name);
+  for (const Target& t : options.targets) {
+    spec.target_names.push_back(t.name);
+    spec.target_known.push_back(t.known);
+  }
   if (std::any_of(spec.target_names.begin(), spec.target_names.end(), [](const std::string& n) { return n.empty(); })) {
     spec.target_names.clear();
   }
@@ -403,6 +406,9 @@ void CalibrationOptions::validate() const {
   LP_CHECK(max_iterations >= 0, "calibrate: max_iterations must be >= 0");
   LP_CHECK(outlier_threshold > 0.0 && std::isfinite(outlier_threshold),
            "calibrate: the outlier threshold must be positive and finite");
+  for (const Target& t : targets) {
+    LP_CHECK(!t.known || t.point_tool, "calibrate: target " << t.name << " is known but has no point");
+  }
 }
 
 CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,

@@ -65,20 +65,35 @@ void measurementRows(const Mat6X& S, const Vec3& p, Measure measure, int dof, Ei
   }
 }
 
-// The rows of one pose: one measurement (Pose, Position), or one per target (Targets: the points `T p_t`,
-// their 3 columns `R` after the spatial-twist columns S).
-void poseRows(const Mat6X& S, const Pose& T, Measure measure, const std::vector<Vec3>& targets, int dof,
-              Eigen::Ref<MatX> rows) {
+// The rows of one pose: one measurement (Pose, Position), or one per target (Targets: the points `T p_t`;
+// an unknown target's 3 columns `R` after the spatial-twist columns S, in target order).
+void poseRows(const Mat6X& S, const Pose& T, Measure measure, const ErrorModelSpec& spec, int dof, Eigen::Ref<MatX> rows) {
   if (measure != Measure::Targets) {
     measurementRows(S, T.p, measure, dof, rows.leftCols(S.cols()));
     return;
   }
   rows.setZero();
-  for (size_t t = 0; t < targets.size(); ++t) {
+  Eigen::Index column = S.cols();
+  for (size_t t = 0; t < spec.targets.size(); ++t) {
     auto block = rows.middleRows(3 * static_cast<Eigen::Index>(t), 3);
-    measurementRows(S, T.R * targets[t] + T.p, Measure::Position, dof, block.leftCols(S.cols()));
-    block.middleCols<3>(S.cols() + 3 * static_cast<Eigen::Index>(t)) = T.R;
+    measurementRows(S, T.R * spec.targets[t] + T.p, Measure::Position, dof, block.leftCols(S.cols()));
+    if (spec.knownTarget(t)) continue;
+    block.middleCols<3>(column) = T.R;
+    column += 3;
   }
+}
+
+int unknownTargets(const ErrorModelSpec& spec) {
+  int unknown = 0;
+  for (size_t t = 0; t < spec.targets.size(); ++t) unknown += spec.knownTarget(t) ? 0 : 1;
+  return unknown;
+}
+
+// The spec's targets against its measure (checkTargets) and its known flags against its targets.
+void checkSpecTargets(Measure measure, const ErrorModelSpec& spec) {
+  checkTargets(measure, spec.targets);
+  LP_CHECK(spec.target_known.empty() || spec.target_known.size() == spec.targets.size(),
+           "error model: " << spec.target_known.size() << " known flags for " << spec.targets.size() << " targets");
 }
 
 }  // namespace
@@ -97,6 +112,19 @@ void checkPoses(const std::vector<VecX>& q, int dof) {
 
 }  // namespace detail
 
+bool ErrorModelSpec::toolParameters() const {
+  return targets.empty() || std::find(target_known.begin(), target_known.end(), true) != target_known.end();
+}
+
+int knownPointsToolRank(const std::vector<Vec3>& known_points, double L) {
+  if (known_points.empty()) return 0;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> d(3, static_cast<Eigen::Index>(known_points.size()));
+  for (size_t k = 0; k < known_points.size(); ++k) d.col(static_cast<Eigen::Index>(k)) = known_points[k] - known_points[0];
+  if (d.colwise().norm().maxCoeff() <= kRankFactor * kEps * L) return 3;  // one point: the turns about it are free
+  const Vec3 s = Eigen::JacobiSVD<MatX>(d).singularValues().head<3>();
+  return s[1] <= numericalRankTolerance(s[0], 3.0) ? 5 : 6;  // collinear: the turn about their line is free
+}
+
 ParameterCount identifiableCount(const PoeModel& model, Measure measure, const ErrorModelSpec& spec) {
   const bool free_pitch = spec.free_pitch;
   const auto targets = static_cast<int>(spec.targets.size());
@@ -111,7 +139,15 @@ ParameterCount identifiableCount(const PoeModel& model, Measure measure, const E
     }
   }
   count.scales = model.dof();
-  count.tool = measure == Measure::Pose ? 6 : measure == Measure::Position ? 3 : 3 * targets;
+  if (measure != Measure::Targets) {
+    count.tool = measure == Measure::Pose ? 6 : 3;
+    return count;
+  }
+  std::vector<Vec3> known;
+  for (size_t t = 0; t < spec.targets.size(); ++t) {
+    if (spec.knownTarget(t)) known.push_back(spec.targets[t]);
+  }
+  count.tool = 3 * (targets - static_cast<int>(known.size())) + knownPointsToolRank(known, model.lengthScale());
   return count;
 }
 
@@ -196,17 +232,21 @@ ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : mode
     add(ParameterKind::Offset, i, 0, tag + ".offset", j.type == JointType::Prismatic ? "length" : "rad");
     basis_.push_back(basis);
   }
-  if (spec.targets.empty()) {
+  if (spec.toolParameters()) {
     for (int k = 0; k < 3; ++k) add(ParameterKind::ToolRotation, -1, k, std::string("tool.r") + axes[k], "rad");
     for (int k = 0; k < 3; ++k) add(ParameterKind::ToolTranslation, -1, k, std::string("tool.") + axes[k], "length");
-  } else {
-    LP_CHECK(spec.target_names.empty() || spec.target_names.size() == spec.targets.size(),
-             "error model: " << spec.target_names.size() << " target names for " << spec.targets.size() << " targets");
-    for (size_t t = 0; t < spec.targets.size(); ++t) {
-      LP_CHECK(spec.targets[t].allFinite(), "error model: target " << t + 1 << " has a non-finite point");
-      const std::string name = spec.target_names.empty() ? std::to_string(t + 1) : spec.target_names[t];
-      for (int k = 0; k < 3; ++k) add(ParameterKind::TargetPoint, static_cast<int>(t), k, "target." + name + "." + axes[k], "length");
-    }
+  }
+  LP_CHECK(spec.target_names.empty() || spec.target_names.size() == spec.targets.size(),
+           "error model: " << spec.target_names.size() << " target names for " << spec.targets.size() << " targets");
+  LP_CHECK(spec.target_known.empty() || spec.target_known.size() == spec.targets.size(),
+           "error model: " << spec.target_known.size() << " known flags for " << spec.targets.size() << " targets");
+  target_columns_.assign(spec.targets.size(), -1);
+  for (size_t t = 0; t < spec.targets.size(); ++t) {
+    LP_CHECK(spec.targets[t].allFinite(), "error model: target " << t + 1 << " has a non-finite point");
+    if (spec.knownTarget(t)) continue;  // fixed: no parameter
+    const std::string name = spec.target_names.empty() ? std::to_string(t + 1) : spec.target_names[t];
+    target_columns_[t] = static_cast<int>(all_.size());
+    for (int k = 0; k < 3; ++k) add(ParameterKind::TargetPoint, static_cast<int>(t), k, "target." + name + "." + axes[k], "length");
   }
   if (spec.set == ParameterSet::Named) {
     LP_CHECK(!spec.names.empty(), "error model: no parameter named");
@@ -274,7 +314,7 @@ PoeModel ErrorModel::apply(const Eigen::Ref<const VecX>& delta) const {
     j.offset += d[k++];
   }
   Pose tool = model_.toolPose();
-  if (spec_.targets.empty()) {
+  if (spec_.toolParameters()) {
     const Vec3 r = d.segment<3>(k), t = d.segment<3>(k + 3);
     tool = expSE3(twist(r, tool.p.cross(r) + t)) * tool;
   }
@@ -295,8 +335,9 @@ std::optional<PoeModel> ErrorModel::tryApply(const Eigen::Ref<const VecX>& delta
 std::vector<Vec3> ErrorModel::applyTargets(const Eigen::Ref<const VecX>& delta) const {
   const VecX d = expanded(delta);
   std::vector<Vec3> out = spec_.targets;
-  const Eigen::Index first = d.size() - 3 * static_cast<Eigen::Index>(out.size());
-  for (size_t t = 0; t < out.size(); ++t) out[t] += d.segment<3>(first + 3 * static_cast<Eigen::Index>(t));
+  for (size_t t = 0; t < out.size(); ++t) {
+    if (target_columns_[t] >= 0) out[t] += d.segment<3>(target_columns_[t]);
+  }
   return out;
 }
 
@@ -319,7 +360,7 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
   LP_CHECK(targets == (measure == Measure::Targets), "error model: Measure::Targets needs targets, and only it");
   LP_CHECK(!targets || (target >= 0 && target < static_cast<int>(spec_.targets.size())),
            "error model: target " << target << " of " << spec_.targets.size());
-  const auto twists = static_cast<Eigen::Index>(all_.size()) - (targets ? 3 * static_cast<Eigen::Index>(spec_.targets.size()) : 0);
+  const auto twists = static_cast<Eigen::Index>(all_.size()) - 3 * static_cast<Eigen::Index>(unknownTargets(spec_));
   Mat6X S(6, twists);
   Eigen::Index c = 0;
   for (int k = 0; k < 3; ++k) S.col(c++) = twist(Vec3::Unit(k), center_.cross(Vec3::Unit(k)));
@@ -341,7 +382,7 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
     P = next;
   }
   const Pose T = P * model_.toolPose();
-  if (!targets) {
+  if (spec_.toolParameters()) {
     const Vec3 p_tool = model_.toolPose().p;
     for (int k = 0; k < 3; ++k) S.col(c++) = adjointApply(P, twist(Vec3::Unit(k), p_tool.cross(Vec3::Unit(k))));
     for (int k = 0; k < 3; ++k) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), Vec3::Unit(k)));
@@ -351,7 +392,7 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
   all.setZero();
   const Vec3 point = targets ? Vec3(T.R * spec_.targets[static_cast<size_t>(target)] + T.p) : T.p;
   measurementRows(S, point, measure == Measure::Targets ? Measure::Position : measure, model_.dof(), all.leftCols(twists));
-  if (targets) all.middleCols<3>(twists + 3 * static_cast<Eigen::Index>(target)) = T.R;
+  if (targets && target_columns_[static_cast<size_t>(target)] >= 0) all.middleCols<3>(target_columns_[static_cast<size_t>(target)]) = T.R;
   for (int k = 0; k < size(); ++k) rows.col(k) = all.col(selected_[static_cast<size_t>(k)]);
   if (targets) return Pose{T.R, point};
   return T;
@@ -362,11 +403,11 @@ MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, M
   const bool free_pitch = spec.free_pitch;
   const std::vector<Vec3>& targets = spec.targets;
   checkPoses(q, model.dof());
-  checkTargets(measure, targets);
+  checkSpecTargets(measure, spec);
   int cols = 6;
   for (const Joint& j : model.joints()) cols += 6 + (hasPitch(j, free_pitch) ? 1 : 0) + 2;
   const int per = rowsPerPose(measure, static_cast<int>(targets.size()));
-  MatX J(per * static_cast<Eigen::Index>(q.size()), cols + 3 * static_cast<Eigen::Index>(targets.size()));
+  MatX J(per * static_cast<Eigen::Index>(q.size()), cols + 3 * static_cast<Eigen::Index>(unknownTargets(spec)));
   Mat6X S(6, cols);
   for (size_t m = 0; m < q.size(); ++m) {
     Pose P, E;
@@ -383,7 +424,7 @@ MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, M
       P = next;
     }
     for (int k = 0; k < 6; ++k) S.col(c++) = adjointApply(P, Vec6::Unit(k));
-    poseRows(S, P * model.toolPose(), measure, targets, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
+    poseRows(S, P * model.toolPose(), measure, spec, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
   }
   return J;
 }
@@ -393,7 +434,7 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
   const bool free_pitch = spec.free_pitch;
   const std::vector<Vec3>& targets = spec.targets;
   checkPoses(q, model.dof());
-  checkTargets(measure, targets);
+  checkSpecTargets(measure, spec);
   // a Hayati row's parameters are theta, alpha, a, beta (its d is fixed to 0; docs/conventions.md)
   auto rowColumns = [](const DhParams& r) {
     return r.hayati() ? std::vector<const char*>{".theta", ".alpha", ".a", ".beta"}
@@ -411,6 +452,7 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
   columns.push_back("tool.d");
   const auto cols = static_cast<Eigen::Index>(columns.size());
   for (size_t t = 0; t < targets.size(); ++t) {
+    if (spec.knownTarget(t)) continue;
     for (const char* axis : {".x", ".y", ".z"}) columns.push_back("target." + std::to_string(t + 1) + axis);
   }
   const int per = rowsPerPose(measure, static_cast<int>(targets.size()));
@@ -451,7 +493,7 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
     S.col(c++) = twist(F.R.col(2), F.p.cross(F.R.col(2)));
     S.col(c++) = twist(Vec3::Zero(), F.R.col(2));
     const Pose T = F * dhToolTransform(model.toolTheta(), model.toolD());
-    poseRows(S, T, measure, targets, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
+    poseRows(S, T, measure, spec, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
   }
   if (names) *names = std::move(columns);
   return J;

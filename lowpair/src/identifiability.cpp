@@ -107,6 +107,7 @@ Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<
   spec.free_pitch = options.free_pitch;
   spec.targets = targets;
   spec.target_names = options.target_names;
+  spec.target_known = options.target_known;
   out.expected = identifiableCount(model, measure, spec);
   const ErrorModel em(model, spec);
   out.parameters = em.parameters();

@@ -268,6 +268,7 @@ PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& ca
   spec.free_pitch = options.free_pitch;
   spec.targets = targetPoints(options);
   spec.target_names = targetNames(options);
+  for (const Target& t : options.targets) spec.target_known.push_back(t.known);
   const ErrorModel em(model, spec);
 
   PlanCandidates c;
@@ -390,7 +391,7 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
   const std::vector<Vec3> points = targetPoints(options);
   const std::vector<std::string> names = targetNames(options);
   for (size_t t = 0; t < points.size(); ++t) {
-    co.targets.push_back(Target{t < names.size() ? names[t] : std::to_string(t + 1), points[t]});
+    co.targets.push_back(Target{t < names.size() ? names[t] : std::to_string(t + 1), points[t], options.targets[t].known});
   }
   std::vector<Measurement> measurements;
   Data data(model);

@@ -35,7 +35,10 @@ namespace lowpair {
 struct ParameterCount {
   int helical = 0, revolute = 0, prismatic = 0;  ///< joints of each type (revolute with free pitch: helical)
   int scales = 0;                                ///< n, one scale per joint
-  int tool = 6;  ///< 6 (full pose), 3 (position only) or 3k (k targets: their points; the tool frame is theirs)
+  /// 6 (full pose), 3 (position only), or with targets `3 u + r`: u unknown targets' points, and r the tool
+  /// frame's directions the known points fix (knownPointsToolRank: 0 without, 3 for one point, 5 for
+  /// collinear points, 6 for three or more non-collinear ones)
+  int tool = 6;
   int total() const { return 5 * helical + 4 * revolute + 2 * prismatic + scales + tool; }
 };
 
@@ -65,13 +68,25 @@ struct ErrorModelSpec {
   bool free_pitch = false;          ///< revolute joints get a pitch parameter as well (counted as helical)
   ParameterSet set = ParameterSet::Full;
   std::vector<std::string> names{};   ///< ParameterSet::Named
-  /// Targets' points in the tool frame: with at least one, the tool's 6 parameters are replaced by 3 per
-  /// target (`target.NAME.x`, `.y`, `.z`, tool frame); names from `target_names` ("1", "2", ... when empty).
+  /// Targets' points in the tool frame: every unknown one gets 3 parameters (`target.NAME.x`, `.y`, `.z`,
+  /// tool frame); names from `target_names` ("1", "2", ... when empty). Without known points the tool's 6
+  /// parameters are left out (the points carry the tool frame); with one or more they are kept.
   std::vector<Vec3> targets{};
   std::vector<std::string> target_names{};
+  /// Per target: its point is known (fixed, not a parameter). Empty: none known.
+  std::vector<bool> target_known{};
+  bool knownTarget(size_t t) const { return t < target_known.size() && target_known[t]; }
+  /// The tool frame has parameters: no targets, or at least one known.
+  bool toolParameters() const;
 };
 
-/// The count for `spec.free_pitch` and, for Measure::Targets, k = `spec.targets.size()` targets (tool: 3k).
+/// The tool-frame directions that known points (tool frame, at least `L`-sized robot) fix: 0 for none, 3 for
+/// one point (or coincident ones: the turns about it are free), 5 for collinear ones (the turn about their
+/// line is free), 6 otherwise. Coincident: every difference at most `kRankFactor eps L`; collinear: the
+/// differences' second singular value at most numericalRankTolerance of the first.
+int knownPointsToolRank(const std::vector<Vec3>& known_points, double L);
+
+/// The count for `spec.free_pitch` and, for Measure::Targets, the targets (tool: `3 u + r`, ParameterCount::tool).
 ParameterCount identifiableCount(const PoeModel& model, Measure measure, const ErrorModelSpec& spec = {});
 
 /// One identification parameter (a column of the identification Jacobian).
@@ -121,6 +136,7 @@ class ErrorModel {
   ErrorModelSpec spec_;
   std::vector<Parameter> all_;       // every candidate parameter, in column order of the full computation
   std::vector<int> selected_;        // indices into all_ of the parameters
+  std::vector<int> target_columns_;  // per target: index into all_ of its x parameter, -1 when known
   std::vector<Parameter> parameters_;
   std::vector<std::array<Vec6, 4>> basis_;  // per joint: eta of tilt1, tilt2, shift1, shift2 (prismatic: 2)
   Vec3 center_ = Vec3::Zero();              // the base parameters turn the model about this point

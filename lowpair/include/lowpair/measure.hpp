@@ -33,10 +33,13 @@ struct Measurement {
   int target = -1;  ///< Targets: index into the targets (CalibrationOptions::targets); -1 otherwise
 };
 
-/// A point fixed on the tool (an SMR): its name and, when known, its position in the tool frame (length).
+/// A point fixed on the tool (an SMR): its name and its position in the tool frame (length): a start for the
+/// fit's estimate, or, when `known` (from a calibrated nest), fixed. Unknown points carry the tool frame (it
+/// is not determined); three or more non-collinear known points determine it (docs/calibration.md).
 struct Target {
   std::string name;
   std::optional<Vec3> point_tool;
+  bool known = false;  ///< the point is not estimated (needs point_tool)
 };
 
 }  // namespace lowpair
