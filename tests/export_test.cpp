@@ -697,7 +697,7 @@ TEST(RobotFileTargets, PoeAndDhFilesReadBackBitForBit) {
   const RobotFile dh = readRobotFile(std::string(LOWPAIR_MODELS) + "/puma560_corke.yaml");
   ASSERT_TRUE(poe.poe && dh.dh);
   const std::string poe_path = scratch().write(
-      "targets_poe.yaml", formatPoeRobotFile(*poe.poe, poe, poe.name, poe.description, {"targets test"}, targets));
+      "targets_poe.yaml", formatPoeRobotFile(*poe.poe, poe, poe.name, poe.description, {"targets test"}, RobotFileExtras{targets}));
   const std::string dh_path =
       scratch().write("targets_dh.yaml", formatDhRobotFile(*dh.dh, dh, dh.name, dh.description, {}, targets));
   const RobotFile poe_back = readRobotFile(poe_path), dh_back = readRobotFile(dh_path);
@@ -710,7 +710,7 @@ TEST(RobotFileTargets, PoeAndDhFilesReadBackBitForBit) {
   EXPECT_TRUE(readRobotFile(scratch().write("targets_plain.yaml", plain)).targets.empty());
   // the file's own targets, written and read again
   const std::string again = scratch().write(
-      "targets_again.yaml", formatPoeRobotFile(*poe_back.poe, poe_back, "again", "", {}, poe_back.targets));
+      "targets_again.yaml", formatPoeRobotFile(*poe_back.poe, poe_back, "again", "", {}, RobotFileExtras{poe_back.targets}));
   expectSameTargets(targets, readRobotFile(again).targets, again);
 }
 
@@ -749,7 +749,7 @@ TEST(RobotFileTargets, ErrorsNameFileLineAndTarget) {
       {"targets:\n  - {name: a}\n", "line 9: targets[0]: missing 'point' (x, y, z in the tool frame)"},
       {"targets:\n  - {point: [0, 0, 0]}\n", "line 9: targets[0]: missing 'name'"},
       {"targets:\n  - {name: a, point: [0, 0, 0], radius: 1}\n",
-       "line 9: unknown key 'radius' in targets[0] (allowed: name, point)"},
+       "line 9: unknown key 'radius' in targets[0] (allowed: known, name, point)"},
       {"targets: {name: a, point: [0, 0, 0]}\n", "line 8: targets must be a list of {name: N, point: [x, y, z]}"},
       {"targets:\n", "targets must be a list of {name: N, point: [x, y, z]}"},
   };
@@ -788,7 +788,7 @@ TEST(RobotFileTargets, WritersRefuseWhatWouldNotReadBack) {
   const auto refused = [&](const std::vector<Target>& targets) {
     bool poe_refused = false, dh_refused = false;
     try {
-      formatPoeRobotFile(*poe.poe, poe, "p", "", {}, targets);
+      formatPoeRobotFile(*poe.poe, poe, "p", "", {}, RobotFileExtras{targets});
     } catch (const std::invalid_argument&) {
       poe_refused = true;
     }

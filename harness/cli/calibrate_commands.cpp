@@ -59,7 +59,10 @@ int runIdentifiability(const IdentifiabilityOptions& o) {
   for (int i = 0; i < o.poses; ++i) randomSample(static_cast<unsigned long long>(o.seed), static_cast<unsigned long long>(i), ranges, q[static_cast<size_t>(i)]);
   ErrorModelSpec spec;
   spec.free_pitch = o.free_pitch;
-  if (measure == Measure::Targets) spec.targets = robotFileTargetPoints(file, cliSpelling());
+  if (measure == Measure::Targets) {
+    spec.targets = robotFileTargetPoints(file, cliSpelling());
+    for (const Target& t : file.targets) spec.target_known.push_back(t.known);  // known points: the tool's columns
+  }
   const Identifiability id = analyzeIdentifiability(model, q, measure, spec);
   if (o.as_json) {
     json j = identifiabilityJson(file, id);
@@ -124,7 +127,8 @@ int runCalibrate(const CalibrateOptions& o) {
     }
     writeFileAtomically(o.out, formatPoeRobotFile(calibratedModel(report, measurement), file, calibratedName(file),
                                                    "calibrated by lowpair calibrate from " + report.fit.path, provenance,
-                                                   calibratedTargets(report), recordedMeasurementFrame(report, measurement)));
+                                                   RobotFileExtras{calibratedTargets(report), recordedMeasurementFrame(report, measurement),
+                                                                   calibratedToolFrame(report.result)}));
   }
   if (o.as_json) {
     std::cout << jsonText(calibrationJson(report)) << "\n";

@@ -303,6 +303,11 @@ int runCompensate(const CompensateOptions& o) {
       "residual: the position error (" + unitName(calibrated_file) +
           "); status: ok, out_of_range, singular, unreachable or not_converged (docs/ik.md)"};
   for (const std::string& line : summaryComments(s, rows, calibrated_file, pose)) comments.push_back(line);
+  const std::string tool_note = undeterminedToolNote(calibrated_file, pose);
+  if (!tool_note.empty()) {
+    comments.push_back("note: " + tool_note);
+    std::cerr << "note: " << tool_note << "\n";
+  }
   if (isUnitLabel(calibrated_file.length_unit)) comments.push_back("length_unit: " + calibrated_file.length_unit);
   const std::string csv = solutionsCsv(comments, n, rows);
   json j = {{"name", calibrated_file.name},
@@ -311,6 +316,8 @@ int runCompensate(const CompensateOptions& o) {
             {"q_file", o.q_file},
             {"length_unit", calibrated_file.length_unit},
             {"measure", o.measure},
+            {"tool_determined", tool_note.empty()},
+            {"tool_note", tool_note.empty() ? json(nullptr) : json(tool_note)},
             {"counts", ikCountsJson(rows)},
             {"rows", ikRowsJson(rows, false)}};
   auto text = [&](std::ostream& out) {

@@ -119,6 +119,27 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
 
 }  // namespace
 
+namespace {
+
+bool knownTarget(const CalibrationResult& c, size_t t) { return c.error_model.spec().knownTarget(t); }
+
+std::string toolFrameText(const CalibrationResult& c) {
+  if (c.tool_rank >= 6) {
+    return c.measure == Measure::Targets ? "tool frame: determined by the known targets' points"
+                                         : "tool frame: determined by the pose measurements";
+  }
+  if (c.measure == Measure::Position) {
+    return "tool frame: its origin calibrated; its orientation is the nominal's (position measurements)";
+  }
+  return "tool frame: not determined (" +
+         std::string(c.tool_rank == 0 ? "the targets' points are unknown and carry it"
+                                      : std::to_string(c.tool_rank) + " of its 6 directions fixed by the known points") +
+         "): the calibrated file keeps the nominal's, and compensate answers for the flange with it; give three "
+         "non-collinear targets as known (targets: known: true, docs/calibration.md) to pin it";
+}
+
+}  // namespace
+
 CalibratedBaseFrame calibratedBaseFrame(const CalibrationResult& result, const PoeModel& nominal) {
   return {toNominalBase(result.model, nominal), measurementFrameUncertainty(result, nominal)};
 }
@@ -195,9 +216,14 @@ std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
 std::vector<Target> calibratedTargets(const CalibrationReport& r) {
   std::vector<Target> out;
   for (size_t t = 0; t < r.result.targets.size() && t < r.target_names.size(); ++t) {
-    out.push_back(Target{r.target_names[t], r.result.targets[t]});
+    out.push_back(Target{r.target_names[t], r.result.targets[t], r.result.error_model.spec().knownTarget(t)});
   }
   return out;
+}
+
+ToolFrame calibratedToolFrame(const CalibrationResult& c) {
+  if (c.tool_rank >= 6) return ToolFrame::Defined;
+  return c.measure == Measure::Position ? ToolFrame::Origin : ToolFrame::Nominal;
 }
 
 std::vector<size_t> worstMeasurements(const CalibrationResult& c, size_t count) {
@@ -337,9 +363,11 @@ json calibrationJson(const CalibrationReport& r) {
   for (size_t t = 0; t < c.targets.size(); ++t) {
     targets.push_back({{"name", r.target_names[t]},
                        {"point", {c.targets[t].x(), c.targets[t].y(), c.targets[t].z()}},
-                       {"start", r.target_from_file[t] ? "nominal file" : "estimated"}});
+                       {"start", r.target_from_file[t] ? "nominal file" : "estimated"},
+                       {"known", knownTarget(c, t)}});
   }
   o["targets"] = targets;
+  o["tool_frame"] = {{"determined", c.tool_rank >= 6}, {"rank", c.tool_rank}, {"text", toolFrameText(c)}};
   if (r.cross_validation) {
     json candidates = json::array();
     for (const auto& cand : r.cross_validation->candidates) {
@@ -440,9 +468,9 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
   if (!c.targets.empty()) {
     out << "targets:";
     for (size_t t = 0; t < c.targets.size(); ++t) {
-      out << " " << r.target_names[t] << (r.target_from_file[t] ? " (start: nominal file)" : " (start: estimated)");
+      out << " " << r.target_names[t] << (knownTarget(c, t) ? " (known)" : r.target_from_file[t] ? " (start: nominal file)" : " (start: estimated)");
     }
-    out << "\n";
+    out << "\n" << toolFrameText(c) << "\n";
   }
   out << "loss: " << lossName(c.loss);
   if (c.loss != Loss::Squared) {
@@ -538,17 +566,19 @@ void printJointChanges(std::ostream& out, const CalibrationReport& r) {
                   fixed(b.scale - a.scale, 8).c_str());
     out << line;
   }
-  if (c.targets.empty()) {
+  if (c.targets.empty() || c.error_model.spec().toolParameters()) {
     const Pose& Ta = nominal.toolPose();
     const Pose& Tb = calibrated.toolPose();
     out << "tool: turned " << fixed(rotationAngle(Ta.R.transpose() * Tb.R), 8) << " rad, moved "
         << fixed((Tb.p - Ta.p).norm(), 6) << " " << u << "\n";
-  } else {
+  }
+  if (!c.targets.empty()) {
     out << "targets (tool frame, " << u << "):\n";
     for (size_t t = 0; t < c.targets.size(); ++t) {
       const Vec3& p = c.targets[t];
       out << "  " << r.target_names[t] << ": " << fixed(p.x(), 6) << " " << fixed(p.y(), 6) << " " << fixed(p.z(), 6)
-          << " (moved " << fixed((p - c.registration.targets[t]).norm(), 6) << " from its start)\n";
+          << (knownTarget(c, t) ? std::string(" (known)") : " (moved " + fixed((p - c.registration.targets[t]).norm(), 6) + " from its start)")
+          << "\n";
     }
   }
 }

@@ -103,6 +103,8 @@ const PoeModel& calibratedModel(const CalibrationReport& report, bool measuremen
 std::optional<Pose> recordedMeasurementFrame(const CalibrationReport& report, bool measurement_frame);
 /// The calibrated targets as a robot file lists them (tool frame of the calibrated model).
 std::vector<Target> calibratedTargets(const CalibrationReport& report);
+/// What the calibration determined of the tool frame (CalibrationResult::tool_rank), as `calibrate --out` records it.
+io::ToolFrame calibratedToolFrame(const CalibrationResult& result);
 
 /// How many of the worst measurements the text lists.
 constexpr int kWorstMeasurementsShown = 5;

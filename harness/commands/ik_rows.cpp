@@ -79,4 +79,17 @@ json ikCountsJson(const std::vector<IkRow>& rows) {
   return j;
 }
 
+std::string undeterminedToolNote(const io::RobotFile& calibrated, bool pose) {
+  if (calibrated.tool_frame == io::ToolFrame::Nominal) {
+    return "compensated for the flange; the tool frame is the nominal's (" + calibrated.path +
+           " has tool_frame: nominal: its calibration's targets did not determine the tool; give three non-collinear "
+           "targets as known to pin it, docs/calibration.md)";
+  }
+  if (calibrated.tool_frame == io::ToolFrame::Origin && pose) {
+    return "the tool's orientation is the nominal's (" + calibrated.path +
+           " has tool_frame: origin: calibrated from position measurements); its origin is compensated";
+  }
+  return "";
+}
+
 }  // namespace lowpair::commands

@@ -5,11 +5,13 @@
 /// the compensation of joint vectors, and the rows and counts of their JSON.
 
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "lowpair/ik.hpp"
 #include "lowpair/kinematics.hpp"
 #include "commands/sampling.hpp"
+#include "io/robot_file.hpp"
 
 namespace lowpair::commands {
 
@@ -37,6 +39,11 @@ IkRow solveFromRandomSeeds(const PoeModel& model, Data& data, const Pose& target
 
 /// The joint values of `calibrated` that put the tool where `nominal` puts it at each row of `q_nominal`
 /// (seeded there); `lines[k]` is row k's line.
+/// What compensate cannot promise when the calibration left the tool frame (or, for a pose task, its
+/// orientation) at the nominal's (`tool_frame:` of the calibrated file): "" when the task's part of the tool was
+/// calibrated. `compensate` prints it as a note and JSON `tool_note` (`tool_determined`: whether it is "").
+std::string undeterminedToolNote(const io::RobotFile& calibrated, bool pose);
+
 std::vector<IkRow> compensateJointRows(const PoeModel& nominal, const PoeModel& calibrated,
                                        const Eigen::Ref<const MatX>& q_nominal, const std::vector<long long>& lines,
                                        const IkOptions& options);

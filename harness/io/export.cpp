@@ -410,7 +410,8 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
   const std::string name = robotName(file);
   ExportedRobot result;
   if (format == ExportFormat::Poe) {
-    result.text = formatPoeRobotFile(model, file, name, file.description, comments, file.targets, file.measurement_frame);
+    result.text = formatPoeRobotFile(model, file, name, file.description, comments,
+                                     RobotFileExtras{file.targets, file.measurement_frame, file.tool_frame});
     return result;
   }
   if (format == ExportFormat::Dh) {

@@ -17,10 +17,6 @@
 
 namespace lowpair::io {
 
-namespace {
-
-// What makes `p` no target point ("" when it is one): non-finite, or beyond the 1e100 a robot's size may
-// reach (kMaxMagnitude, as the tool position: lengthScale).
 std::string targetPointProblem(const Vec3& p) {
   if (!p.allFinite()) return "is not finite";
   const double norm = p.norm();  // (inf for coordinates near the double range: refused too)
@@ -31,8 +27,6 @@ std::string targetPointProblem(const Vec3& p) {
   }
   return "";
 }
-
-}  // namespace
 
 std::string targetNameProblem(const std::string& name) {
   if (name.empty()) return "is empty";
@@ -160,7 +154,7 @@ std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list) {
   for (size_t i = 0; i < list.size(); ++i) {
     const YAML::Node t = list[i];
     const std::string where = "targets[" + std::to_string(i) + "]";
-    in.allowOnly(t, where, {"name", "point"});
+    in.allowOnly(t, where, {"name", "point", "known"});
     if (!t["name"]) yamlError(path, t, where + ": missing 'name'");
     if (!t["point"]) yamlError(path, t, where + ": missing 'point' (x, y, z in the tool frame)");
     Target target;
@@ -177,6 +171,7 @@ std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list) {
     target.point_tool = Vec3(p[0], p[1], p[2]);
     const std::string point_problem = targetPointProblem(*target.point_tool);
     if (!point_problem.empty()) yamlError(path, t["point"], where + ".point " + point_problem);
+    if (t["known"]) target.known = in.boolean(t["known"], where + ".known");
     targets.push_back(std::move(target));
   }
   return targets;
@@ -263,7 +258,7 @@ RobotFile readRobotFile(const std::string& path) {
     return Pose::fromMatrix(T);
   };
   in.allowOnly(root, "the robot file", {"name", "length_unit", "angle_unit", "description", "poe", "dh", "targets",
-                                       "measurement_frame"});
+                                       "measurement_frame", "tool_frame"});
 
   RobotFile file;
   file.path = path;
@@ -329,6 +324,14 @@ RobotFile readRobotFile(const std::string& path) {
       }
       file.measurement_frame = T;
     }
+    if (root["tool_frame"]) {
+      const std::string tool_frame = in.string(root["tool_frame"], "tool_frame");
+      if (tool_frame != "origin" && tool_frame != "nominal") {
+        yamlError(path, root["tool_frame"], "tool_frame: " + quotedFileText(tool_frame) +
+                                                " is not 'origin' or 'nominal' (what a calibration left of the nominal's tool frame)");
+      }
+      file.tool_frame = tool_frame == "origin" ? ToolFrame::Origin : ToolFrame::Nominal;
+    }
   } catch (const std::invalid_argument& e) {
     throw RobotFileError(path + ": " + e.what());
   } catch (const YAML::Exception& e) {
@@ -379,6 +382,7 @@ void writeTargets(YAML::Emitter& out, const std::vector<Target>& targets) {
     const Vec3& p = *t.point_tool;
     out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << t.name;
     out << YAML::Key << "point" << YAML::Value << YAML::Flow << std::vector<double>{p[0], p[1], p[2]};
+    if (t.known) out << YAML::Key << "known" << YAML::Value << true;
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
@@ -388,7 +392,7 @@ void writeTargets(YAML::Emitter& out, const std::vector<Target>& targets) {
 
 std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
                                const std::string& description, const std::vector<std::string>& comments,
-                               const std::vector<Target>& targets, const std::optional<Pose>& measurement_frame) {
+                               const RobotFileExtras& extras) {
   const double k = like.angleFactor();
   YAML::Emitter out;
   beginRobotFile(out, like, name, description, comments);
@@ -413,12 +417,15 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
   const Mat4 T = model.toolPose().matrix();
   for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{T(r, 0), T(r, 1), T(r, 2), T(r, 3)};
   out << YAML::EndSeq << YAML::EndMap;
-  writeTargets(out, targets);
-  if (measurement_frame) {
+  writeTargets(out, extras.targets);
+  if (extras.measurement_frame) {
     out << YAML::Key << "measurement_frame" << YAML::Value << YAML::BeginSeq;
-    const Mat4 F = measurement_frame->matrix();
+    const Mat4 F = extras.measurement_frame->matrix();
     for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{F(r, 0), F(r, 1), F(r, 2), F(r, 3)};
     out << YAML::EndSeq;
+  }
+  if (extras.tool_frame != ToolFrame::Defined) {
+    out << YAML::Key << "tool_frame" << YAML::Value << (extras.tool_frame == ToolFrame::Origin ? "origin" : "nominal");
   }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

@@ -40,10 +40,20 @@ constexpr const char* kTargetNameRule = "a target name is 1-64 printable ASCII c
 
 /// What makes `name` no target name ("is empty", "holds a space", ...); "" when it is one.
 std::string targetNameProblem(const std::string& name);
+/// What makes `p` no target point ("is not finite", "has magnitude ..."): non-finite, or beyond the 1e100 a
+/// robot's size may reach (kMaxMagnitude, as the tool position); "" when it is one.
+std::string targetPointProblem(const Vec3& p);
 
 /// `text` from a file for a message: in single quotes, cut to 40 bytes (then `...`), every byte outside
 /// printable ASCII shown as '?'.
 std::string quotedFileText(const std::string& text);
+
+/// `tool_frame:` what the calibration that wrote a file determined of its tool frame (docs/file_formats.md).
+enum class ToolFrame {
+  Defined,  ///< no key: the file's tool frame is what it states (a nominal; a calibration that determined it)
+  Origin,   ///< `origin`: the tool origin was calibrated (position measurements); its orientation is the nominal's
+  Nominal,  ///< `nominal`: not determined (targets at unknown or too few known points): the nominal's
+};
 
 struct RobotFile {
   std::string path;
@@ -60,6 +70,7 @@ struct RobotFile {
   /// measurements were taken in (a tracker's), as `calibrate --out` records it; FK in that frame is
   /// `T_measurement_base T_base_tool(q)` (`fk --frame measurement`).
   std::optional<Pose> measurement_frame;
+  ToolFrame tool_frame = ToolFrame::Defined;  ///< `tool_frame:`
 
   double angleFactor() const;  ///< radians per angle_unit
   int dof() const { return poe ? poe->dof() : dh->dof(); }
@@ -87,18 +98,24 @@ RobotFile inMetres(const RobotFile& file);
 /// a target point would be above 1e100 (kMaxMagnitude) in `unit`
 RobotFile inUnit(const RobotFile& file, const std::string& unit);
 
+/// What a written robot file records beside its model (every part optional).
+struct RobotFileExtras {
+  /// The file's `targets:` (points with 17 significant digits: they read back bit for bit; `known: true` for
+  /// known ones; none: no key).
+  std::vector<Target> targets{};
+  std::optional<Pose> measurement_frame{};  ///< `measurement_frame:` (4 rows, 17 significant digits)
+  ToolFrame tool_frame = ToolFrame::Defined;  ///< `tool_frame:` (Defined: no key)
+};
+
 /// A POE robot file holding `model` (readRobotFile reads it back to rounding: twists `scale * unit twist`
 /// with 17 significant digits, the tool as `tool_pose`), with `like`'s length and angle units (offsets and
 /// revolute ranges converted to its angle_unit), `name`, `description` and `comments` as leading `#` lines.
-/// Strings are emitted by yaml-cpp (quoted and escaped as needed). `targets` become the file's `targets:`
-/// (points with 17 significant digits: they read back bit for bit; none: no key). `measurement_frame`: the
-/// `measurement_frame:` key (4 rows, 17 significant digits; none: no key).
+/// Strings are emitted by yaml-cpp (quoted and escaped as needed).
 /// @throws std::invalid_argument for targets readRobotFile would refuse (a name that is not a target name or
 /// repeats, a target without point_tool, a point not finite or above 1e100, more than kMaxTargets)
 std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
                                const std::string& description, const std::vector<std::string>& comments,
-                               const std::vector<Target>& targets = {},
-                               const std::optional<Pose>& measurement_frame = std::nullopt);
+                               const RobotFileExtras& extras = {});
 
 /// A D-H robot file of `model` (docs/file_formats.md; readRobotFile reads it back to rounding: numbers with
 /// 17 significant digits, strings quoted and escaped by yaml-cpp) with `like`'s units (angles, pitch and

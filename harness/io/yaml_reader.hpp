@@ -83,6 +83,13 @@ class YamlReader {
     return node.Scalar();
   }
 
+  /// `true` or `false` (YAML 1.2's spellings only: a `yes` or a `1` is refused rather than guessed).
+  bool boolean(const YAML::Node& node, const std::string& what) const {
+    const std::string b = node.IsScalar() ? node.Scalar() : std::string();
+    if (b != "true" && b != "false") yamlError(path_, node, what + " must be true or false");
+    return b == "true";
+  }
+
   std::optional<JointType> type(const YAML::Node& node, const std::string& what) const {
     if (!node.IsDefined() || node.IsNull()) return std::nullopt;
     const std::string t = string(node, what);

@@ -142,9 +142,7 @@ CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node
   }
   const bool points = c.measure() != Measure::Pose;  // position or targets: no rotation measured
   if (node["free_pitch"]) {
-    const std::string b = in.string(node["free_pitch"], where + ".free_pitch");
-    if (b != "true" && b != "false") yamlError(path, node["free_pitch"], where + ".free_pitch must be true or false");
-    c.free_pitch = b == "true";
+    c.free_pitch = in.boolean(node["free_pitch"], where + ".free_pitch");
   }
   if (const YAML::Node noise = node["noise"]) {
     in.allowOnly(noise, where + ".noise", {"position", "rotation"});

@@ -452,6 +452,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
 
   CalibrationResult out{it.em.model(), it.em};
   out.expected = identifiableCount(nominal, measure, it.em.spec());
+  out.tool_rank = measure == Measure::Pose ? 6 : measure == Measure::Position ? 3 : knownPointsToolRank(it.em.spec().knownPoints(), L);
   out.rank = std::move(sub.rank);
   out.before = residualStatistics(start, measurements, measure, reg.targets);
   out.after = residualStatistics(it.em.model(), measurements, measure, it.em.targets());

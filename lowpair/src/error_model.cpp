@@ -112,6 +112,14 @@ void checkPoses(const std::vector<VecX>& q, int dof) {
 
 }  // namespace detail
 
+std::vector<Vec3> ErrorModelSpec::knownPoints() const {
+  std::vector<Vec3> known;
+  for (size_t t = 0; t < targets.size(); ++t) {
+    if (knownTarget(t)) known.push_back(targets[t]);
+  }
+  return known;
+}
+
 bool ErrorModelSpec::toolParameters() const {
   return targets.empty() || std::find(target_known.begin(), target_known.end(), true) != target_known.end();
 }
@@ -143,10 +151,7 @@ ParameterCount identifiableCount(const PoeModel& model, Measure measure, const E
     count.tool = measure == Measure::Pose ? 6 : 3;
     return count;
   }
-  std::vector<Vec3> known;
-  for (size_t t = 0; t < spec.targets.size(); ++t) {
-    if (spec.knownTarget(t)) known.push_back(spec.targets[t]);
-  }
+  const std::vector<Vec3> known = spec.knownPoints();
   count.tool = 3 * (targets - static_cast<int>(known.size())) + knownPointsToolRank(known, model.lengthScale());
   return count;
 }

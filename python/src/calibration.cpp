@@ -139,6 +139,7 @@ Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::option
   calibrated.poe = commands::calibratedModel(*report, false);
   calibrated.measurement_frame = commands::recordedMeasurementFrame(*report, false);
   calibrated.targets = commands::calibratedTargets(*report);
+  calibrated.tool_frame = commands::calibratedToolFrame(report->result);
   auto robot = std::make_shared<Robot>(std::move(calibrated), commands::calibrationProvenance(*report));
   json j = commands::calibrationJson(*report);
   return Calibration{std::move(*report), std::move(robot), std::move(j)};

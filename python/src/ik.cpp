@@ -195,6 +195,9 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
          {"length_unit", calibrated.file.length_unit},
          {"measure", measure},
          {"counts", commands::ikCountsJson(s.rows)}};
+  const std::string tool_note = commands::undeterminedToolNote(calibrated.file, measure == "pose");
+  s.j["tool_determined"] = tool_note.empty();
+  s.j["tool_note"] = tool_note.empty() ? json(nullptr) : json(tool_note);
   return s;
 }
 
@@ -285,6 +288,14 @@ void exposeIk(py::module_& m) {
           "list[str]: why a row is not ok, one sentence with the numbers ('' for ok rows).")
       .def_property_readonly("counts", [](const IkSolutions& s) { return toPython(s.j["counts"]); },
                              "dict status -> rows.")
+      .def_property_readonly(
+          "tool_note",
+          [](const IkSolutions& s) {
+            const auto it = s.j.find("tool_note");
+            return it == s.j.end() || it->is_null() ? py::object(py::none()) : py::object(py::str(it->get<std::string>()));
+          },
+          "compensate: None, or why the compensated tool is the flange's with the nominal's tool frame (a calibrated\n"
+          "file with tool_frame: nominal, from targets at unknown points; docs/calibration.md).")
       .def("__repr__", [](const IkSolutions& s) {
         long long ok = 0;
         for (const commands::IkRow& row : s.rows) ok += row.result.status == IkStatus::Ok;

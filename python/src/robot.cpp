@@ -1,6 +1,7 @@
 // lowpair.load and the class Robot (its kinematics: kinematics.cpp).
 #include "robot.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -51,6 +52,37 @@ RobotPtr transformedRobot(const Robot& r, const InArray& T) {
   f.poe = movedModel(r.poe, P);
   // the new base is T the old one: its pose in the measurement frame is T_measurement_base T^-1
   if (f.measurement_frame) f.measurement_frame = *f.measurement_frame * P.inverse();
+  return std::make_shared<Robot>(std::move(f), r.comments);
+}
+
+// Robot.with_targets(targets, known): the robot with these targets (SMRs) added or replaced by name.
+RobotPtr withTargets(const Robot& r, const py::dict& targets, bool known) {
+  io::RobotFile f = r.file;
+  for (const auto& [key, value] : targets) {
+    if (!py::isinstance<py::str>(key)) throw UsageError("targets", "keys must be target names (str)");
+    const std::string name = key.cast<std::string>();
+    if (const std::string problem = io::targetNameProblem(name); !problem.empty()) {
+      throw UsageError("targets", "target name " + io::quotedFileText(name) + " " + problem + " (" + io::kTargetNameRule + ")");
+    }
+    const auto point = py::array_t<double, py::array::forcecast>::ensure(value);
+    if (!point || point.ndim() != 1 || point.shape(0) != 3) {
+      throw UsageError("targets", "target " + name + ": expected a (3,) point in the tool frame");
+    }
+    const Vec3 p(point.at(0), point.at(1), point.at(2));
+    if (const std::string problem = io::targetPointProblem(p); !problem.empty()) {
+      throw UsageError("targets", "target " + name + ": the point " + problem);
+    }
+    const auto it = std::find_if(f.targets.begin(), f.targets.end(), [&](const Target& t) { return t.name == name; });
+    if (it != f.targets.end()) {
+      *it = Target{name, p, known};
+    } else {
+      f.targets.push_back(Target{name, p, known});
+    }
+  }
+  if (f.targets.size() > static_cast<size_t>(io::kMaxTargets)) {
+    throw UsageError("targets", std::to_string(f.targets.size()) + " targets, at most " + std::to_string(io::kMaxTargets));
+  }
+  f.path.clear();
   return std::make_shared<Robot>(std::move(f), r.comments);
 }
 
@@ -127,6 +159,29 @@ void exposeRobot(py::module_& m) {
             return out;
           },
           "dict name -> (3,) point in the tool frame (length_unit): the file's `targets:` (laser-tracker SMRs).")
+      .def_property_readonly(
+          "known_targets",
+          [](const Robot& r) {
+            std::vector<std::string> names;
+            for (const Target& t : r.file.targets) {
+              if (t.known) names.push_back(t.name);
+            }
+            return names;
+          },
+          "list[str]: the targets whose points are known (`known: true`): calibrate keeps them fixed and fits the "
+          "tool frame, which three non-collinear ones determine (docs/calibration.md).")
+      .def_property_readonly(
+          "tool_frame",
+          [](const Robot& r) {
+            return r.file.tool_frame == io::ToolFrame::Nominal ? "nominal" : r.file.tool_frame == io::ToolFrame::Origin ? "origin" : "defined";
+          },
+          "'defined', or what a calibration left of the nominal's tool frame: 'origin' (its orientation; position "
+          "measurements) or 'nominal' (all of it: targets at unknown points). compensate says so in tool_note.")
+      .def("with_targets", &withTargets, py::arg("targets"), py::arg("known") = false,
+           "with_targets(targets, known=False) -> Robot\n\n"
+           "The robot with these targets (SMRs): targets is a dict name -> (3,) point in the tool frame (length_unit),\n"
+           "added, or replacing a target of the same name. known=True: the points are known (a calibrated nest) and\n"
+           "calibrate keeps them fixed and fits the tool frame; False: a start for their estimate.")
       .def("fk", &fk, py::arg("q"), py::arg("model") = py::none(), py::arg("out") = py::none(),
            "fk(q, model=None, out=None) -> numpy.ndarray\n\n"
            "Forward kinematics T_base_tool(q).\n\n"

@@ -350,3 +350,54 @@ def test_read_measurements_finds_columns_by_name(tmp_path):
         mixed = tmp_path / "m.csv"
         mixed.write_text("q1,j2,q3,q4,q5,q6,x,y,z\n0,0,0,0,0,0,1,2,3\n")
         lowpair.read_measurements(str(mixed), robot)
+
+
+def rigid_rms(a, b):
+    """RMS distance between point sets a and b (N, 3) left after the best rigid motion (Kabsch)."""
+    ca, cb = a.mean(axis=0), b.mean(axis=0)
+    u, _, vt = np.linalg.svd((b - cb).T @ (a - ca))
+    d = np.diag([1.0, 1.0, np.sign(np.linalg.det(u @ vt))])
+    r = u @ d @ vt
+    return np.sqrt(np.mean(np.sum((a @ r.T + (cb - r @ ca) - b) ** 2, axis=1)))
+
+
+def test_known_targets_pin_the_tool_and_equal_the_cli(tracker_data, tmp_path):
+    fit, held_out, fit_csv, _ = tracker_data
+    nominal = lowpair.load(NOMINAL)
+    known = nominal.with_targets(SMRS, known=True)  # the actual's points in its tool frame: a calibrated nest
+    assert known.known_targets == list(SMRS) and nominal.known_targets == []
+    cal = lowpair.calibrate(known, fit.q, fit.positions, targets=fit.targets, noise_position=0.01, free_pitch=True,
+                            loss="huber")
+    assert cal.accepted and cal.rank == cal.expected == 42  # 5 x 6 + 6 scales + the tool's 6
+    assert cal.to_dict()["tool_frame"]["determined"] and cal.robot.tool_frame == "defined"
+    assert all(np.array_equal(cal.targets[name], np.array(p)) for name, p in SMRS.items())  # fixed
+    # the CLI on a nominal file with the same known targets: the same report
+    path = str(tmp_path / "nominal_known.yaml")
+    known.save(path)
+    assert "known: true" in open(path).read()
+    status, out, _ = run_cli("calibrate", path, "--measurements", fit_csv, "--noise-position", "0.01", "--free-pitch",
+                             "--loss", "huber", "--json", check=False)
+    cli = comparable(json.loads(out))
+    assert status == 0 and cli.pop("nominal") == path
+    assert {k: v for k, v in comparable(cal.to_dict()).items() if k != "nominal"} == cli
+    # the compensated program puts the actual's TCP on the nominal's to within 3x the noise (the base error aside)
+    actual = lowpair.load(ACTUAL)
+    q = held_out.q[::3][:40] * 0.8
+    comp = lowpair.compensate(cal.robot, nominal, q)
+    assert comp.tool_note is None and comp.ok.sum() >= 36
+    reached, wanted = actual.fk(comp.q[comp.ok])[:, :3, 3], nominal.fk(q[comp.ok])[:, :3, 3]
+    assert rigid_rms(reached, wanted) <= 3 * 0.01
+    # unknown points on the same data: the tool frame stays the nominal's, and compensate says so
+    free = lowpair.calibrate(nominal, fit.q, fit.positions, targets=fit.targets, noise_position=0.01, free_pitch=True,
+                             loss="huber")
+    assert free.robot.tool_frame == "nominal" and not free.to_dict()["tool_frame"]["determined"]
+    note = lowpair.compensate(free.robot, nominal, q).tool_note
+    assert note is not None and note.startswith("compensated for the flange")
+
+
+def test_with_targets_refuses_bad_names_and_points():
+    nominal = lowpair.load(NOMINAL)
+    for targets, message in [({"a b": [1, 2, 3]}, "holds a space"), ({"a": [1, 2]}, "expected a (3,) point"),
+                             ({"a": [1, np.nan, 3]}, "is not finite"), ({1: [1, 2, 3]}, "keys must be target names")]:
+        with pytest.raises(lowpair.Error, match=re.escape(message)):
+            nominal.with_targets(targets)

@@ -90,6 +90,11 @@ struct CalibrationResult {
   /// registered). `before` is the nominal placed there (with its targets as registered/estimated).
   Registration registration{};
   std::vector<Vec3> targets{};  ///< calibrated targets' points (tool frame of `model`)
+  /// The tool frame's directions the measurements can determine: 6 (pose measurements; targets with three
+  /// non-collinear known points), 3 (position measurements: the tool origin), or with targets
+  /// knownPointsToolRank of the known ones (0 with unknown points only: they carry the tool frame, which
+  /// stays the nominal's). Below 6, a compensated tool pose is the flange's with the nominal's tool.
+  int tool_rank = 6;
   Loss loss = Loss::Squared;
   /// Robust losses: the noise unit of the normalized residuals: 1 (stated noise) or the a posteriori scale
   /// from the median residual (`median u / median of chi with rows dof`), in weighted-residual units.

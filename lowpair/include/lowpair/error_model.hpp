@@ -76,6 +76,7 @@ struct ErrorModelSpec {
   /// Per target: its point is known (fixed, not a parameter). Empty: none known.
   std::vector<bool> target_known{};
   bool knownTarget(size_t t) const { return t < target_known.size() && target_known[t]; }
+  std::vector<Vec3> knownPoints() const;  ///< the known targets' points, in order
   /// The tool frame has parameters: no targets, or at least one known.
   bool toolParameters() const;
 };

@@ -48,6 +48,11 @@ class Robot:
     def targets(self) -> Dict[str, Optional[Array]]:
         """name -> (3,) point in the tool frame: the file's targets (SMRs)."""
     @property
+    def known_targets(self) -> List[str]: ...
+    @property
+    def tool_frame(self) -> Literal["defined", "origin", "nominal"]: ...
+    def with_targets(self, targets: Dict[str, ArrayLike], known: bool = False) -> "Robot": ...
+    @property
     def twists(self) -> Array:
         """(n, 6) each joint's twist [w; v] in the base frame at the zero configuration, times its scale."""
     @property
@@ -225,6 +230,8 @@ class IkSolutions:
     def reason(self) -> List[str]: ...
     @property
     def counts(self) -> Dict[IkStatus, int]: ...
+    @property
+    def tool_note(self) -> Optional[str]: ...
     def to_dict(self) -> Dict[str, Any]:
         """The content of `lowpair ik --json` / `lowpair compensate --json`."""
 
