@@ -389,6 +389,26 @@ TEST(TrackerScenario, ShippedCasesPass) {
   EXPECT_TRUE(fs::exists(dir + "/puma560-okamura-actual_calibration_3_residuals.png"));
   const std::string dat = slurp(dir + "/puma560-okamura-actual_calibration_3_residuals.dat");
   EXPECT_EQ(std::count(dat.begin(), dat.end(), '\n'), 301) << "a header and 300 measurements";
+
+  // the loop cases (issue 26): planned, far frame, SMRs, blunders, huber, base frame, compensated, MuJoCo's actual
+  // commanded. The rigid motion left between the actual and the program is the actual's base error (its joint 1
+  // tilted 0.0447 rad, the common normal's foot 0.050 mm away: base_frame_cli_test's numbers), to the noise
+  for (const char* name : {"tracker-loop-known", "tracker-loop"}) {
+    ASSERT_TRUE(cases.count(name)) << name;
+    const auto& c = cases[name];
+    EXPECT_TRUE(c["pass"].get<bool>()) << name << ": " << c["failures"].dump();
+    EXPECT_TRUE(c["acceptance"]["missed_blunders"].empty() && c["acceptance"]["false_outliers"].empty()) << name;
+    const auto& k = c["compensation"];
+    EXPECT_TRUE(k["base_frame"].get<bool>());
+    EXPECT_NEAR(k["rigid_motion_after"]["translation"].get<double>(), 0.0500, 0.01) << name;  // mm, the noise
+    EXPECT_NEAR(k["rigid_motion_after"]["angle"].get<double>(), 0.0447, 1e-4) << name;       // the noise over the reach
+    EXPECT_LE(k["after"]["rms_position"].get<double>(), 3 * 0.01) << name;                   // 3x the noise
+  }
+  // known SMR points: the tool frame determined, the TCP pose compensated; unknown: a target's point, flagged
+  EXPECT_TRUE(cases["tracker-loop-known"]["compensation"]["tool_determined"].get<bool>());
+  EXPECT_EQ(cases["tracker-loop-known"]["compensation"]["measure"], "pose");
+  EXPECT_FALSE(cases["tracker-loop"]["compensation"]["tool_determined"].get<bool>());
+  EXPECT_EQ(cases["tracker-loop"]["compensation"]["target"], "smr_a");
 }
 
 // Scenario keys of a tracker case: bad values are one line, exit 2.

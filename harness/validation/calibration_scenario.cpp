@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "commands/calibration_output.hpp"
+#include "lowpair/base_frame.hpp"
 #include "lowpair/kinematics.hpp"
 #include "io/output.hpp"
 #include "io/robot_file.hpp"
@@ -133,7 +134,7 @@ CasePlanResult planCase(const Scenario& scenario, const CalibrationCase& config,
                            config.nominal + " must list every target's point (the plan is made on the nominal); '" +
                            name + "' is not among its targets:");
     }
-    options.targets.push_back(Target{name, known->point_tool});
+    options.targets.push_back(Target{name, known->point_tool, known->known});
   }
   // the candidates' blocks: rows per pose x (at most 7 columns per joint and the tool's 6 or targets' 3 each)
   const double targets = static_cast<double>(config.targets.size());
@@ -163,11 +164,15 @@ CompensationResult compensateCase(const CalibrationCase& config, const PoeModel&
                                   const MeasurementSetup& setup, MujocoRobot::Evaluator& mujoco,
                                   const std::vector<JointMotion>& variables, const std::vector<VecX>& programs) {
   CompensationResult out;
-  // the task and what MuJoCo's actual robot shows of it, in its base frame without noise
+  out.tool_determined = result.tool_rank >= 6;
+  out.base_frame = config.compensation->base_frame;
+  // the task and what MuJoCo's actual robot shows of it, in its base frame without noise: the tool frame, or
+  // its origin (position measurements), or where the targets left the tool frame undetermined the first
+  // target's point (the point the calibration determined)
   MeasurementSetup actual;
-  actual.measure = config.measure();
+  actual.measure = config.measure() == Measure::Targets && out.tool_determined ? Measure::Pose : config.measure();
   IkOptions options;
-  options.measure = config.measure() == Measure::Pose ? Measure::Pose : Measure::Position;
+  options.measure = actual.measure == Measure::Pose ? Measure::Pose : Measure::Position;
   if (actual.measure == Measure::Targets) {
     actual.targets = {setup.targets.front()};  // the site, in MuJoCo's tip frame
     options.point_tool = result.targets.front();  // the calibrated point, in the calibrated tool frame
@@ -176,8 +181,11 @@ CompensationResult compensateCase(const CalibrationCase& config, const PoeModel&
   out.measure = options.measure;
   out.point_tool = options.point_tool;
   out.length_scale = nominal.lengthScale();
-  // the calibrated model predicts the measurements in the measurement frame: back into the base frame
-  const PoeModel calibrated = config.frame ? movedModel(result.model, setup.T_frame_base.inverse()) : result.model;
+  // the calibrated model predicts the measurements in the measurement frame: into the base frame, by the
+  // case's known frame, or as calibrate --out writes it (the nominal's base frame: no knowledge of the frame)
+  const PoeModel calibrated = out.base_frame ? toNominalBase(result.model, nominal).model
+                              : config.frame ? movedModel(result.model, setup.T_frame_base.inverse())
+                                             : result.model;
   const auto start = std::chrono::steady_clock::now();
   Data data(nominal);
   IkWorkspace work(nominal);
@@ -199,10 +207,19 @@ CompensationResult compensateCase(const CalibrationCase& config, const PoeModel&
       out.not_ok.push_back({static_cast<int>(k), r.status, r.reason});
     }
   }
-  // errors against the nominal's prediction at the program q (its target), of the point compensated
+  // errors against the nominal's prediction at the program q (its target), of the point compensated; with
+  // base_frame up to one rigid motion (the actual's base differs from the nominal's: the gauge)
   const std::vector<Vec3> points{options.point_tool};
-  out.before = residualStatistics(nominal, before, actual.measure, points);
-  out.after = residualStatistics(nominal, after, actual.measure, points);
+  const bool point_task = actual.measure == Measure::Targets;
+  const std::vector<Vec3> task_points = point_task ? points : std::vector<Vec3>{};
+  const std::vector<Target> task_targets =
+      point_task ? std::vector<Target>{Target{out.point_name, options.point_tool, true}} : std::vector<Target>{};
+  auto statistics = [&](const std::vector<Measurement>& rows, Pose& rigid) {
+    if (out.base_frame && !rows.empty()) rigid = registerMeasurementFrame(nominal, rows, actual.measure, task_targets).T_meas_base;
+    return residualStatistics(movedModel(nominal, rigid), rows, actual.measure, task_points);
+  };
+  out.before = statistics(before, out.rigid_before);
+  out.after = statistics(after, out.rigid_after);
   if (after.empty()) {  // nothing was commanded: no number to pass on
     const double nan = std::numeric_limits<double>::quiet_NaN();
     out.after.rms_position = out.after.max_position = out.after.rms_rotation = out.after.max_rotation = nan;
@@ -250,7 +267,7 @@ void checkCase(const Scenario& scenario, const CalibrationCase& config, const Ro
 }
 
 // calibrate's options for the case: its measure, loss and noise, and its targets (a nominal's point of the
-// same name starts the estimate).
+// same name starts the estimate, or is known).
 CalibrationOptions caseOptions(const CalibrationCase& config, const RobotFile& nominal_file) {
   CalibrationOptions options;
   options.measure = config.measure();
@@ -260,8 +277,8 @@ CalibrationOptions caseOptions(const CalibrationCase& config, const RobotFile& n
   if (config.noise_rotation > 0) options.sigma_rotation = config.noise_rotation;
   for (const std::string& name : config.targets) {
     Target t{name, std::nullopt};
-    for (const Target& known : nominal_file.targets) {
-      if (known.name == name) t.point_tool = known.point_tool;
+    for (const Target& listed : nominal_file.targets) {
+      if (listed.name == name) t = listed;  // its point starts the estimate, or is known
     }
     options.targets.push_back(t);
   }

@@ -31,13 +31,22 @@ struct CasePlanResult {
 };
 
 /// A case's `compensate:` (CaseCompensation). Every validation joint vector q is a nominal program: its target
-/// is the nominal's FK at q (in the robot's base frame: the tool frame for pose measurements, the tool origin
-/// for position measurements, the first target's point for target measurements). `q' = compensate(nominal,
-/// calibrated, q)` (lowpair/ik.hpp; the calibrated model moved from the measurement frame into the base frame
-/// by the case's known `frame:`), and MuJoCo's actual robot is commanded at q (before) and at q' (after), through
-/// the scenario's joint-variable map. A row whose status is not ok is counted and listed, never commanded.
+/// is the nominal's FK at q (in the robot's base frame: the tool frame for pose measurements and for targets
+/// that determined the tool frame (three known points), the tool origin for position measurements, the first
+/// target's point for targets that did not). `q' = compensate(nominal, calibrated, q)` (lowpair/ik.hpp; the
+/// calibrated model moved from the measurement frame into the base frame by the case's known `frame:`, or with
+/// `base_frame: true` the nominal's base frame of calibrate --out), and MuJoCo's actual robot is commanded at q
+/// (before) and at q' (after), through the scenario's joint-variable map. A row whose status is not ok is
+/// counted and listed, never commanded.
 struct CompensationResult {
   Measure measure = Measure::Pose;  ///< the compensated task: Pose, or Position (of `point_tool`)
+  /// The calibration determined the tool frame (CalibrationResult::tool_rank 6); false: the tool frame is the
+  /// nominal's, what `compensate` flags ("compensated for the flange"), and the task is a target's point.
+  bool tool_determined = true;
+  bool base_frame = false;  ///< CaseCompensation::base_frame
+  /// base_frame: the rigid motion (actual's tool seen from the nominal program's base) registered before the
+  /// statistics, commanding q and q'; identity otherwise.
+  Pose rigid_before, rigid_after;
   std::string point_name;           ///< the target compensated (target measurements), else ""
   Vec3 point_tool = Vec3::Zero();   ///< its point in the calibrated (and nominal) tool frame
   double length_scale = 1.0;        ///< the nominal's L (the IK's position tolerance is relative to it)

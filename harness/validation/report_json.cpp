@@ -2,6 +2,7 @@
 #include "validation/report.hpp"
 
 #include "io/output.hpp"
+#include "lowpair/se3.hpp"
 
 namespace lowpair::validation {
 
@@ -61,6 +62,9 @@ json compensationJson(const CalibrationCase& config, const CompensationResult& k
           {"after", statisticsJson(k.after, rotation)},
           {"statuses", statuses},
           {"not_ok", not_ok},
+          {"tool_determined", k.tool_determined},
+          {"base_frame", k.base_frame},
+          {"rigid_motion_after", {{"translation", k.rigid_after.p.norm()}, {"angle", rotationAngle(k.rigid_after.R)}}},
           {"seconds", k.seconds}};
 }
 

@@ -6,6 +6,7 @@
 
 #include "commands/calibration_output.hpp"
 #include "io/output.hpp"
+#include "lowpair/se3.hpp"
 #include "validation/report_parts.hpp"
 
 namespace lowpair::validation::detail {
@@ -127,7 +128,18 @@ std::string compensationSummary(const CalibrationCaseResult& c) {
      << "): the " << k.count() << " validation joint vectors q as a nominal program; MuJoCo's tool against the "
      << "nominal's forward kinematics at q, commanding q (before) and the compensated q' (after, rows whose status is "
      << "ok); acceptance: RMS position after <= " << c.config.compensation->tolerance << " " << unit << ", at most "
-     << c.config.compensation->allowed_not_ok << " row(s) not ok.\n\n"
+     << c.config.compensation->allowed_not_ok << " row(s) not ok.";
+  if (k.base_frame) {
+    md << " Compensated with the robot `calibrate --out` writes (the nominal's base frame); MuJoCo's tool is "
+       << "compared after one rigid motion registered in closed form (the actual's base error: "
+       << fixed(k.rigid_after.p.norm(), 4) << " " << unit << ", " << fixed(rotationAngle(k.rigid_after.R), 4)
+       << " rad after compensation).";
+  }
+  if (!k.tool_determined) {
+    md << " The targets did not determine the tool frame: compensate flags it (\"compensated for the flange; the "
+       << "tool frame is the nominal's\"), and the task is the target's point.";
+  }
+  md << "\n\n"
      << "| commanded | rows | RMS position (" << unit << ") | max position | RMS rotation (rad) | max rotation |\n"
      << "|---|---|---|---|---|---|\n";
   for (const auto& [name, s] : {std::pair<const char*, const ResidualStatistics*>{"q (before)", &k.before},

@@ -3,6 +3,9 @@
 
 #include <cstdio>
 
+#include "io/output.hpp"
+#include "lowpair/se3.hpp"
+
 namespace lowpair::validation {
 
 void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& results) {
@@ -92,7 +95,7 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
         header = true;
       }
       const CompensationResult& k = *c.compensation;
-      const std::string task = k.point_name.empty() ? measureName(k.measure) : k.point_name;
+      const std::string task = (k.point_name.empty() ? std::string(measureName(k.measure)) : k.point_name) + (k.base_frame ? "*" : "");
       const bool rotation = k.measure == Measure::Pose;
       char rot_before[32] = "-", rot_after[32] = "-";
       if (rotation) {
@@ -112,11 +115,17 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
         out << "  validation pose " << k.not_ok[i].row + 1 << ": " << ikStatusName(k.not_ok[i].status) << ": "
             << k.not_ok[i].reason << "\n";
       }
+      if (k.base_frame) {
+        std::snprintf(line, sizeof line, "%.4g length, %.4g rad", k.rigid_after.p.norm(), rotationAngle(k.rigid_after.R));
+        out << "  * in the nominal's base frame (calibrate --out's robot), up to the actual's base error: " << line << "\n";
+      }
+      if (!k.tool_determined) out << "  the tool frame was not determined (targets at unknown points): the task is " << k.point_name << "'s point\n";
     }
   }
   if (header) {
     out << "(compensation: MuJoCo's tool commanded at the validation q (before) and at the compensated q' (after, ok "
-           "rows only) against the nominal's FK at q; position in the nominal's length unit, rotation RMS in rad)\n";
+           "rows only) against the nominal's FK at q; position in the nominal's length unit, rotation RMS in rad; "
+           "base frame: up to the rigid motion of the actual's base)\n";
   }
   out << (pass ? "all comparisons within tolerance" : "FAILED: a comparison is outside its tolerance (marked FAIL)")
       << "  (rotation in rad; translation relative to the robot size L; Jacobian rows: angular block as 'rot', "

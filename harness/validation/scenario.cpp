@@ -89,7 +89,7 @@ CasePlan readCasePlan(const YamlReader& in, const YAML::Node& node, int poses, c
 // `compensate: {tolerance: T, allowed_not_ok: K}`: T a positive length, K in [0, validation_poses]
 CaseCompensation readCaseCompensation(const YamlReader& in, const YAML::Node& node, int validation_poses,
                                       const std::string& where) {
-  in.allowOnly(node, where + ".compensate", {"tolerance", "allowed_not_ok"});
+  in.allowOnly(node, where + ".compensate", {"tolerance", "allowed_not_ok", "base_frame"});
   if (!node["tolerance"]) {
     yamlError(in.path(), node, where + ".compensate: missing 'tolerance' (RMS position error after compensation, length)");
   }
@@ -102,6 +102,7 @@ CaseCompensation readCaseCompensation(const YamlReader& in, const YAML::Node& no
     k.allowed_not_ok = static_cast<int>(
         in.integer(node["allowed_not_ok"], where + ".compensate.allowed_not_ok", 0, validation_poses));
   }
+  if (node["base_frame"]) k.base_frame = in.boolean(node["base_frame"], where + ".compensate.base_frame");
   return k;
 }
 

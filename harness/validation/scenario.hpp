@@ -39,11 +39,16 @@ struct CasePlan {
   int candidates = commands::kDefaultPlanCandidates;
 };
 
-/// `compensate: {tolerance: T, allowed_not_ok: K}`: the validation joint vectors taken as a nominal program,
-/// compensated on the calibrated model (lowpair/ik.hpp compensate) and commanded on MuJoCo's actual robot.
+/// `compensate: {tolerance: T, allowed_not_ok: K, base_frame: B}`: the validation joint vectors taken as a
+/// nominal program, compensated on the calibrated model (lowpair/ik.hpp compensate) and commanded on MuJoCo's
+/// actual robot.
 struct CaseCompensation {
   double tolerance = 0.0;  ///< acceptance: RMS position error after compensation (length)
   int allowed_not_ok = 0;  ///< acceptance: rows whose compensation status is not ok, at most
+  /// `base_frame: true`: compensate with the robot `calibrate --out` writes (the nominal's base frame,
+  /// lowpair/base_frame.hpp), not with the case's known frame, and judge the tool against the nominal program
+  /// up to one rigid motion (the actual's base error, registered in closed form and reported).
+  bool base_frame = false;
 };
 
 /// A calibration in the loop (docs/calibration.md): the nominal robot file is calibrated from `poses`
