@@ -60,4 +60,21 @@ std::string countFormula(const ParameterCount& c) {
   return s.str();
 }
 
+bool knownTarget(const CalibrationResult& c, size_t t) { return c.error_model.spec().knownTarget(t); }
+
+std::string toolFrameText(const CalibrationResult& c) {
+  if (c.tool_rank >= 6) {
+    return c.measure == Measure::Targets ? "tool frame: determined by the known targets' points"
+                                         : "tool frame: determined by the pose measurements";
+  }
+  if (c.measure == Measure::Position) {
+    return "tool frame: its origin calibrated; its orientation is the nominal's (position measurements)";
+  }
+  return "tool frame: not determined (" +
+         std::string(c.tool_rank == 0 ? "the targets' points are unknown and carry it"
+                                      : std::to_string(c.tool_rank) + " of its 6 directions fixed by the known points") +
+         "): the calibrated file keeps the nominal's, and compensate answers for the flange with it; give three "
+         "non-collinear targets as known (targets: known: true, docs/calibration.md) to pin it";
+}
+
 }  // namespace lowpair::commands::detail

@@ -29,5 +29,9 @@ nlohmann::json undeterminedJson(const RankAnalysis& a, const std::vector<std::st
 nlohmann::json countJson(const ParameterCount& c);
 /// "5h + 4r + 2t + n + 6 = 5x0 + 4x6 + 2x0 + 6 + 6 = 36"
 std::string countFormula(const ParameterCount& c);
+/// Target t of the fit is known (its point fixed).
+bool knownTarget(const CalibrationResult& c, size_t t);
+/// "tool frame: determined by ..." / "tool frame: not determined (...)": CalibrationResult::tool_rank in words.
+std::string toolFrameText(const CalibrationResult& c);
 
 }  // namespace lowpair::commands::detail
