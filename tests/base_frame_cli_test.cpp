@@ -22,7 +22,7 @@ using Points = std::vector<Eigen::Vector3d>;
 
 const std::string kNominal = modelPath("puma560_okamura_nominal.yaml");
 const std::string kActual = modelPath("puma560_okamura_actual.yaml");
-const std::string kFrame = "0.3,-1.2,2.0,3000,-800,400";  // the tracker: 3.8 m from the robot, turned 130 deg
+const std::string kFrame = "0.3,-1.2,2.0,3000,-800,400";  // the tracker: 3.1 m from the robot, turned 135 deg
 
 CliRun ok(const std::string& args) {
   CliRun r = runCli(args);
@@ -120,7 +120,7 @@ TEST(BaseFrameCli, FarTrackerCalibratesInTheBaseFrameAndCompensates) {
   ASSERT_TRUE(c.contains("base_frame"));
 
   // the calibrated file's FK is the actual's up to one rigid motion: the actual's base error (mm), not the
-  // tracker's 3.8 m; fitting that motion leaves no more than the noise
+  // tracker's 3.1 m; fitting that motion leaves no more than the noise
   const std::string q = dir + "/bf_q.csv";
   ok("simulate " + kNominal + " --poses 200 --seed 31 --out " + q);  // joint vectors (q1..q6 and the nominal's pose)
   const Points actual = toolPoints(kActual, q), calibrated = toolPoints(cal, q);
@@ -134,7 +134,7 @@ TEST(BaseFrameCli, FarTrackerCalibratesInTheBaseFrameAndCompensates) {
               Eigen::AngleAxisd(base.R * G.linear().transpose()).angle());
   EXPECT_LE((base.t - G.translation()).norm(), 0.01);  // mm: the noise
   EXPECT_LE(Eigen::AngleAxisd(base.R * G.linear().transpose()).angle(), 1e-4);  // the noise over the reach
-  EXPECT_LE(base.translation, 1.0);  // mm, not the tracker's 3.8 m
+  EXPECT_LE(base.translation, 1.0);  // mm, not the tracker's 3.1 m
   EXPECT_LE(base.rms, 0.01);
 
   // fk --frame measurement predicts in the tracker's frame: the validation file's points

@@ -1,4 +1,4 @@
-// SMRs at known points pin the tool (issue 26, docs/calibration.md "Known targets"): a tracker 3.8 m away measures
+// SMRs at known points pin the tool (issue 26, docs/calibration.md "Known targets"): a tracker 3.1 m away measures
 // three SMRs on MuJoCo's actual PUMA; with their points known (a calibrated nest: the MJCF's sites in its tool
 // frame) the calibrated file's tool is the actual's, and the actual commanded with the compensated joints puts
 // its TCP on the nominal program to within 3x the noise. With the points unknown, the file says `tool_frame:
@@ -11,6 +11,8 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -26,7 +28,7 @@ using Points = std::vector<Eigen::Vector3d>;
 const std::string kNominal = modelPath("puma560_okamura_nominal.yaml");
 const std::string kActualYaml = modelPath("puma560_okamura_actual.yaml");
 const std::string kMujocoActual = modelPath("puma560_okamura_actual.xml") + " --tip tool --joint-variables " + kActualYaml;
-const std::string kFrame = "0.3,-1.2,2.0,3000,-800,400";  // the tracker: 3.8 m from the robot
+const std::string kFrame = "0.3,-1.2,2.0,3000,-800,400";  // the tracker: 3.1 m from the robot
 constexpr double kNoise = 0.01;                            // mm per coordinate
 
 CliRun ok(const std::string& args) {
@@ -178,4 +180,81 @@ TEST(KnownTargetsCli, BadKnownOrToolFrameValuesExitTwo) {
   const CliRun b = runCli("fk " + bad_tool + " --q 0,0,0,0,0,0");
   EXPECT_EQ(b.status, 2);
   EXPECT_NE(b.err.find("tool_frame"), std::string::npos) << b.err;
+}
+
+namespace {
+
+// The data rows of a measurement CSV (no comments, no header).
+std::vector<std::string> dataRows(const std::string& path) {
+  std::vector<std::string> rows;
+  std::istringstream in(slurp(path));
+  std::string line;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (!header) {
+      header = true;
+      continue;
+    }
+    rows.push_back(line);
+  }
+  return rows;
+}
+
+// q1..q6 of a CSV row, and the rest after them.
+std::pair<std::string, std::string> splitJoints(const std::string& row) {
+  size_t at = 0;
+  for (int i = 0; i < 6; ++i) at = row.find(',', at) + 1;
+  return {row.substr(0, at), row.substr(at)};
+}
+
+}  // namespace
+
+// Mixed data in one CSV (target and qw..qz columns; a target's row leaves the quaternion empty, a row with an
+// empty target is a pose of the tool frame): 30 poses through three SMRs at unknown points and 10 poses of a
+// 6-DOF probe, in the tracker's frame, fit together; the probe's poses determine the tool frame, so the file
+// keeps no `tool_frame:` key and compensate puts the TCP on the nominal program to within 3x the noise.
+TEST(KnownTargetsCli, MixedPoseAndTargetRowsFitTogether) {
+  const std::string dir = scratch();
+  const std::string smr = dir + "/mx_smr.csv", probe = dir + "/mx_probe.csv", q = dir + "/mx_q.csv";
+  ok("simulate " + kMujocoActual + " --poses 30 --seed 12 --measure targets --targets smr_a,smr_b,smr_c --frame " + kFrame +
+     " --noise-position 0.01 --out " + smr);
+  ok("simulate " + kMujocoActual + " --poses 10 --seed 13 --frame " + kFrame +
+     " --noise-position 0.01 --noise-rotation 1e-5 --out " + probe);
+  std::string text = "# length_unit: mm\nq1,q2,q3,q4,q5,q6,target,x,y,z,qw,qx,qy,qz\n";
+  for (const std::string& row : dataRows(smr)) text += row + ",,,,\n";  // a point: no rotation
+  for (const std::string& row : dataRows(probe)) {
+    const auto [joints, rest] = splitJoints(row);
+    text += joints + "," + rest + "\n";  // an empty target: a pose
+  }
+  const std::string mixed = writeScratchFile("mx_mixed.csv", text);
+  ok("simulate " + kNominal + " --poses 200 --seed 41 --out " + q);
+  const std::string cal = dir + "/mx_cal.yaml";
+  const json c = json::parse(ok("calibrate " + kNominal + " --measurements " + mixed +
+                                " --noise-position 0.01 --noise-rotation 1e-5 --free-pitch --json --out " + cal)
+                                 .out);
+  ASSERT_TRUE(c["accepted"].get<bool>()) << c["reason"];
+  EXPECT_EQ(c["expected"].get<int>(), 6 * 5 + 6 + 6 + 3 * 3);  // the tool's 6, and 3 per unknown point
+  EXPECT_EQ(c["rank"].get<int>(), 6 * 5 + 6 + 6 + 3 * 3);
+  EXPECT_TRUE(c["tool_frame"]["determined"].get<bool>());
+  EXPECT_TRUE(c["residuals"][90]["target"].is_null());        // the first probe row
+  EXPECT_TRUE(c["residuals"][90]["rotation"].is_number());
+  EXPECT_TRUE(c["residuals"][0]["rotation"].is_null());       // a point
+  EXPECT_EQ(slurp(cal).find("tool_frame:"), std::string::npos);
+  const Compensated k = compensateAndCommand(cal, q, "mixed");
+  EXPECT_TRUE(k.out["tool_determined"].get<bool>());
+  std::printf("mixed rows (90 SMR points, 10 probe poses): TCP RMS %.4g mm after the rigid motion (%.4g mm, %.3g rad)\n",
+              k.after.rms, k.after.translation, k.after.angle);
+  EXPECT_LE(k.after.rms, 3.0 * kNoise);
+
+  // a target's row with a quaternion, a pose's row without one: exit 2 naming the line
+  const std::string header = "q1,q2,q3,q4,q5,q6,target,x,y,z,qw,qx,qy,qz\n";
+  const CliRun a = runCli("calibrate " + kNominal + " --measurements " +
+                          writeScratchFile("mx_bad1.csv", header + "0,0,0,0,0,0,smr_a,1,2,3,1,0,0,0\n"));
+  EXPECT_EQ(a.status, 2);
+  EXPECT_NE(a.err.find(":2: a target's row leaves qw,qx,qy,qz empty"), std::string::npos) << a.err;
+  const CliRun b = runCli("calibrate " + kNominal + " --measurements " +
+                          writeScratchFile("mx_bad2.csv", header + "0,0,0,0,0,0,,1,2,3,,,,\n"));
+  EXPECT_EQ(b.status, 2);
+  EXPECT_NE(b.err.find(":2: "), std::string::npos) << b.err;
 }

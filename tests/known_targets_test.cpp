@@ -233,3 +233,68 @@ TEST(KnownTargets, KnownWithoutPointOrMismatchedFlagsAreRefused) {
   ErrorModelSpec spec = targetSpec({Vec3(1, 2, 3), Vec3(3, 2, 1)}, {true});
   EXPECT_THROW(ErrorModel(nominal, spec), std::invalid_argument);
 }
+
+// Mixed data: 30 poses measured through three SMRs at unknown points and 10 more with a 6-DOF probe (the tool
+// frame, kPoseMeasurement), fitted together in one frame 2.5 m away: the pose measurements determine the tool
+// frame (count: the tool's 6 plus 3 per unknown point), so the TCP is the actual's (noise-free to 1e-9 L;
+// with noise to the noise), and the SMRs' points to the noise.
+TEST(KnownTargets, MixedPoseAndTargetMeasurementsFitTogether) {
+  std::mt19937_64 rng(8);
+  const PoeModel nominal = pumaLike(0.0, true);
+  const double L = nominal.lengthScale();
+  const ErrorModel em(nominal);
+  const PoeModel geometry = em.apply(smallDelta(em, 1e-3, false, rng));
+  const PoeModel actual(geometry.joints(), geometry.toolPose() * Pose{expSO3(Vec3(0.01, 0.012, -0.008)), Vec3(-1.1, 1.4, 0.9)},
+                        "actual");
+  const std::vector<Vec3> smr = {Vec3(60, 0, 40), Vec3(-30, 55, 25), Vec3(-20, -50, 70)};
+  const Pose F = trackerFrameMm();
+  const PoeModel actual_in_frame = movedModel(actual, F);
+  std::vector<Measurement> exact = measureTargets(actual, uniformPoses(nominal, 30, rng), smr, F);
+  for (const VecX& q : uniformPoses(nominal, 10, rng)) {
+    exact.push_back(Measurement{q, F * poeForwardKinematics(actual, q), kPoseMeasurement});
+  }
+  CalibrationOptions options;
+  options.measure = Measure::Targets;
+  options.targets = {{"a", std::nullopt}, {"b", std::nullopt}, {"c", std::nullopt}};
+  const std::vector<VecX> check = uniformPoses(nominal, 200, rng);
+
+  const CalibrationResult r0 = calibrate(nominal, exact, options);
+  const int count = 4 * 6 + 6 + 6 + 3 * 3;
+  EXPECT_EQ(r0.expected.total(), count);
+  EXPECT_EQ(r0.rank.rank, count);
+  EXPECT_EQ(r0.tool_rank, 6);
+  EXPECT_TRUE(r0.converged);
+  const ToolError e0 = toolError(r0.model, actual_in_frame, check);
+  std::printf("mixed data, noise-free: TCP RMS %.3g mm, %.3g rad\n", e0.position, e0.rotation);
+  EXPECT_LE(e0.position, 1e-9 * L);
+  EXPECT_LE(e0.rotation, 1e-9);
+  // the residuals: 6 rows for each pose measurement (its rotation measured), 3 for each point
+  EXPECT_EQ(r0.residuals.back().rows, 6);
+  EXPECT_TRUE(std::isfinite(r0.residuals.back().rotation));
+  EXPECT_EQ(r0.residuals.front().rows, 3);
+  EXPECT_TRUE(std::isnan(r0.residuals.front().rotation));
+
+  // noise 0.01 mm per coordinate on every point and position, 1e-5 rad on the probe's rotations: accepted,
+  // the TCP and the SMRs to the noise (a least-squares fit predicts to about sigma sqrt(p / rows): 45
+  // parameters, 330 rows, 0.37 sigma)
+  const double sp = 0.01, sr = 1e-5;
+  std::vector<Measurement> noisy = exact;
+  std::normal_distribution<double> n;
+  for (Measurement& m : noisy) {
+    m.T_base_tool.p += sp * lowpair_test::draw3(n, rng);
+    if (m.target == kPoseMeasurement) m.T_base_tool.R = expSO3(sr * lowpair_test::draw3(n, rng)) * m.T_base_tool.R;
+  }
+  options.sigma_position = sp;
+  options.sigma_rotation = sr;
+  const CalibrationResult r1 = calibrate(nominal, noisy, options);
+  EXPECT_TRUE(r1.accepted) << r1.reason;
+  const ToolError e1 = toolError(r1.model, actual_in_frame, check);
+  std::vector<Measurement> held_out = measureTargets(actual, check, smr, F);
+  const ResidualStatistics points = residualStatistics(r1.model, held_out, Measure::Targets, r1.targets);
+  std::printf("mixed data, noise %.3g mm: TCP RMS %.3g mm, %.3g rad; SMRs held out %.3g mm; variance factor %.3g\n", sp,
+              e1.position, e1.rotation, points.rms_position, r1.variance_factor);
+  EXPECT_LE(e1.position, sp);
+  EXPECT_LE(points.rms_position, sp);
+  EXPECT_GT(r1.after.rms_rotation, 0.0);  // over the pose measurements only
+  EXPECT_LE(r1.after.rms_rotation, 3 * sr);
+}

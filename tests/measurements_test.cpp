@@ -594,7 +594,7 @@ TEST(MeasurementCsv, TargetsWriterRefusesWhatWouldNotReadBack) {
   EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, {}), std::invalid_argument);          // no name for 0
   m.target = 2;
   EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, {"a", "b"}), std::invalid_argument);
-  m.target = -1;
+  m.target = -2;  // (-1, kPoseMeasurement, is a pose among target measurements: mixed_measurements_test)
   EXPECT_THROW(formatMeasurements(Measure::Targets, {m}, {}, {"a"}), std::invalid_argument);
   EXPECT_THROW(formatMeasurements(Measure::Position, {m}, {}, {"a"}), std::invalid_argument);  // names, no column
   std::vector<std::string> many;
@@ -624,13 +624,13 @@ TEST(MeasurementCsv, TargetsErrorsNameFileAndLine) {
       {header + "0,0,smr,1,2,nan\n", ":2: 'nan' is not a finite number"},
       {header + "0,0,1,2,3\n", ":2: expected 6 fields, got 5"},
       {header + "0,0,smr,1,2,3,4\n", ":2: expected 6 fields, got 7"},
-      // the header: columns by name in any order, no quaternion with a target, names in lower case
+      // the header: columns by name in any order (a quaternion with a target: mixed data), names in lower case
       {"q1,x,y,z,target\n", ": no measurements"},
       {"target,q1,x,y,z\n", ": no measurements"},
       {"q1,x,target,y,z\n", ": no measurements"},
       {"q1,target,y,x,z\n", ": no measurements"},
       {"q1,target,x,y\n", ":1: missing column 'z' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
-      {"q1,target,x,y,z,qw,qx,qy,qz\n", ":1: unexpected column 'qw' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
+      {"q1,target,x,y,z,qw,qx,qy,qz\n", ": no measurements"},
       {"q1,Target,x,y,z\n", ":1: unexpected column 'Target' (expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1..qn,target,x,y,z)"},
       {"q1,target,x,y,z\n", ": no measurements"},
   };

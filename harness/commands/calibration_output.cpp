@@ -32,7 +32,7 @@ double chiSquareBound(double f) { return 1.0 + 3.09 * std::sqrt(2.0 / std::max(f
 double redundancy(const CalibrationResult& c) {
   double rows = 0.0;
   for (const MeasurementResidual& m : c.residuals) {
-    if (c.loss == Loss::Squared || !m.outlier) rows += rowsPerMeasurement(c.measure);
+    if (c.loss == Loss::Squared || !m.outlier) rows += m.rows;
   }
   return rows - c.rank.rank;
 }
@@ -276,7 +276,8 @@ json residualsJson(const CalibrationReport& r) {
               {"weight", m.weight},
               {"outlier", m.outlier}};
     if (r.fit.measure == Measure::Targets) {
-      e["target"] = r.target_names[static_cast<size_t>(r.fit.measurements[k].target)];
+      const int t = r.fit.measurements[k].target;  // a pose among target measurements: null
+      e["target"] = t >= 0 ? json(r.target_names[static_cast<size_t>(t)]) : json(nullptr);
     }
     residuals.push_back(e);
   }
@@ -503,9 +504,10 @@ void printResidualTable(std::ostream& out, const CalibrationReport& r) {
   for (const size_t k : worstMeasurements(c, kWorstMeasurementsShown)) {
     const MeasurementResidual& m = c.residuals[k];
     out << "  " << r.fit.path << ":" << measurementLabel(r, k);
-    if (r.fit.measure == Measure::Targets) out << " target " << r.target_names[static_cast<size_t>(r.fit.measurements[k].target)];
+    const int t = r.fit.measurements[k].target;
+    if (r.fit.measure == Measure::Targets) out << (t >= 0 ? " target " + r.target_names[static_cast<size_t>(t)] : std::string(" pose"));
     out << ": position " << residual(m.position) << " " << u;
-    if (r.fit.measure == Measure::Pose) out << ", rotation " << residual(m.rotation) << " rad";
+    if (m.rows == 6) out << ", rotation " << residual(m.rotation) << " rad";
     out << ", normalized " << residual(m.normalized) << ", weight " << residual(m.weight) << (m.outlier ? "  OUTLIER" : "")
         << "\n";
   }

@@ -1,6 +1,7 @@
 // The fit of calibrate for the CLI and the Python module (calibration_run.hpp).
 #include "commands/calibration_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -24,7 +25,9 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
                                  const ArgumentSpelling& spelling) {
   const CalibrationRequest& a = request;
   checkStatedNoise(a.noise_position, a.noise_rotation, spelling);
-  if (a.noise_rotation && fit.measure != Measure::Pose) {
+  const bool rotations = std::any_of(fit.measurements.begin(), fit.measurements.end(),
+                                     [&](const Measurement& m) { return measuresPose(m, fit.measure); });
+  if (a.noise_rotation && !rotations) {  // (mixed data: the poses among the targets' points have one)
     throw UsageError(spelling.name("noise_rotation"), fit.path + " holds " + measureName(fit.measure) +
                                                           " measurements: there is no rotation to weigh");
   }

@@ -80,13 +80,14 @@ json ikCountsJson(const std::vector<IkRow>& rows) {
 }
 
 std::string undeterminedToolNote(const io::RobotFile& calibrated, bool pose) {
+  const std::string who = calibrated.path.empty() ? std::string("the calibrated robot") : calibrated.path;  // (Python's)
   if (calibrated.tool_frame == io::ToolFrame::Nominal) {
-    return "compensated for the flange; the tool frame is the nominal's (" + calibrated.path +
+    return "compensated for the flange; the tool frame is the nominal's (" + who +
            " has tool_frame: nominal: its calibration's targets did not determine the tool; give three non-collinear "
            "targets as known to pin it, docs/calibration.md)";
   }
   if (calibrated.tool_frame == io::ToolFrame::Origin && pose) {
-    return "the tool's orientation is the nominal's (" + calibrated.path +
+    return "the tool's orientation is the nominal's (" + who +
            " has tool_frame: origin: calibrated from position measurements); its origin is compensated";
   }
   return "";

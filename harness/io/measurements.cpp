@@ -30,16 +30,13 @@ const char* const kExpectedColumns = "(expected q1..qn,x,y,z[,qw,qx,qy,qz] or q1
 std::string quoted(const std::string& text) { return quotedFileText(text); }
 
 // The header's columns (csv_columns.hpp) and what a measurement file holds: joints, x,y,z, then a target
-// name or a quaternion (or neither). @param fail throws "FILE:LINE: what"
+// name or a quaternion, or both (mixed: a row holds one of them), or neither. @param fail throws "FILE:LINE: what"
 CsvColumns measurementColumns(const std::vector<std::string>& fields, const std::vector<std::string>& joint_names,
                               const std::function<void(const std::string&)>& fail) {
   CsvColumns columns = findCsvColumns(fields, joint_names, kMaxMeasurementJoints, kExpectedColumns, fail);
   columns.requireWholeGroups(kExpectedColumns, fail);
   if (columns.joints.empty()) fail(std::string("no joint columns ") + kExpectedColumns);
   if (!columns.position) fail(std::string("missing column 'x' ") + kExpectedColumns);
-  if (columns.target && columns.quaternion) {
-    fail("unexpected column " + quoted(fields[(*columns.quaternion)[0]]) + " " + kExpectedColumns);
-  }
   return columns;
 }
 
@@ -164,17 +161,33 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
     const int n = columns.dof();
     m.q.resize(n);
     for (int i = 0; i < n; ++i) m.q[i] = parseNumber(fields[columns.joints[static_cast<size_t>(i)]], fail);
+    // mixed data (both a target and a quaternion column): an empty target is a pose of the tool frame, whose
+    // qw..qz are given; a target row leaves them empty
+    const bool mixed = columns.target && columns.quaternion;
+    bool pose_row = !columns.target && columns.quaternion;
     if (columns.target) {
       const std::string& name = fields[*columns.target];
-      std::string problem;
-      m.target = targets.number(name, problem);
-      if (m.target < 0) {
-        fail(problem.empty() ? "more than " + std::to_string(kMaxTargets) + " distinct target names"
-                             : "target " + quoted(name) + " " + problem + " (" + kTargetNameRule + ")");
+      pose_row = mixed && name.empty();  // (fields are trimmed)
+      if (pose_row) {
+        m.target = kPoseMeasurement;
+      } else {
+        std::string problem;
+        m.target = targets.number(name, problem);
+        if (m.target < 0) {
+          fail(problem.empty() ? "more than " + std::to_string(kMaxTargets) + " distinct target names"
+                               : "target " + quoted(name) + " " + problem + " (" + kTargetNameRule + ")");
+        }
+      }
+    }
+    if (mixed && !pose_row) {
+      for (const size_t c : *columns.quaternion) {
+        if (!fields[c].empty()) {
+          fail("a target's row leaves qw,qx,qy,qz empty (a row with an empty target is a pose of the tool frame)");
+        }
       }
     }
     for (int i = 0; i < 3; ++i) m.T_base_tool.p[i] = parseNumber(fields[(*columns.position)[static_cast<size_t>(i)]], fail);
-    if (columns.quaternion) {
+    if (pose_row) {
       double w[4];
       for (int i = 0; i < 4; ++i) w[i] = parseNumber(fields[(*columns.quaternion)[static_cast<size_t>(i)]], fail);
       double norm = 0.0;
@@ -212,8 +225,15 @@ std::string formatMeasurements(Measure measure, const std::vector<Measurement>& 
       begin = end + 1;
     }
   }
+  // target measurements with poses of the tool frame among them (mixed): both columns, each row one of them
+  const bool mixed = measure == Measure::Targets &&
+                     std::any_of(measurements.begin(), measurements.end(),
+                                 [](const Measurement& m) { return m.target == kPoseMeasurement; });
   for (Eigen::Index i = 0; i < n; ++i) out += "q" + std::to_string(i + 1) + ",";
-  out += measure == Measure::Pose ? "x,y,z,qw,qx,qy,qz\n" : measure == Measure::Targets ? "target,x,y,z\n" : "x,y,z\n";
+  out += measure == Measure::Pose ? "x,y,z,qw,qx,qy,qz\n"
+         : mixed                  ? "target,x,y,z,qw,qx,qy,qz\n"
+         : measure == Measure::Targets ? "target,x,y,z\n"
+                                       : "x,y,z\n";
   for (const Measurement& m : measurements) {
     if (m.q.size() != n) {
       throw std::invalid_argument("formatMeasurements: joint vectors of " + std::to_string(n) + " and " +
@@ -223,7 +243,10 @@ std::string formatMeasurements(Measure measure, const std::vector<Measurement>& 
       appendNumber(out, m.q[i]);
       out += ',';
     }
-    if (measure == Measure::Targets) {
+    const bool pose_row = measuresPose(m, measure);
+    if (measure == Measure::Targets && pose_row) {
+      out += ',';
+    } else if (measure == Measure::Targets) {
       if (m.target < 0 || static_cast<size_t>(m.target) >= target_names.size()) {
         throw std::invalid_argument("formatMeasurements: target " + std::to_string(m.target) + " of " +
                                     std::to_string(target_names.size()) + " target names");
@@ -234,12 +257,15 @@ std::string formatMeasurements(Measure measure, const std::vector<Measurement>& 
       if (i > 0) out += ',';
       appendNumber(out, m.T_base_tool.p[i]);
     }
-    if (measure == Measure::Pose) {
+    if (pose_row) {
       const Eigen::Vector4d quaternion = csvQuaternion(m.T_base_tool.R);
       for (int i = 0; i < 4; ++i) {
         out += ',';
         appendNumber(out, quaternion[i]);
       }
+    } else if (mixed) {
+      out += ",,,";  // a target's row: qw..qz empty
+      out += ',';
     }
     out += '\n';
   }

@@ -37,6 +37,7 @@ std::vector<Measurement> targetsByName(const MeasurementFile& file, const std::v
   std::vector<Measurement> out = file.measurements;
   if (file.measure != Measure::Targets) return out;
   for (Measurement& m : out) {
+    if (m.target == kPoseMeasurement) continue;  // a pose among target measurements
     const std::string& name = file.target_names[static_cast<size_t>(m.target)];
     const auto it = std::find(names.begin(), names.end(), name);
     if (it == names.end()) throw RobotFileError(file.path + ": target '" + name + "' is not one of the fit's");

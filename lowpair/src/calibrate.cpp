@@ -28,40 +28,52 @@ struct Weights {
 
 // Weighted residual r = [log(R_meas R^T) / sigma_r; (p_meas - p) / sigma_p] per measurement (or the
 // position part alone), each measurement's block times sqrt(its robust weight), and its squared norm.
+// The residual rows of every measurement (rowsOf: 6 for a pose, 3 for a point; mixed data mixes them).
+Eigen::Index residualRows(const std::vector<Measurement>& measurements, Measure measure) {
+  Eigen::Index rows = 0;
+  for (const Measurement& m : measurements) rows += rowsOf(m, measure);
+  return rows;
+}
+
 double residual(const PoeModel& model, const std::vector<Vec3>& targets, const std::vector<Measurement>& measurements,
                 Measure measure, const Weights& w, const VecX& robust, VecX& r) {
-  const int per = rowsPerMeasurement(measure);
-  r.resize(per * static_cast<Eigen::Index>(measurements.size()));
+  r.resize(residualRows(measurements, measure));
   Data data(model);
+  Eigen::Index at = 0;
   for (size_t m = 0; m < measurements.size(); ++m) {
     const Pose T = predict(model, data, measurements[m], measure, targets);
     const Pose& M = measurements[m].T_base_tool;
-    auto rows = r.segment(per * static_cast<Eigen::Index>(m), per);
-    if (measure == Measure::Pose) {
+    const int per = rowsOf(measurements[m], measure);
+    auto rows = r.segment(at, per);
+    if (per == 6) {
       rows.head<3>() = logSO3(M.R * T.R.transpose()) / w.rotation;
       rows.tail<3>() = (M.p - T.p) / w.position;
     } else {
       rows = (M.p - T.p) / w.position;
     }
     rows *= std::sqrt(robust[static_cast<Eigen::Index>(m)]);
+    at += per;
   }
   return r.squaredNorm();
 }
 
 MatX weightedJacobian(const ErrorModel& em, const std::vector<Measurement>& measurements, Measure measure,
                       const Weights& w, const VecX& robust) {
-  const int per = rowsPerMeasurement(measure);
-  MatX J(per * static_cast<Eigen::Index>(measurements.size()), em.size());
+  MatX J(residualRows(measurements, measure), em.size());
+  Eigen::Index at = 0;
   for (size_t m = 0; m < measurements.size(); ++m) {
-    auto rows = J.middleRows(per * static_cast<Eigen::Index>(m), per);
-    em.jacobian(measurements[m].q, measure, rows, measurements[m].target);
-    if (measure == Measure::Pose) {
+    const int per = rowsOf(measurements[m], measure);
+    auto rows = J.middleRows(at, per);
+    // a pose among target measurements: the tool frame's rows (mixed data)
+    em.jacobian(measurements[m].q, per == 6 ? Measure::Pose : measure, rows, measurements[m].target);
+    if (per == 6) {
       rows.topRows<3>() /= w.rotation;
       rows.bottomRows<3>() /= w.position;
     } else {
       rows /= w.position;
     }
     rows *= std::sqrt(robust[static_cast<Eigen::Index>(m)]);
+    at += per;
   }
   return J;
 }
@@ -69,9 +81,7 @@ MatX weightedJacobian(const ErrorModel& em, const std::vector<Measurement>& meas
 // The median of the normalized residual u of a measurement with noise-unit Gaussian residuals: u is chi
 // with 3 degrees of freedom for a point; for a pose, chi with 6 over sqrt(2). (Medians of chi-square with 3
 // and 6 degrees of freedom: 2.365974 and 5.348121.)
-double medianNormalized(Measure measure) {
-  return measure == Measure::Pose ? std::sqrt(5.348121 / 2.0) : std::sqrt(2.365974);
-}
+double medianNormalized(int rows) { return rows == 6 ? std::sqrt(5.348121 / 2.0) : std::sqrt(2.365974); }
 
 double median(std::vector<double> x) {
   if (x.empty()) return 0.0;
@@ -97,8 +107,12 @@ Weights noiseWeights(const CalibrationOptions& options, double L) {
 }
 
 // The fit's error model at the registered nominal: the options' parameters and the registered targets.
-ErrorModelSpec fitSpec(const CalibrationOptions& options, const Registration& reg) {
+ErrorModelSpec fitSpec(const CalibrationOptions& options, const Registration& reg,
+                       const std::vector<Measurement>& measurements) {
   ErrorModelSpec spec;
+  spec.pose_measurements = options.measure == Measure::Targets &&
+                           std::any_of(measurements.begin(), measurements.end(),
+                                       [](const Measurement& m) { return m.target == kPoseMeasurement; });
   spec.free_pitch = options.free_pitch;
   spec.set = options.parameters;
   spec.names = options.parameter_names;
@@ -253,17 +267,23 @@ bool levenbergMarquardt(const Problem& p, const LmOptions& lm, Iterate& it) {
 std::vector<double> unweightedNormalized(const Problem& p, const ErrorModel& em) {
   VecX plain;
   residual(em.model(), em.targets(), *p.measurements, p.measure, p.w, VecX::Ones(p.robust.size()), plain);
-  const int per = rowsPerMeasurement(p.measure);
-  std::vector<double> u(static_cast<size_t>(plain.size() / per));
+  std::vector<double> u(p.measurements->size());
+  Eigen::Index at = 0;
   for (size_t m = 0; m < u.size(); ++m) {
-    u[m] = normalizedResidual(plain.segment(per * static_cast<Eigen::Index>(m), per).squaredNorm(), per);
+    const int per = rowsOf((*p.measurements)[m], p.measure);
+    u[m] = normalizedResidual(plain.segment(at, per).squaredNorm(), per);
+    at += per;
   }
   return u;
 }
 
-// the noise unit of the normalized residuals: 1 when stated, else from the median residual
-double noiseUnit(const std::vector<double>& u, bool stated, Measure measure) {
-  const double s = stated ? 1.0 : median(u) / medianNormalized(measure);
+// the noise unit of the normalized residuals: 1 when stated, else the median of each residual over its own
+// median (chi with 3 or 6 degrees of freedom: mixed data mixes them)
+double noiseUnit(const std::vector<double>& u, bool stated, const Problem& p) {
+  if (stated) return 1.0;
+  std::vector<double> relative(u.size());
+  for (size_t m = 0; m < u.size(); ++m) relative[m] = u[m] / medianNormalized(rowsOf((*p.measurements)[m], p.measure));
+  const double s = median(relative);
   return s > 0.0 ? s : 1.0;
 }
 
@@ -279,7 +299,7 @@ int reweight(Problem& p, const LmOptions& lm, Loss chosen, bool stated, Iterate&
     const RobustLoss robust = RobustLoss::of(loss);
     for (int pass = 0; pass < kMaxReweightings; ++pass) {
       const std::vector<double> u = unweightedNormalized(p, it.em);
-      const double scale = noiseUnit(u, stated, p.measure);
+      const double scale = noiseUnit(u, stated, p);
       VecX next(count);
       for (Eigen::Index m = 0; m < count; ++m) next[m] = robust.weight(u[static_cast<size_t>(m)] / scale);
       const double change = (next - p.robust).cwiseAbs().maxCoeff();
@@ -306,8 +326,9 @@ std::vector<MeasurementResidual> measurementResiduals(const Problem& p, const Er
     const Measurement& x_m = (*p.measurements)[m];
     const MeasurementErrors e = measurementErrors(predict(em.model(), data, x_m, p.measure, em.targets()), x_m, p.measure);
     MeasurementResidual& x = residuals[m];
+    x.rows = rowsOf(x_m, p.measure);
     x.position = e.position;
-    x.rotation = p.measure == Measure::Pose ? e.rotation : kNaN;
+    x.rotation = x.rows == 6 ? e.rotation : kNaN;
     x.normalized = u[m] / scale;
     x.weight = p.robust[static_cast<Eigen::Index>(m)];
     x.outlier = x.normalized > outlier_threshold;
@@ -318,9 +339,9 @@ std::vector<MeasurementResidual> measurementResiduals(const Problem& p, const Er
 // the variance factor: least squares over every measurement, a robust loss over those not flagged
 double varianceFactor(const Problem& p, Eigen::Index residual_rows, const std::vector<MeasurementResidual>& residuals,
                       const std::vector<double>& u, bool robust) {
-  const int per = rowsPerMeasurement(p.measure);
   double redundancy = static_cast<double>(residual_rows) - p.rank, weighted_cost = 0.0;
   for (size_t m = 0; m < residuals.size(); ++m) {
+    const int per = residuals[m].rows;
     if (robust && residuals[m].outlier) {
       redundancy -= per;
       continue;
@@ -390,7 +411,7 @@ std::string verdict(const CalibrationResult& r, double L) {
     if (a.rms_position > kMaxRelativeRmsPosition * L) {
       why << "RMS position " << a.rms_position << " left is " << 100.0 * a.rms_position / L
           << " % of the robot's size L = " << L << " (at most " << 100.0 * kMaxRelativeRmsPosition << " %)";
-    } else if (r.measure == Measure::Pose && a.rms_rotation > kMaxRmsRotation) {
+    } else if (a.rms_rotation > kMaxRmsRotation) {  // (0 without pose measurements)
       why << "RMS rotation " << a.rms_rotation << " rad left (at most " << kMaxRmsRotation << " rad)";
     }
   }
@@ -428,7 +449,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   // the measurement frame (and the unknown targets' points), then the fit from there
   const Registration reg = registration(nominal, measurements, measure, options.targets, options.register_frame);
   const PoeModel start = movedModel(nominal, reg.T_meas_base);
-  Iterate it{ErrorModel(start, fitSpec(options, reg))};
+  Iterate it{ErrorModel(start, fitSpec(options, reg, measurements))};
   it.cost = residualAt(problem, start, reg.targets, it.r);
   Subspace sub = nominalSubspace(problem, it.em, it.cost);
   problem.rank = sub.rank.rank;
@@ -443,7 +464,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   if (options.loss != Loss::Squared) reweightings = reweight(problem, lm, options.loss, stated, it, converged);
 
   const std::vector<double> u = unweightedNormalized(problem, it.em);
-  const double scale = noiseUnit(u, stated, measure);
+  const double scale = noiseUnit(u, stated, problem);
   std::vector<MeasurementResidual> residuals = measurementResiduals(problem, it.em, u, scale, options.outlier_threshold);
   const int outliers = static_cast<int>(std::count_if(residuals.begin(), residuals.end(),
                                                       [](const MeasurementResidual& x) { return x.outlier; }));
@@ -452,7 +473,9 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
 
   CalibrationResult out{it.em.model(), it.em};
   out.expected = identifiableCount(nominal, measure, it.em.spec());
-  out.tool_rank = measure == Measure::Pose ? 6 : measure == Measure::Position ? 3 : knownPointsToolRank(it.em.spec().knownPoints(), L);
+  out.tool_rank = measure == Measure::Pose || it.em.spec().pose_measurements ? 6
+                  : measure == Measure::Position ? 3
+                                                 : knownPointsToolRank(it.em.spec().knownPoints(), L);
   out.rank = std::move(sub.rank);
   out.before = residualStatistics(start, measurements, measure, reg.targets);
   out.after = residualStatistics(it.em.model(), measurements, measure, it.em.targets());

@@ -70,8 +70,6 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
     o.parameters = ParameterSet::Full;
     unit = calibrate(nominal, measurements, o).robust_scale;
   }
-  const int rows = rowsPerMeasurement(options.measure);
-  const double rows_per_point = rows / 3.0;
   const RobustLoss loss = RobustLoss::of(options.loss);
   CrossValidation out;
   out.folds = folds;
@@ -101,8 +99,9 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
             const auto [ep, er] = measurementErrors(predict(fit.model, data, m, o.measure, fit.targets), m, o.measure);
             sum_p += ep * ep;
             sum_r += er * er;
+            const int rows = rowsOf(m, o.measure);  // 6 for a pose, 3 for a point (mixed data mixes them)
             const double u = normalizedResidual(ep * ep / (wp * wp) + er * er / (wr * wr), rows) / unit;
-            score += rows_per_point * unit * unit * loss.rho(u);
+            score += (rows / 3.0) * unit * unit * loss.rho(u);
             ++held;
           }
         } catch (const std::invalid_argument&) {

@@ -121,7 +121,7 @@ std::vector<Vec3> ErrorModelSpec::knownPoints() const {
 }
 
 bool ErrorModelSpec::toolParameters() const {
-  return targets.empty() || std::find(target_known.begin(), target_known.end(), true) != target_known.end();
+  return targets.empty() || pose_measurements || std::find(target_known.begin(), target_known.end(), true) != target_known.end();
 }
 
 int knownPointsToolRank(const std::vector<Vec3>& known_points, double L) {
@@ -152,7 +152,8 @@ ParameterCount identifiableCount(const PoeModel& model, Measure measure, const E
     return count;
   }
   const std::vector<Vec3> known = spec.knownPoints();
-  count.tool = 3 * (targets - static_cast<int>(known.size())) + knownPointsToolRank(known, model.lengthScale());
+  count.tool = 3 * (targets - static_cast<int>(known.size())) +
+               (spec.pose_measurements ? 6 : knownPointsToolRank(known, model.lengthScale()));
   return count;
 }
 
@@ -361,8 +362,9 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
   checkJointVector(q, model_.dof());
   LP_CHECK(rows.rows() == rowsPerMeasurement(measure) && rows.cols() == size(), "error model: rows must be "
                                                                            << rowsPerMeasurement(measure) << " x " << size());
-  const bool targets = !spec_.targets.empty();
-  LP_CHECK(targets == (measure == Measure::Targets), "error model: Measure::Targets needs targets, and only it");
+  // Measure::Targets: one target's point; a pose (mixed data) or a position with targets: the tool's
+  const bool targets = measure == Measure::Targets;
+  LP_CHECK(!targets || !spec_.targets.empty(), "error model: Measure::Targets needs targets");
   LP_CHECK(!targets || (target >= 0 && target < static_cast<int>(spec_.targets.size())),
            "error model: target " << target << " of " << spec_.targets.size());
   const auto twists = static_cast<Eigen::Index>(all_.size()) - 3 * static_cast<Eigen::Index>(unknownTargets(spec_));

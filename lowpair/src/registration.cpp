@@ -17,13 +17,13 @@ namespace detail {
 
 void checkTargetIndex(const Measurement& m, Measure measure, size_t targets) {
   if (measure != Measure::Targets) return;
-  LP_CHECK(m.target >= 0 && static_cast<size_t>(m.target) < targets,
+  LP_CHECK(m.target == kPoseMeasurement || (m.target >= 0 && static_cast<size_t>(m.target) < targets),
            "measurement of target " << m.target << ": there are " << targets << " targets");
 }
 
 Pose predict(const PoeModel& model, Data& data, const Measurement& m, Measure measure, const std::vector<Vec3>& targets) {
   forwardKinematics(model, data, m.q);
-  if (measure != Measure::Targets) return data.T_base_tool;
+  if (measuresPose(m, measure) || measure == Measure::Position) return data.T_base_tool;
   checkTargetIndex(m, measure, targets.size());
   const Pose& T = data.T_base_tool;
   return Pose{T.R, T.R * targets[static_cast<size_t>(m.target)] + T.p};
@@ -31,7 +31,7 @@ Pose predict(const PoeModel& model, Data& data, const Measurement& m, Measure me
 
 MeasurementErrors measurementErrors(const Pose& predicted, const Measurement& m, Measure measure) {
   return {(m.T_base_tool.p - predicted.p).norm(),
-          measure == Measure::Pose ? rotationAngle(predicted.R.transpose() * m.T_base_tool.R) : 0.0};
+          measuresPose(m, measure) ? rotationAngle(predicted.R.transpose() * m.T_base_tool.R) : 0.0};
 }
 
 void checkMeasurements(const PoeModel& nominal, const std::vector<Measurement>& measurements, Measure measure,
@@ -108,13 +108,13 @@ Registration registration(const PoeModel& model, const std::vector<Measurement>&
     T[m] = data.T_base_tool;
   }
   std::vector<Vec3> x(measurements.size()), y(measurements.size());
-  std::vector<Mat3> R_pred, R_meas;
-  if (measure == Measure::Pose) {
-    for (size_t m = 0; m < measurements.size(); ++m) {
-      R_pred.push_back(T[m].R);
-      R_meas.push_back(measurements[m].T_base_tool.R);
-    }
+  std::vector<Mat3> R_pred, R_meas;  // of the pose measurements (all, or those among target measurements)
+  for (size_t m = 0; m < measurements.size(); ++m) {
+    if (!measuresPose(measurements[m], measure)) continue;
+    R_pred.push_back(T[m].R);
+    R_meas.push_back(measurements[m].T_base_tool.R);
   }
+  const bool rotations = !R_pred.empty();
   for (size_t m = 0; m < measurements.size(); ++m) y[m] = measurements[m].T_base_tool.p;
   // alternate: the frame for the current points, then each unknown point for the frame (the mean of its
   // measured points in the predicted tool frame), until neither moves by more than rounding
@@ -123,12 +123,11 @@ Registration registration(const PoeModel& model, const std::vector<Measurement>&
   for (out.iterations = 1; out.iterations <= kMaxAlternations; ++out.iterations) {
     for (size_t m = 0; m < measurements.size(); ++m) {
       const int t = measurements[m].target;
-      x[m] = measure == Measure::Targets ? Vec3(T[m].R * out.targets[static_cast<size_t>(t)] + T[m].p) : T[m].p;
+      x[m] = measure == Measure::Targets && t >= 0 ? Vec3(T[m].R * out.targets[static_cast<size_t>(t)] + T[m].p) : T[m].p;
     }
     Pose g;
     if (frame) {
-      g = rigidFit(x, y, measure == Measure::Pose ? &R_pred : nullptr, measure == Measure::Pose ? &R_meas : nullptr, L,
-                   out.determined);
+      g = rigidFit(x, y, rotations ? &R_pred : nullptr, rotations ? &R_meas : nullptr, L, out.determined);
     }
     double moved = rotationAngle(g.R.transpose() * out.T_meas_base.R) + (g.p - out.T_meas_base.p).norm() / L;
     out.T_meas_base = g;
@@ -137,6 +136,7 @@ Registration registration(const PoeModel& model, const std::vector<Measurement>&
       std::vector<int> count(targets.size(), 0);
       const Pose g_inv = g.inverse();
       for (size_t m = 0; m < measurements.size(); ++m) {
+        if (measurements[m].target == kPoseMeasurement) continue;
         const auto t = static_cast<size_t>(measurements[m].target);
         if (!out.estimated[t]) continue;
         sum[t] += T[m].R.transpose() * (g_inv.R * y[m] + g_inv.p - T[m].p);
@@ -169,19 +169,19 @@ ResidualStatistics residualStatistics(const PoeModel& model, const std::vector<M
   ResidualStatistics s;
   Data data(model);
   double sum_p = 0.0, sum_r = 0.0;
+  int rotations = 0;  // the pose measurements (mixed data: some of them)
   for (const Measurement& m : measurements) {
     checkJointVector(m.q, model.dof());
     const auto [ep, er] = measurementErrors(predict(model, data, m, measure, targets), m, measure);
     sum_p += ep * ep;
     sum_r += er * er;
+    rotations += measuresPose(m, measure) ? 1 : 0;
     s.max_position = std::max(s.max_position, ep);
     s.max_rotation = std::max(s.max_rotation, er);
     ++s.count;
   }
-  if (s.count > 0) {
-    s.rms_position = std::sqrt(sum_p / s.count);
-    s.rms_rotation = std::sqrt(sum_r / s.count);
-  }
+  if (s.count > 0) s.rms_position = std::sqrt(sum_p / s.count);
+  if (rotations > 0) s.rms_rotation = std::sqrt(sum_r / rotations);
   return s;
 }
 

@@ -29,13 +29,17 @@ struct Calibration {
 // The target names of target measurements (the CSV's `target` column, one per row), numbered in order of first
 // appearance as the CSV reader numbers them: sets each measurement's index and returns the names.
 std::vector<std::string> numberTargets(const std::vector<std::string>& names, std::vector<Measurement>& measurements,
-                                       const std::string& subject) {
+                                       const std::string& subject, bool mixed) {
   if (names.size() != measurements.size()) {
     throw UsageError(subject, "expected " + std::to_string(measurements.size()) + " target names (one per row), got " +
                                   std::to_string(names.size()));
   }
   io::TargetNumbering numbering;
   for (size_t k = 0; k < names.size(); ++k) {
+    if (mixed && names[k].empty()) {  // a pose of the tool frame among the target measurements
+      measurements[k].target = kPoseMeasurement;
+      continue;
+    }
     std::string problem;
     measurements[k].target = numbering.number(names[k], problem);
     if (measurements[k].target >= 0) continue;
@@ -47,7 +51,8 @@ std::vector<std::string> numberTargets(const std::vector<std::string>& names, st
 }
 
 // The measurement CSV's columns as arrays: q (N, n); positions (N, 3); rotations (N, 4) qw..qz for pose
-// measurements; targets (N names) for target measurements (positions are then the targets' points).
+// measurements; targets (N names) for target measurements (positions are then the targets' points); both for
+// mixed data: a row with the target '' is a pose (its rotation given), a target's row has NaN rotations.
 io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const InArray& positions,
                                       const std::optional<InArray>& rotations,
                                       const std::optional<std::vector<std::string>>& targets, const std::string& prefix) {
@@ -58,9 +63,6 @@ io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const In
     throw UsageError(prefix + "positions", "expected shape (" + std::to_string(N) + ", 3), got shape " +
                                                shapeText(positions));
   }
-  if (rotations && targets) {
-    throw UsageError(prefix + "rotations", "target measurements are points: give rotations or targets, not both");
-  }
   if (rotations && (rotations->ndim() != 2 || rotations->shape(0) != N || rotations->shape(1) != 4)) {
     throw UsageError(prefix + "rotations", "expected shape (" + std::to_string(N) +
                                                ", 4) (unit quaternions qw, qx, qy, qz), got shape " +
@@ -69,7 +71,8 @@ io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const In
   io::MeasurementFile file;
   file.path = prefix.empty() ? "<arrays>" : "<validation arrays>";
   file.dof = r.dof();
-  file.measure = rotations ? Measure::Pose : targets ? Measure::Targets : Measure::Position;
+  file.measure = targets ? Measure::Targets : rotations ? Measure::Pose : Measure::Position;
+  const bool mixed = rotations && targets;
   file.length_unit = r.file.length_unit;
   file.measurements.resize(static_cast<size_t>(N));
   auto p = positions.unchecked<2>();
@@ -85,11 +88,20 @@ io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const In
     }
     if (rotations) {
       auto w = rotations->unchecked<2>();
-      m.T_base_tool.R = quaternionRotation(w(k, 0), w(k, 1), w(k, 2), w(k, 3), prefix + "rotations", k);
+      const bool target_row = mixed && k < static_cast<Eigen::Index>(targets->size()) && !(*targets)[static_cast<size_t>(k)].empty();
+      if (target_row) {  // a point: its rotation is not measured
+        if (!(std::isnan(w(k, 0)) && std::isnan(w(k, 1)) && std::isnan(w(k, 2)) && std::isnan(w(k, 3)))) {
+          throw UsageError(prefix + "rotations", "[" + std::to_string(k) + "]: the row of target " +
+                                                     io::quotedFileText((*targets)[static_cast<size_t>(k)]) +
+                                                     " must be NaN (a point has no rotation; a row with the target '' is a pose)");
+        }
+      } else {
+        m.T_base_tool.R = quaternionRotation(w(k, 0), w(k, 1), w(k, 2), w(k, 3), prefix + "rotations", k);
+      }
     }
     file.lines.push_back(static_cast<long long>(k));
   }
-  if (targets) file.target_names = numberTargets(*targets, file.measurements, prefix + "targets");
+  if (targets) file.target_names = numberTargets(*targets, file.measurements, prefix + "targets", mixed);
   return file;
 }
 

@@ -2,8 +2,10 @@
 // lowpair.export.
 #include "files.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -207,20 +209,28 @@ void exposeFiles(py::module_& m) {
       .def_property_readonly(
           "rotations",
           [](const Simulation& s) -> py::object {
-            if (s.measure != Measure::Pose) return py::none();
+            const auto pose = [&](const Measurement& x) { return measuresPose(x, s.measure); };
+            if (std::none_of(s.measurements.begin(), s.measurements.end(), pose)) return py::none();
             MatX out(static_cast<Eigen::Index>(s.measurements.size()), 4);
             for (size_t k = 0; k < s.measurements.size(); ++k) {
-              out.row(static_cast<Eigen::Index>(k)) = io::csvQuaternion(s.measurements[k].T_base_tool.R).transpose();
+              const Measurement& x = s.measurements[k];
+              const Eigen::Vector4d w = pose(x) ? io::csvQuaternion(x.T_base_tool.R)
+                                                : Eigen::Vector4d::Constant(std::numeric_limits<double>::quiet_NaN());
+              out.row(static_cast<Eigen::Index>(k)) = w.transpose();
             }
             return matrixArray(out);
           },
-          "(M, 4) unit quaternions qw, qx, qy, qz (qw >= 0, as the CSV writes them) for pose measurements, else None.")
+          "(M, 4) unit quaternions qw, qx, qy, qz (qw >= 0, as the CSV writes them) for pose measurements, else None;\n"
+          "mixed data (poses among target measurements): NaN on the targets' rows.")
       .def_property_readonly(
           "targets",
           [](const Simulation& s) -> py::object {
             if (s.measure != Measure::Targets) return py::none();
             std::vector<std::string> out;
-            for (const Measurement& x : s.measurements) out.push_back(s.target_names[static_cast<size_t>(x.target)]);
+            // ('' for a pose among target measurements: a mixed file read)
+            for (const Measurement& x : s.measurements) {
+              out.push_back(x.target >= 0 ? s.target_names[static_cast<size_t>(x.target)] : std::string());
+            }
             return py::cast(out);
           },
           "list[str]: the target measured in each row (the CSV's target column) for target measurements, else None.")

@@ -171,7 +171,9 @@ def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names[:-1]), "targets: expected 150 target names"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=["bad name"] + names[1:]),
          r"targets: \[0\]: .*target name"),
-        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, W, targets=names), "give rotations or targets, not both"),
+        # rotations with targets: mixed data, where a target's row must hold NaN (its point has no rotation)
+        (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, W, targets=names),
+         r"rotations: \[0\]: the row of target 'smr_\w' must be NaN"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names, validation_q=held_out.q,
                                    validation_positions=held_out.positions), "validation_targets: the fit has target"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names, validation_q=held_out.q,
@@ -401,3 +403,37 @@ def test_with_targets_refuses_bad_names_and_points():
                              ({"a": [1, np.nan, 3]}, "is not finite"), ({1: [1, 2, 3]}, "keys must be target names")]:
         with pytest.raises(lowpair.Error, match=re.escape(message)):
             nominal.with_targets(targets)
+
+
+def test_mixed_pose_and_target_rows_equal_the_cli(tracker_data, tmp_path):
+    """Poses of a 6-DOF probe among the SMR points (a row with the target '' and NaN-free rotation; the points'
+    rows NaN rotations): fitted together as `calibrate` fits the mixed CSV."""
+    fit, _, _, _ = tracker_data
+    actual = lowpair.load(ACTUAL)
+    probe = lowpair.simulate(actual, poses=10, seed=13, frame=FRAME, noise_position=0.01, noise_rotation=1e-5)
+    q = np.vstack([fit.q, probe.q])
+    positions = np.vstack([fit.positions, probe.positions])
+    rotations = np.vstack([np.full((len(fit), 4), np.nan), probe.rotations])
+    targets = list(fit.targets) + [""] * len(probe)
+    # the CSV: target and qw..qz columns, each row one of them
+    path = str(tmp_path / "mixed.csv")
+    with open(path, "w") as f:
+        f.write("# length_unit: mm\n" + ",".join([f"q{i + 1}" for i in range(6)] + ["target", "x", "y", "z", "qw", "qx", "qy", "qz"]) + "\n")
+        for k in range(len(q)):
+            rot = ["", "", "", ""] if targets[k] else [repr(x) for x in rotations[k]]
+            f.write(",".join([repr(x) for x in q[k]] + [targets[k]] + [repr(x) for x in positions[k]] + rot) + "\n")
+    read = lowpair.read_measurements(path)
+    assert read.targets == targets and np.array_equal(read.positions, positions)
+    assert np.all(np.isnan(read.rotations[:len(fit)])) and np.allclose(read.rotations[len(fit):], rotations[len(fit):])
+    cal = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations=rotations, targets=targets,
+                            noise_position=0.01, noise_rotation=1e-5, free_pitch=True, loss="huber")
+    status, out, _ = run_cli("calibrate", NOMINAL, "--measurements", path, "--noise-position", "0.01",
+                             "--noise-rotation", "1e-5", "--free-pitch", "--loss", "huber", "--json", check=False)
+    assert status == 0 and cal.accepted and cal.rank == cal.expected == 51  # 5 x 6 + 6 + the tool's 6 + 3 x 3
+    assert cal.to_dict()["tool_frame"]["determined"] and cal.robot.tool_frame == "defined"
+    assert comparable(cal.to_dict()) == comparable(json.loads(out))
+    # a point's row with a rotation is refused by name
+    bad = rotations.copy()
+    bad[0] = [1, 0, 0, 0]
+    with pytest.raises(lowpair.Error, match=re.escape("rotations: [0]: the row of target 'smr_a' must be NaN")):
+        lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations=bad, targets=targets)

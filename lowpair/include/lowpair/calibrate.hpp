@@ -21,6 +21,7 @@ namespace lowpair {
 struct MeasurementResidual {
   double position = 0.0, rotation = 0.0, normalized = 0.0;
   double weight = 1.0;   ///< the robust loss' weight at the result (1 for Squared)
+  int rows = 3;          ///< its residual rows: 6 for a pose, 3 for a point (rowsOf)
   bool outlier = false;  ///< normalized > CalibrationOptions::outlier_threshold
 };
 

@@ -37,7 +37,7 @@ struct ParameterCount {
   int scales = 0;                                ///< n, one scale per joint
   /// 6 (full pose), 3 (position only), or with targets `3 u + r`: u unknown targets' points, and r the tool
   /// frame's directions the known points fix (knownPointsToolRank: 0 without, 3 for one point, 5 for
-  /// collinear points, 6 for three or more non-collinear ones)
+  /// collinear points, 6 for three or more non-collinear ones), or 6 with pose measurements among them
   int tool = 6;
   int total() const { return 5 * helical + 4 * revolute + 2 * prismatic + scales + tool; }
 };
@@ -75,9 +75,12 @@ struct ErrorModelSpec {
   std::vector<std::string> target_names{};
   /// Per target: its point is known (fixed, not a parameter). Empty: none known.
   std::vector<bool> target_known{};
+  /// Targets: some measurements are of the whole tool frame (mixed data, kPoseMeasurement): the tool's 6
+  /// parameters are kept, and the pose measurements determine them.
+  bool pose_measurements = false;
   bool knownTarget(size_t t) const { return t < target_known.size() && target_known[t]; }
   std::vector<Vec3> knownPoints() const;  ///< the known targets' points, in order
-  /// The tool frame has parameters: no targets, or at least one known.
+  /// The tool frame has parameters: no targets, at least one known, or pose measurements among them.
   bool toolParameters() const;
 };
 

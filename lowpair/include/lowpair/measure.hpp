@@ -26,12 +26,24 @@ constexpr int rowsPerPose(Measure measure, int targets) {
 
 /// One measurement: joint variables of the model and what was measured in the measurement frame (the base
 /// frame of the model being calibrated): the tool frame (Pose), its origin (Position: `T_base_tool.p`), or
-/// one target's point (Targets: `T_base_tool.p`, `target` its index).
+/// one target's point (Targets: `T_base_tool.p`, `target` its index). Target data may mix in measurements of
+/// the whole tool frame (a 6-DOF probe beside the SMRs): a Targets measurement with `target` kPoseMeasurement.
 struct Measurement {
   VecX q;
   Pose T_base_tool;
-  int target = -1;  ///< Targets: index into the targets (CalibrationOptions::targets); -1 otherwise
+  int target = -1;  ///< Targets: index into the targets (CalibrationOptions::targets), or kPoseMeasurement
 };
+
+/// Measurement::target of a measurement of the tool frame among target measurements (mixed data).
+constexpr int kPoseMeasurement = -1;
+
+/// The measurement observes the tool frame's rotation too: Measure::Pose, or a pose among target measurements.
+inline bool measuresPose(const Measurement& m, Measure measure) {
+  return measure == Measure::Pose || (measure == Measure::Targets && m.target == kPoseMeasurement);
+}
+
+/// Its residual rows: 6 for a pose (`[dtheta; dp]`), 3 for a point.
+inline int rowsOf(const Measurement& m, Measure measure) { return measuresPose(m, measure) ? 6 : 3; }
 
 /// A point fixed on the tool (an SMR): its name and its position in the tool frame (length): a start for the
 /// fit's estimate, or, when `known` (from a calibrated nest), fixed. Unknown points carry the tool frame (it
