@@ -699,7 +699,7 @@ TEST(RobotFileTargets, PoeAndDhFilesReadBackBitForBit) {
   const std::string poe_path = scratch().write(
       "targets_poe.yaml", formatPoeRobotFile(*poe.poe, poe, poe.name, poe.description, {"targets test"}, RobotFileExtras{targets}));
   const std::string dh_path =
-      scratch().write("targets_dh.yaml", formatDhRobotFile(*dh.dh, dh, dh.name, dh.description, {}, targets));
+      scratch().write("targets_dh.yaml", formatDhRobotFile(*dh.dh, dh, dh.name, dh.description, {}, RobotFileExtras{targets}));
   const RobotFile poe_back = readRobotFile(poe_path), dh_back = readRobotFile(dh_path);
   expectSameTargets(targets, poe_back.targets, poe_path);
   expectSameTargets(targets, dh_back.targets, dh_path);
@@ -793,7 +793,7 @@ TEST(RobotFileTargets, WritersRefuseWhatWouldNotReadBack) {
       poe_refused = true;
     }
     try {
-      formatDhRobotFile(*dh.dh, dh, "d", "", {}, targets);
+      formatDhRobotFile(*dh.dh, dh, "d", "", {}, RobotFileExtras{targets});
     } catch (const std::invalid_argument&) {
       dh_refused = true;
     }

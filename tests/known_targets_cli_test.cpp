@@ -167,6 +167,15 @@ TEST(KnownTargetsCli, KnownSmrsPinTheTcpUnknownOnesAreFlagged) {
   EXPECT_NE(text.err.find("note: compensated for the flange"), std::string::npos) << text.err;
   std::printf("unknown SMRs: TCP RMS %.4g mm after the rigid motion (flagged: the tool is the nominal's)\n", flange.after.rms);
   EXPECT_GT(flange.after.rms, 10.0 * kNoise);  // the tool's error is left in: what the flag warns of
+
+  // the controller's table (export --format dh) keeps the flag and the measurement frame: compensate with it
+  // says the same
+  const std::string dh = dir + "/kt_cal_unknown_dh.yaml";
+  ok("export " + cal_unknown + " --format dh --out " + dh);
+  EXPECT_NE(slurp(dh).find("tool_frame: nominal"), std::string::npos);
+  EXPECT_NE(slurp(dh).find("measurement_frame:"), std::string::npos);
+  const CliRun from_dh = runCli("compensate " + dh + " --nominal " + kNominal + " --q-file " + q + " --json");
+  EXPECT_FALSE(json::parse(from_dh.out)["tool_determined"].get<bool>());
 }
 
 // A robot file's `known:` and `tool_frame:` keys: misspelt values are exit 2 naming the key.

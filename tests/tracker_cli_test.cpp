@@ -324,7 +324,7 @@ TEST(TrackerSimulate, BadOptionsExitTwoWithOneLine) {
   expectRejected("simulate " + nominalWithTargets() + " --poses 5 --targets smr_a", "goes with --measure targets",
                  "--targets");
   expectRejected("simulate " + nominalWithTargets() + " --poses 5 --measure targets --noise-rotation 1e-3",
-                 "targets measurements have no rotation to perturb", "--noise-rotation");
+                 "target measurements have no rotation to perturb", "--noise-rotation");
   expectRejected("simulate " + robot + "--frame 1,2,3", "expected RX,RY,RZ,X,Y,Z", "--frame");
   expectRejected("simulate " + robot + "--frame 0,0,0,1,2,x", "'x' is not a number", "--frame");
   expectRejected("simulate " + robot + "--frame 0,0,nan,1,2,3", "'nan' is not finite", "--frame");

@@ -71,7 +71,7 @@ int runIdentifiability(const IdentifiabilityOptions& o) {
     std::cout << jsonText(j) << "\n";
   } else {
     std::cout << "identifiability of " << robotLabel(file) << " from " << o.poses << " random "
-              << measureName(measure) << " measurements (seed " << o.seed << ")\n";
+              << measurementsText(measure) << " (seed " << o.seed << ")\n";
     printIdentifiability(std::cout, id);
   }
   return 0;
@@ -105,8 +105,8 @@ int runCalibrate(const CalibrateOptions& o) {
   if (!o.validation.empty()) {
     validation = read(o.validation);
     if (validation->measure != fit.measure) {
-      throw RobotFileError(validation->path + ": " + measureName(validation->measure) + " measurements, but " +
-                           fit.path + " holds " + measureName(fit.measure) + " measurements");
+      throw RobotFileError(validation->path + ": " + measurementsText(validation->measure) + ", but " + fit.path +
+                           " holds " + measurementsText(fit.measure));
     }
     // targets by name: the validation file's indices mapped to the fitting file's
     if (const auto unknown = mapValidationTargets(*validation, fit.target_names)) {

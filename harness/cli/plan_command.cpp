@@ -87,7 +87,7 @@ void printPlan(std::ostream& out, const PlanReport& r, const std::string& out_pa
   const CalibrationResult& c = r.expected->calibration;
   const std::string u = lengthUnit(r.file);
   const std::vector<std::string>& names = r.parameters;
-  out << "plan of " << p.indices.size() << " poses (" << measureName(r.measure) << " measurements"
+  out << "plan of " << p.indices.size() << " poses (" << measurementsText(r.measure)
       << (r.measure == Measure::Targets ? ", " + std::to_string(r.file.targets.size()) + " targets each" : std::string())
       << ") of " << robotLabel(r.file)
       << " (" << r.file.path << ") from " << r.candidates << " random candidates (seed " << r.seed << ")\n";

@@ -174,7 +174,7 @@ std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
   const std::string u = lengthUnit(r.nominal);
   std::vector<std::string> lines;
   lines.push_back("calibrated by lowpair calibrate from " + r.nominal.path + " and " + r.fit.path + " (" +
-                  std::to_string(r.fit.measurements.size()) + " " + measureName(r.fit.measure) + " measurements)");
+                  std::to_string(r.fit.measurements.size()) + " " + measurementsText(r.fit.measure) + ")");
   lines.push_back("rank " + std::to_string(c.rank.rank) + " of " + std::to_string(c.expected.total()) +
                   (r.result.error_model.freePitch() ? ", free pitch" : "") + ", " + std::to_string(c.iterations) +
                   " iterations" + (c.converged ? "" : " (not converged)"));
@@ -387,7 +387,7 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   const std::string u = lengthUnit(r.nominal);
   out << "calibration of " << robotLabel(r.nominal) << " (" << r.nominal.path << ") from " << r.fit.measurements.size()
-      << " " << (r.fit.measure == Measure::Targets ? "target" : measureName(r.fit.measure)) << " measurements ("
+      << " " << measurementsText(r.fit.measure) << " ("
       << r.fit.path << ")\n";
   const std::string vf = std::isfinite(c.variance_factor) ? fixed(c.variance_factor, 3) : std::string("none (no redundancy)");
   if (c.noise_stated) {

@@ -28,8 +28,8 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   const bool rotations = std::any_of(fit.measurements.begin(), fit.measurements.end(),
                                      [&](const Measurement& m) { return measuresPose(m, fit.measure); });
   if (a.noise_rotation && !rotations) {  // (mixed data: the poses among the targets' points have one)
-    throw UsageError(spelling.name("noise_rotation"), fit.path + " holds " + measureName(fit.measure) +
-                                                          " measurements: there is no rotation to weigh");
+    throw UsageError(spelling.name("noise_rotation"), fit.path + " holds " + measurementsText(fit.measure) +
+                                                          ": there is no rotation to weigh");
   }
   if (!(a.outlier_threshold >= 1e-3 && a.outlier_threshold <= 1e6)) {
     throw UsageError(spelling.name("outlier_threshold"), "must be in [0.001, 1e6], got " + io::shortest(a.outlier_threshold));

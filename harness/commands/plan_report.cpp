@@ -55,7 +55,7 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
   checkStatedNoise(request.noise_position, request.noise_rotation, spelling);
   if (request.noise_rotation && r.measure != Measure::Pose) {
     throw UsageError(spelling.name("noise_rotation"),
-                     std::string(measureName(r.measure)) + " measurements have no rotation to weigh");
+                     std::string(measurementsText(r.measure)) + " have no rotation to weigh");
   }
   // the candidates' blocks: rows x columns numbers each
   ErrorModelSpec spec;

@@ -93,7 +93,7 @@ void checkSimulationArguments(Measure measure, double noise_position, double noi
   checkNoiseLevel(spelling.name("noise_rotation"), noise_rotation, M_PI);
   if (measure != Measure::Pose && noise_rotation > 0) {  // as calibrate rejects it
     throw UsageError(spelling.name("noise_rotation"),
-                     std::string(measureName(measure)) + " measurements have no rotation to perturb");
+                     std::string(measurementsText(measure)) + " have no rotation to perturb");
   }
   if (targets_given && measure != Measure::Targets) {
     throw UsageError(spelling.name("targets"), "goes with " + spelling.setting("measure", "targets"));

@@ -417,7 +417,8 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
   if (format == ExportFormat::Dh) {
     const DhConversion conversion = poeToDh(model);
     result.notes = conversionWarnings(conversion, checkDhConversion(model, conversion.model));
-    result.text = formatDhRobotFile(conversion.model, file, name, file.description, comments, file.targets);
+    result.text = formatDhRobotFile(conversion.model, file, name, file.description, comments,
+                                    RobotFileExtras{file.targets, file.measurement_frame, file.tool_frame});
     return result;
   }
   // URDF lengths are metres (the spec; ROS and every URDF reader assume them): a robot file in another unit

@@ -388,6 +388,20 @@ void writeTargets(YAML::Emitter& out, const std::vector<Target>& targets) {
   out << YAML::EndSeq;
 }
 
+// targets:, measurement_frame: and tool_frame: (RobotFileExtras), each only when there is one
+void writeExtras(YAML::Emitter& out, const RobotFileExtras& extras) {
+  writeTargets(out, extras.targets);
+  if (extras.measurement_frame) {
+    out << YAML::Key << "measurement_frame" << YAML::Value << YAML::BeginSeq;
+    const Mat4 F = extras.measurement_frame->matrix();
+    for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{F(r, 0), F(r, 1), F(r, 2), F(r, 3)};
+    out << YAML::EndSeq;
+  }
+  if (extras.tool_frame != ToolFrame::Defined) {
+    out << YAML::Key << "tool_frame" << YAML::Value << (extras.tool_frame == ToolFrame::Origin ? "origin" : "nominal");
+  }
+}
+
 }  // namespace
 
 std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, const std::string& name,
@@ -417,23 +431,14 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
   const Mat4 T = model.toolPose().matrix();
   for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{T(r, 0), T(r, 1), T(r, 2), T(r, 3)};
   out << YAML::EndSeq << YAML::EndMap;
-  writeTargets(out, extras.targets);
-  if (extras.measurement_frame) {
-    out << YAML::Key << "measurement_frame" << YAML::Value << YAML::BeginSeq;
-    const Mat4 F = extras.measurement_frame->matrix();
-    for (int r = 0; r < 4; ++r) out << YAML::Flow << std::vector<double>{F(r, 0), F(r, 1), F(r, 2), F(r, 3)};
-    out << YAML::EndSeq;
-  }
-  if (extras.tool_frame != ToolFrame::Defined) {
-    out << YAML::Key << "tool_frame" << YAML::Value << (extras.tool_frame == ToolFrame::Origin ? "origin" : "nominal");
-  }
+  writeExtras(out, extras);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 
 std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const std::string& name,
                               const std::string& description, const std::vector<std::string>& comments,
-                              const std::vector<Target>& targets) {
+                              const RobotFileExtras& extras) {
   const double k = like.angleFactor();
   YAML::Emitter out;
   beginRobotFile(out, like, name, description, comments);
@@ -467,7 +472,7 @@ std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const
   out << YAML::Key << "tool" << YAML::Value << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "theta" << YAML::Value << model.toolTheta() / k << YAML::Key << "d" << YAML::Value << model.toolD();
   out << YAML::EndMap << YAML::EndMap;
-  writeTargets(out, targets);
+  writeExtras(out, extras);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }

@@ -120,11 +120,12 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
 /// A D-H robot file of `model` (docs/file_formats.md; readRobotFile reads it back to rounding: numbers with
 /// 17 significant digits, strings quoted and escaped by yaml-cpp) with `like`'s units (angles, pitch and
 /// revolute ranges in its angle_unit), `name`, `description` and `comments` as leading `#` lines.
-/// A joint offset (0 in every table poeToDh makes) is folded into its row (movedRow). `targets` as for
-/// formatPoeRobotFile (in the D-H tool frame).
+/// A joint offset (0 in every table poeToDh makes) is folded into its row (movedRow). `extras` as for
+/// formatPoeRobotFile (targets in the D-H tool frame; the D-H base frame is the POE model's, so a measurement
+/// frame carries over as it is).
 /// @throws std::invalid_argument as formatPoeRobotFile for targets
 std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const std::string& name,
                               const std::string& description, const std::vector<std::string>& comments,
-                              const std::vector<Target>& targets = {});
+                              const RobotFileExtras& extras = {});
 
 }  // namespace lowpair::io

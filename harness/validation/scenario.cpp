@@ -202,7 +202,7 @@ CalibrationCase readCalibrationCase(const YamlReader& in, const YAML::Node& node
   if (!t["position"]) yamlError(path, t, where + ".tolerance: missing 'position'");
   c.tolerance_position = in.number(t["position"], where + ".tolerance.position");
   if (t["rotation"]) {
-    if (points) yamlError(path, t, where + ": tolerance.rotation given for " + std::string(measureName(c.measure())) + " measurements");
+    if (points) yamlError(path, t, where + ": tolerance.rotation given for " + measurementsText(c.measure()));
     c.tolerance_rotation = in.number(t["rotation"], where + ".tolerance.rotation");
   }
   if (t["improvement"]) c.min_improvement = in.number(t["improvement"], where + ".tolerance.improvement");

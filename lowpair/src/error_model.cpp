@@ -460,7 +460,8 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
   const auto cols = static_cast<Eigen::Index>(columns.size());
   for (size_t t = 0; t < targets.size(); ++t) {
     if (spec.knownTarget(t)) continue;
-    for (const char* axis : {".x", ".y", ".z"}) columns.push_back("target." + std::to_string(t + 1) + axis);
+    const std::string name = t < spec.target_names.size() ? spec.target_names[t] : std::to_string(t + 1);
+    for (const char* axis : {".x", ".y", ".z"}) columns.push_back("target." + name + axis);
   }
   const int per = rowsPerPose(measure, static_cast<int>(targets.size()));
   MatX J(per * static_cast<Eigen::Index>(q.size()), static_cast<Eigen::Index>(columns.size()));

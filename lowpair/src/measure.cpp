@@ -11,4 +11,13 @@ const char* measureName(Measure measure) {
   return "pose";
 }
 
+const char* measurementsText(Measure measure) {
+  switch (measure) {
+    case Measure::Pose: return "pose measurements";
+    case Measure::Position: return "position measurements";
+    case Measure::Targets: return "target measurements";
+  }
+  return "pose measurements";
+}
+
 }  // namespace lowpair

@@ -15,6 +15,8 @@ enum class Measure { Pose, Position, Targets };
 
 /// "pose" / "position" / "targets".
 const char* measureName(Measure measure);
+/// "pose measurements" / "position measurements" / "target measurements": for sentences.
+const char* measurementsText(Measure measure);
 
 /// Rows per measurement: 6 for Pose (`[dtheta; dp]`), 3 otherwise.
 constexpr int rowsPerMeasurement(Measure measure) { return measure == Measure::Pose ? 6 : 3; }
