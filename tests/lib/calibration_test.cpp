@@ -1,7 +1,7 @@
 // Calibration (calibration.hpp) against references that do not come from the calibration code:
 //
 // 1. The identification Jacobian against central differences of forward kinematics of ErrorModel::apply,
-//    column by column, on 1,000 seeded random robots (tests/random_robot.hpp: every joint type, degenerate
+//    column by column, on 1,000 seeded random robots (tests/common/random_robot.hpp: every joint type, degenerate
 //    geometry), with and without free pitch; apply(0) and the type-preserving rule of apply.
 // 2. Identifiability: the numeric rank equals the paper's count 5h + 4r + 2t + n + 6 (Wu et al. §V; 3 for
 //    the tool with position-only measurements) on 1,000 random robots and hand-built joint mixes, and it

@@ -1,7 +1,7 @@
 // Jacobians (jacobian.hpp) against references that do not come from the library's Jacobian code:
 //
 // 1. Central finite differences of forward kinematics on 1,000 seeded random robots x 3 poses
-//    (tests/random_robot.hpp: 2-7 joints, revolute/prismatic/helical, scales != 1, offsets, parallel,
+//    (tests/common/random_robot.hpp: 2-7 joints, revolute/prismatic/helical, scales != 1, offsets, parallel,
 //    nearly parallel, collinear, intersecting axes), POE and the D-H form poeToDh(model).model, each
 //    Jacobian with its own definition:
 //      spatial   V_s = vee((dg/dx_i) g^-1)            [w; v], base frame
