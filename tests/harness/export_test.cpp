@@ -27,7 +27,6 @@
 #include <string>
 #include <vector>
 
-#include "export_helpers.hpp"
 #include "io/export.hpp"
 #include "lowpair/calibration.hpp"
 #include "lowpair/convert.hpp"
@@ -35,6 +34,7 @@
 #include "lowpair/se3.hpp"
 #include "mujoco/mujoco_robot.hpp"
 #include "random_robot.hpp"
+#include "scratch_folder.hpp"
 #include "io/robot_file.hpp"
 #include "io/urdf_reader.hpp"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "export_helpers.hpp"
+#include "scratch_folder.hpp"
 #include "io/export.hpp"
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
