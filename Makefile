@@ -62,7 +62,7 @@ bench: configure
 # ThreadThatCannotBeCreatedDoesNotAbort and OutOfMemoryIsOneLine (they limit virtual memory, and ASan
 # reserves terabytes), and two statistical tests of the pose planner (hundreds of calibrations, a minute each
 # under the sanitizers; the planner's code runs under them in the other plan tests). LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their robots
-# (tests/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
+# (tests/common/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
 # -O1 and line tables only: file:line in every report, less to compile and link than -O2 -g (not timed apart)

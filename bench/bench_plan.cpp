@@ -42,7 +42,7 @@ const std::vector<VecX>& candidates(RobotId id) {
   return pool;
 }
 
-// The plan must beat the best of 100 random sets of the same size (tests/plan_test.cpp's claim).
+// The plan must beat the best of 100 random sets of the same size (tests/lib/plan_test.cpp's claim).
 bool rejected(benchmark::State& state, const PlanCandidates& c, const PlanResult& plan) {
   double best = -std::numeric_limits<double>::infinity();
   for (const auto& set : randomPoseSets(c.count(), kPoses, 100, 1)) best = std::max(best, evaluatePlan(c, set).log_det);

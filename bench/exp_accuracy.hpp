@@ -2,7 +2,7 @@
 // Accuracy of an se(3) exponential against a long-double reference over a rotation-angle sweep
 // 1e-12 .. pi (log-spaced, plus the neighbourhoods of the branch thresholds 1e-4 and 1.5 and of pi).
 // Error per entry: |x - x_ref| / (eps max(1, |x_ref|)) ("ulp-equivalent"), rotation and translation
-// separately. Used by bench/exp_accuracy.cpp (README table) and tests/exp_variants_test.cpp.
+// separately. Used by bench/exp_accuracy.cpp (README table) and bench/exp_variants_test.cpp.
 #include <algorithm>
 #include <cmath>
 #include <limits>

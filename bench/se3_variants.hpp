@@ -3,7 +3,7 @@
 /// Alternative implementations of the se(3) exponential `exp(hat6(xi))`, `xi = [w; v]`, kept for the
 /// benchmark and accuracy comparison of bench/README.md. The library default is `expSE3` (se3.hpp,
 /// the Rodrigues/V closed form); each variant here computes the same map and is allocation-free.
-/// Accuracy (worst ulp-equivalent error over the angle sweep 1e-12..pi, tests/exp_variants_test.cpp)
+/// Accuracy (worst ulp-equivalent error over the angle sweep 1e-12..pi, bench/exp_variants_test.cpp)
 /// is listed in bench/README.md.
 
 #include "lowpair/types.hpp"

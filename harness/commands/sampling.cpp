@@ -32,7 +32,7 @@ unsigned long long mix(unsigned long long x) {
 // k < 156 of the first twist needs state words k, k + 1 and k + 156 of the seeding only, so the seeding
 // stops at word 156 + (outputs drawn) instead of filling 312 words and twisting them all (0.75 us instead
 // of 4.5 us for a 6-joint sample here; the random stream, and with it every result, is unchanged:
-// tests/validate_test.cpp checks it against std::mt19937_64).
+// tests/harness/validate_test.cpp checks it against std::mt19937_64).
 class Mt19937_64Prefix {
  public:
   using result_type = std::uint_fast64_t;

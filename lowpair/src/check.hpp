@@ -7,7 +7,7 @@
 /// Internal to the library: no public header includes it and it is not installed. The checks of the hot
 /// paths (forwardKinematics, computeJacobians, the Jacobian getters) are a few integer compares behind
 /// LP_UNLIKELY; their message is built only on failure, in an LP_COLD function, so the success path
-/// allocates nothing (tests/alloc_test.cpp).
+/// allocates nothing (tests/lib/alloc_test.cpp).
 
 #include <cassert>
 #include <sstream>

@@ -1,6 +1,6 @@
 #pragma once
 // The coefficients of the exponential (se3.cpp), internal to the library: expSO3 and expSE3 use them, and
-// the exp accuracy study (tests/se3_test.cpp) and the benchmark's exp variants (bench/se3_variants.cpp)
+// the exp accuracy study (tests/lib/se3_test.cpp) and the benchmark's exp variants (bench/se3_variants.cpp)
 // include this header through the source directory. Not installed.
 
 namespace lowpair::detail {

@@ -2,7 +2,7 @@
 // Vectorizable sine and cosine for the chain evaluation (not installed; tests include it directly).
 // `sinCosLane` is branch-free so that loops over it vectorize: Cody-Waite reduction by pi/2 (3-part
 // constant) and the Cephes minimax polynomials on [-pi/4, pi/4]. Accuracy: within 1 ulp (absolute error
-// <= 1.2 eps for |x| <= 1e6; tests/sincos_test.cpp). Precondition: finite |x| <= 1e6 (beyond, the
+// <= 1.2 eps for |x| <= 1e6; tests/lib/kinematics_test.cpp). Precondition: finite |x| <= 1e6 (beyond, the
 // reduction loses accuracy: n * kPio2A is exact only for |n| < 2^29); callers fall back to std::sin/cos.
 // Hand-written rather than SLEEF: bench/README.md compares the two.
 

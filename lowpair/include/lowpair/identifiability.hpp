@@ -15,7 +15,7 @@ namespace lowpair {
 /// Rank rule for the identification Jacobians: rows made dimensionless (position rows / L), columns
 /// scaled to unit norm (a zero column stays zero), then `rank = #{sigma_i > kRankFactor cols eps sigma_1}`
 /// (1000 cols eps, ~8e-12 for 36 columns; the singularity analysis' factor). Measured on 4,000 analyses of
-/// random robots (tests/calibration_test.cpp): exact dependencies leave at most 6.6e-13 sigma_1, genuine
+/// random robots (tests/lib/identifiability_test.cpp): exact dependencies leave at most 6.6e-13 sigma_1, genuine
 /// singular values are at least 5.7e-4 sigma_1.
 struct RankAnalysis {
   int rank = 0;

@@ -39,7 +39,7 @@
 /// (Householder QR of the `m x n` Jacobian, Jacobi SVD of the `m x m` factor). Measured on the PUMA 560
 /// (bench/bench_ik.cpp, docs/ik.md): ~0.6 us per iteration, 6 iterations from 0.3 rad per joint, and ~4.5 us
 /// for the singular values (IkOptions::check_singularity). Nothing allocates after the IkWorkspace is built,
-/// the reason string excepted, which is written only on failure (tests/alloc_test.cpp).
+/// the reason string excepted, which is written only on failure (tests/lib/alloc_test.cpp).
 
 #include <cmath>
 #include <limits>

@@ -2,7 +2,7 @@
 /// @file kinematics.hpp
 /// Forward kinematics of the base, tool and local POE forms (Wu et al. eqs. 5-7) and of the D-H chain
 /// (eq. 10). Free functions writing into a preallocated workspace; no allocation after the workspace
-/// is built (tests/alloc_test.cpp proves it).
+/// is built (tests/lib/alloc_test.cpp proves it).
 
 #include <vector>
 

@@ -31,7 +31,7 @@ constexpr double kSnapLength = 64.0 * kEps;
 /// the base origin, so a standard row between nearly parallel axes has |d| ~ L / sin(alpha) while the Hayati
 /// row's a is the distance of the next axis from this frame's origin in this frame's xy plane: with the
 /// factor 1, no length of the table exceeds L by the standard rows and the Hayati rows stay near the
-/// distances between the axes (2 L at most for a UR-type arm; tests/hayati_test.cpp).
+/// distances between the axes (2 L at most for a UR-type arm; tests/lib/hayati_test.cpp).
 constexpr double kHayatiLength = 1.0;
 
 /// Conditioning warning: a D-H length beyond `kIllConditioned * L` (Wu et al. §V: nearly parallel axes).

@@ -1,6 +1,6 @@
 #pragma once
-// Helpers of the calibration tests (calibration_test.cpp, tracker_test.cpp): random poses and perturbations,
-// noise, deviations and the rounding scales their tolerances come from.
+// Helpers of the calibration tests (calibration_test.cpp, identifiability_test.cpp, tracker_test.cpp, ...):
+// random poses and perturbations, noise, deviations and the rounding scales their tolerances come from.
 
 #include <algorithm>
 #include <cmath>
@@ -23,6 +23,9 @@ constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // ---- helpers --------------------------------------------------------------------------------------------
+
+// Scales. L = model.lengthScale(). Parameters are compared in "scaled units": a length or pitch parameter of
+// size L, an angle of 1 rad and a scale increment of 1 are each one unit (parameterUnit).
 
 // One scaled unit of a parameter in its own unit: L for lengths and pitches, 1 for angles and scales.
 inline double parameterUnit(const Parameter& p, double L) {
@@ -69,6 +72,11 @@ inline double distanceScale(const PoeModel& model, const VecX& q, const Pose& T_
   return s;
 }
 
+// Forward-kinematics rounding (used by several bounds). A chain of n joints is n + 1 pose products and n
+// joint exponentials; each product adds ~3 eps relative to the magnitudes involved and each sine/cosine
+// of a motion |x| <= 4 adds ~|x| eps; every point involved lies within the distance scale S of the
+// configuration (distanceScale, above), so one FK is accurate to eps_fk = 16 (n + 1) eps S in position and
+// 16 (n + 1) eps in rotation.
 inline double fkRounding(int dof) { return 16.0 * (dof + 1) * kEpsilon; }
 
 struct TypeCount {

@@ -1,6 +1,12 @@
-// Rough edges a real user hits (issue "rough edges"): one test per numbered item, each failing on the
-// code before its fix. Items 1-4 are in output_files_test.cpp and hostile_input_test.cpp, item 8 in
-// harness_test.cpp (ValidateReport.UserStringsInSummaryAreEscaped).
+// What the commands check and print where ordinary use meets their edges: length units (a scenario's
+// measurements against its nominal, validate's robot file against an MJCF, --length-unit), the limits of
+// the readers and writers (comment streams, a file for another robot, hexadecimal floats, URDF loops, MJCF
+// depth, joint values outside their range), names in errors (a tip not found), printed precision (D-H and
+// residual tables, numbers in one-line errors, the calibrated D-H table's width and its fixed entries, the
+// nearly-parallel note), calibrate --json's fields and values, and every scenario's sample count.
+// Written as one test per item of the "rough edges" issue (hence the suite name RoughEdges), each failing on
+// the code before its fix; items 1-4 are in output_files_test.cpp and hostile_input_test.cpp, item 8 in
+// validate_cli_test.cpp (ValidateReport.UserStringsInSummaryAreEscaped).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -16,7 +16,7 @@
 #include "lowpair/jacobian.hpp"
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC
-#error "compile alloc_test with EIGEN_RUNTIME_NO_MALLOC (tests/CMakeLists.txt)"
+#error "compile alloc_test with EIGEN_RUNTIME_NO_MALLOC (tests/lib/CMakeLists.txt)"
 #endif
 
 namespace {

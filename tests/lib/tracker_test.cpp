@@ -81,7 +81,7 @@ std::vector<double> frameFreeDh(const PoeModel& model) {
 // ---- the error model's new columns ----------------------------------------------------------------------
 //
 // Offsets, the base (whole-model motion) and targets' points: each column against central differences of
-// the measured quantity, as the minimal parameters are in calibration_test. Step h = cbrt(eps) in the
+// the measured quantity, as the minimal parameters are in identifiability_test. Step h = cbrt(eps) in the
 // parameter's scaled unit; the truncation error is O(h^2) of the second derivative (of order S / unit^2),
 // the rounding O(eps S / h): both below 1e-8 S relative to a column of size S, asserted at 1e-7.
 TEST(TrackerErrorModel, OffsetBaseAndTargetColumnsMatchCentralDifferences) {
