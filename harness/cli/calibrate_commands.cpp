@@ -45,14 +45,11 @@ int runIdentifiability(const IdentifiabilityOptions& o) {
   const RobotFile file = loadRobot(o.robot, cliSpelling());
   const PoeModel model = file.poeModel();
   const Measure measure = parseMeasure(o.measure, cliSpelling());
-  // the full error model has 8 columns per joint + pitches + 6; the D-H one 6 per joint + 6
-  if (identificationEntries(o.poses, model.dof(), 9.0) > kMaxJacobianEntries) {
-    // one pose over the limit: the robot is too long whatever --poses says
-    const bool robot = identificationEntries(1, model.dof(), 9.0) > kMaxJacobianEntries;
-    throw UsageError(robot ? file.path : std::string("--poses"),
-                     std::to_string(o.poses) + " poses of a " + std::to_string(model.dof()) +
-                                    "-joint robot exceed the identification size limit (" + shortest(kMaxJacobianEntries) +
-                                    " numbers: the Jacobian and the SVD's V, columns squared)");
+  // the full error model has 8 columns per joint + pitches + 6 (+ 3 per target); the D-H one 6 per joint + 6
+  const int targets = measure == Measure::Targets ? static_cast<int>(file.targets.size()) : 0;
+  if (const auto problem = identifiabilitySizeProblem(o.poses, model.dof(), measure, targets)) {
+    // one pose over the limit: the robot (or its targets) is too large whatever --poses says
+    throw UsageError(problem->robot ? file.path : std::string("--poses"), problem->text);
   }
   const auto ranges = samplingRanges(model);
   std::vector<VecX> q(static_cast<size_t>(o.poses), VecX(model.dof()));
@@ -96,10 +93,10 @@ int runCalibrate(const CalibrateOptions& o) {
     return std::move(r.file);
   };
   MeasurementFile fit = read(o.measurements);
-  if (const auto problem = calibrationSizeProblem(fit.measurements.size(), nominal.dof())) {
+  if (const auto problem = calibrationSizeProblem(fit, nominal.dof())) {
     throw RobotFileError(fit.path + ": " + *problem +
-                         " (the Jacobian, 6 rows per measurement, and the SVD's V, columns squared: "
-                         "fit fewer measurements and put the rest in --validation; a robot this long cannot be fitted)");
+                         " (docs/cli.md \"Limits\": fit fewer measurements and put the rest in --validation, or measure "
+                         "fewer targets)");
   }
   std::optional<MeasurementFile> validation;
   if (!o.validation.empty()) {

@@ -12,6 +12,7 @@
 #include "lowpair/calibration.hpp"
 #include "io/measurements.hpp"
 #include "io/robot_file.hpp"
+#include "commands/limits.hpp"
 
 namespace lowpair::commands {
 
@@ -21,15 +22,6 @@ constexpr int kMaxIdentifiabilityPoses = 10000;
 /// SVD hold 6 rows per measurement, about 40 MB at this limit for 7 joints. Validation files are read whole
 /// (bounded by the CSV reader's limits) and only evaluated.
 constexpr int kMaxCalibrationMeasurements = 10000;
-/// Upper bound on the entries of an identification Jacobian the CLI builds (rows x columns, bounded for a
-/// many-joint robot too: 2e7 doubles, 160 MB, and its SVD about as much again).
-constexpr double kMaxJacobianEntries = 2e7;
-/// The numbers an identification of `poses` measurements of a `joints`-joint robot holds at once: the
-/// Jacobian (6 rows per pose, `columns_per_joint` per joint + 6) and the SVD's full V (columns squared).
-inline double identificationEntries(double poses, double joints, double columns_per_joint) {
-  const double columns = columns_per_joint * joints + 6.0;
-  return 6.0 * poses * columns + columns * columns;
-}
 
 /// Residuals of the validation set before (the nominal, registered in the measurement frame) and after
 /// (calibrated), with its own measure; `outside`: the validation measurements with a joint value outside the

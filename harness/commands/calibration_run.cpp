@@ -10,14 +10,19 @@
 
 namespace lowpair::commands {
 
-std::optional<std::string> calibrationSizeProblem(size_t measurements, int dof) {
-  if (measurements <= static_cast<size_t>(kMaxCalibrationMeasurements) &&
-      identificationEntries(static_cast<double>(measurements), dof, 7.0) <= kMaxJacobianEntries) {
+std::optional<std::string> calibrationSizeProblem(const io::MeasurementFile& fit, int dof) {
+  const size_t measurements = fit.measurements.size();
+  const IdentificationSize s = identificationSize(static_cast<double>(measurements), dof, 7.0, fit.measure,
+                                                  static_cast<double>(fit.target_names.size()));
+  if (measurements <= static_cast<size_t>(kMaxCalibrationMeasurements) && s.entries() <= kMaxJacobianEntries &&
+      s.work() <= kMaxIdentificationWork) {
     return std::nullopt;
   }
-  return std::to_string(measurements) + " measurements of " + std::to_string(dof) + " joints; calibrate fits at most " +
-         std::to_string(kMaxCalibrationMeasurements) + " measurements and at most " + io::shortest(kMaxJacobianEntries) +
-         " numbers at once";
+  return std::to_string(measurements) + " measurements of " + std::to_string(dof) + " joints" +
+         (fit.target_names.empty() ? std::string() : " and " + std::to_string(fit.target_names.size()) + " targets") +
+         "; calibrate fits at most " + std::to_string(kMaxCalibrationMeasurements) + " measurements, at most " +
+         io::shortest(kMaxJacobianEntries) + " numbers at once and at most " + io::shortest(kMaxIdentificationWork) +
+         " work per SVD (rows columns^2 + 5 columns^3, here " + io::shortest(s.work()) + ")";
 }
 
 CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeModel& nominal, io::MeasurementFile fit,
@@ -68,6 +73,10 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   const auto start = std::chrono::steady_clock::now();
   std::optional<CrossValidation> cv;
   if (a.select) {
+    if (const auto problem = crossValidationSizeProblem(fit.measurements.size(), nominal.dof(), fit.measure,
+                                                        static_cast<int>(fit.target_names.size()), a.folds, a.repeats)) {
+      throw UsageError(spelling.name("repeats"), *problem);
+    }
     cv = crossValidate(nominal, fit.measurements, options, a.folds, a.repeats);
     options.parameters = cv->chosen;
   }

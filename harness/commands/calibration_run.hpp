@@ -27,10 +27,10 @@ struct CalibrationRequest {
   int repeats = kCrossValidationRepeats;          ///< in [1, kMaxCrossValidationRepeats]
 };
 
-/// What is wrong with fitting `measurements` measurements of a `dof`-joint robot at once (more than
-/// kMaxCalibrationMeasurements, or an identification above kMaxJacobianEntries), without a subject; nothing
-/// when it fits.
-std::optional<std::string> calibrationSizeProblem(size_t measurements, int dof);
+/// What is wrong with fitting `fit`'s measurements of a `dof`-joint robot at once (more than
+/// kMaxCalibrationMeasurements, or an identification above kMaxJacobianEntries or kMaxIdentificationWork:
+/// limits.hpp, with 3 columns per target), without a subject; nothing when it fits.
+std::optional<std::string> calibrationSizeProblem(const io::MeasurementFile& fit, int dof);
 
 /// Checks `request` against the fit's measurements (stated noise, rotation noise with pose measurements
 /// only, the ranges and choices, parameters or select but not both), fills the options, chooses the

@@ -73,6 +73,17 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
                          io::shortest(columns) + " parameters exceed the identification size limit (" +
                          io::shortest(kMaxPlanEntries) + " numbers, held about four times): fewer candidates");
   }
+  // the rank rule on every candidate's rows stacked: one SVD (limits.hpp)
+  const IdentificationSize stacked{static_cast<double>(request.candidates) * rows, columns};
+  if (stacked.work() > kMaxIdentificationWork) {
+    const bool robot = IdentificationSize{rows, columns}.work() > kMaxIdentificationWork;
+    throw UsageError(robot ? r.file.path : spelling.name("candidates"),
+                     std::to_string(request.candidates) + " candidates of " + io::shortest(rows) + " rows and " +
+                         io::shortest(columns) + " parameters exceed the identification work limit (" +
+                         io::shortest(kMaxIdentificationWork) + " for the SVD of them stacked, rows columns^2 + 5 "
+                         "columns^3; here " + io::shortest(stacked.work()) + "): fewer candidates" +
+                         (options.targets.size() > 1 ? " or targets" : ""));
+  }
 
   options.validate();
 

@@ -124,7 +124,7 @@ void checkRanges(const Robot& r, const io::MeasurementFile& m, const std::string
 
 Calibration calibrateArrays(const Robot& r, io::MeasurementFile fit, std::optional<io::MeasurementFile> held_out,
                             const commands::CalibrationRequest& request) {
-  if (const auto problem = commands::calibrationSizeProblem(fit.measurements.size(), r.dof())) {
+  if (const auto problem = commands::calibrationSizeProblem(fit, r.dof())) {
     throw UsageError("q", *problem);
   }
   checkRanges(r, fit, "");

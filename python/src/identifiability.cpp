@@ -32,17 +32,16 @@ IdentifiabilityResult identifiability(const Robot& r, const std::string& measure
   }
   checkSeed(seed);
   const PoeModel& model = r.poe;
-  if (commands::identificationEntries(poses, model.dof(), 9.0) > commands::kMaxJacobianEntries) {
-    const bool robot = commands::identificationEntries(1, model.dof(), 9.0) > commands::kMaxJacobianEntries;
-    throw UsageError(robot ? r.file.path : std::string("poses"),
-                     std::to_string(poses) + " poses of a " + std::to_string(model.dof()) +
-                         "-joint robot exceed the identification size limit (" +
-                         io::shortest(commands::kMaxJacobianEntries) +
-                         " numbers: the Jacobian and the SVD's V, columns squared)");
+  const int targets = measure == Measure::Targets ? static_cast<int>(r.file.targets.size()) : 0;
+  if (const auto problem = commands::identifiabilitySizeProblem(poses, model.dof(), measure, targets)) {
+    throw UsageError(problem->robot ? r.file.path : std::string("poses"), problem->text);
   }
   ErrorModelSpec spec;
   spec.free_pitch = free_pitch;
-  if (measure == Measure::Targets) spec.targets = commands::robotFileTargetPoints(r.file, pythonSpelling());
+  if (measure == Measure::Targets) {
+    spec.targets = commands::robotFileTargetPoints(r.file, pythonSpelling());
+    for (const Target& t : r.file.targets) spec.target_known.push_back(t.known);  // known points: the tool's columns
+  }
   Identifiability id;
   {
     py::gil_scoped_release release;

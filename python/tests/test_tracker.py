@@ -437,3 +437,14 @@ def test_mixed_pose_and_target_rows_equal_the_cli(tracker_data, tmp_path):
     bad[0] = [1, 0, 0, 0]
     with pytest.raises(lowpair.Error, match=re.escape("rotations: [0]: the row of target 'smr_a' must be NaN")):
         lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations=bad, targets=targets)
+
+
+def test_identification_work_limit_is_the_clis():
+    """1000 targets on 2 poses: refused before any work, as `identifiability` refuses them (docs/cli.md, Limits)."""
+    nominal = lowpair.load(NOMINAL)
+    points = {f"t{k}": [(k * 37) % 160 - 80, (k * 61) % 160 - 80, (k * 89) % 160 - 80] for k in range(1000)}
+    with pytest.raises(lowpair.Error, match="exceed the identification"):
+        lowpair.identifiability(nominal.with_targets(points), measure="targets", poses=2)
+    # known targets count too: three known ones give the tool's 6 columns (30 + 6 + 6 with free pitch)
+    known = nominal.with_targets(SMRS, known=True)
+    assert lowpair.identifiability(known, measure="targets", poses=20, free_pitch=True).expected == 42

@@ -1,0 +1,60 @@
+#pragma once
+/// @file limits.hpp
+/// The size limits of an identification (identifiability, calibrate, --select cv, plan's candidates), for the
+/// CLI and the Python module alike: memory (the numbers held at once) and time (the SVDs' work), checked before
+/// any work starts (docs/cli.md "Limits").
+
+#include <optional>
+#include <string>
+
+#include "lowpair/measure.hpp"
+
+namespace lowpair::commands {
+
+/// Upper bound on the entries of an identification Jacobian (rows x columns) and the SVD's full V (columns
+/// squared): 2e7 doubles, 160 MB, and its SVD about as much again.
+constexpr double kMaxJacobianEntries = 2e7;
+/// Upper bound on one SVD's work (IdentificationSize::work): about 5 s for `identifiability` (three SVDs) and
+/// 25 s for a `calibrate` fit (one SVD per iteration) at the limit on a 2019 x86-64 core (measured: 100 targets
+/// on 2 poses, work 2.6e8, 1.5 s; 200 targets, 1.8e9, 11 s).
+constexpr double kMaxIdentificationWork = 1e9;
+/// Upper bound on the work of `--select cv`: its fits (1 + folds x repeats x 3 levels) times one SVD's work;
+/// about 60 s at the limit (measured: 151 fits of 200 PUMA poses, 3.8e8, 9.5 s).
+constexpr double kMaxCrossValidationWork = 2.4e9;
+
+/// An identification's Jacobian: rows and columns.
+struct IdentificationSize {
+  double rows = 0.0, columns = 0.0;
+  /// the numbers held at once: the Jacobian and the SVD's full V
+  double entries() const { return rows * columns + columns * columns; }
+  /// one SVD's work: the QR of the rows (rows columns^2) and the Jacobi sweeps on the square part (about
+  /// five times columns^3, measured)
+  double work() const { return rows * columns * columns + 5.0 * columns * columns * columns; }
+};
+
+/// `measurements` measurements (poses; for targets, one per target and pose) of a `joints`-joint robot with
+/// `columns_per_joint` parameters per joint, the tool's 6 and 3 per target: 6 rows per pose measurement, 3 per
+/// point.
+IdentificationSize identificationSize(double measurements, double joints, double columns_per_joint, Measure measure,
+                                      double targets);
+
+/// The numbers an identification of `poses` pose measurements holds at once (IdentificationSize::entries).
+inline double identificationEntries(double poses, double joints, double columns_per_joint) {
+  return identificationSize(poses, joints, columns_per_joint, Measure::Pose, 0.0).entries();
+}
+
+/// What is over a limit, or nothing: `robot` when one pose alone is (the robot or its targets, whatever the
+/// pose count).
+struct SizeProblem {
+  std::string text;
+  bool robot = false;
+};
+
+/// identifiability of `poses` random poses (`targets` targets measured at each for Measure::Targets).
+std::optional<SizeProblem> identifiabilitySizeProblem(int poses, int joints, Measure measure, int targets);
+
+/// --select cv over `measurements` measurements: 1 + folds x repeats x 3 fits of about their size.
+std::optional<std::string> crossValidationSizeProblem(size_t measurements, int joints, Measure measure, int targets,
+                                                      int folds, int repeats);
+
+}  // namespace lowpair::commands
