@@ -143,16 +143,18 @@ void printSummary(std::ostream& out, const std::string& what, const Summary& s, 
 }
 
 // Writes the CSV to --out (all or nothing) and the text or JSON to stdout, or the CSV to stdout.
-int emit(const std::string& out_path, bool as_json, const std::string& csv, const json& j,
-         const std::function<void(std::ostream&)>& text, const Summary& s) {
-  if (!out_path.empty()) writeFileAtomically(out_path, csv);
+// The CSV and the JSON are made only when written or printed (up to 10^6 rows: the JSON of every row, about
+// 1 KB each, is not built without --json).
+int emit(const std::string& out_path, bool as_json, const std::function<std::string()>& csv,
+         const std::function<json()>& j, const std::function<void(std::ostream&)>& text, const Summary& s) {
+  if (!out_path.empty()) writeFileAtomically(out_path, csv());
   if (as_json) {
-    std::cout << jsonText(j) << "\n";
+    std::cout << jsonText(j()) << "\n";
   } else if (!out_path.empty()) {
     text(std::cout);
     std::cout << "  written to " << out_path << "\n";
   } else {
-    std::cout << csv;
+    std::cout << csv();
   }
   return s.all_ok() ? 0 : 1;
 }
@@ -232,17 +234,19 @@ int runIk(const IkCommandOptions& o) {
   for (const std::string& note : notes) comments.push_back(note);
   for (const std::string& line : summaryComments(s, rows, file, table.pose)) comments.push_back(line);
   if (isUnitLabel(file.length_unit)) comments.push_back("length_unit: " + file.length_unit);
-  const std::string csv = solutionsCsv(comments, n, rows);
-  json j = {{"name", file.name},
-            {"source", file.path},
-            {"poses", o.poses},
-            {"length_unit", file.length_unit},
-            {"task", task},
-            {"seeds", table.dof > 0 ? json("file") : json(o.seeds)},
-            {"seed", o.seed},
-            {"notes", notes},
-            {"counts", ikCountsJson(rows)},
-            {"rows", ikRowsJson(rows, true)}};
+  auto csv = [&] { return solutionsCsv(comments, n, rows); };
+  auto j = [&] {
+    return json{{"name", file.name},
+                {"source", file.path},
+                {"poses", o.poses},
+                {"length_unit", file.length_unit},
+                {"task", task},
+                {"seeds", table.dof > 0 ? json("file") : json(o.seeds)},
+                {"seed", o.seed},
+                {"notes", notes},
+                {"counts", ikCountsJson(rows)},
+                {"rows", ikRowsJson(rows, true)}};
+  };
   auto text = [&](std::ostream& out) {
     for (const std::string& note : notes) out << "note: " << note << "\n";
     printSummary(out, "ik: " + std::to_string(rows.size()) + " " + task + " targets of " + robotLabel(file) + ", " + seeding,
@@ -309,17 +313,19 @@ int runCompensate(const CompensateOptions& o) {
     std::cerr << "note: " << tool_note << "\n";
   }
   if (isUnitLabel(calibrated_file.length_unit)) comments.push_back("length_unit: " + calibrated_file.length_unit);
-  const std::string csv = solutionsCsv(comments, n, rows);
-  json j = {{"name", calibrated_file.name},
-            {"source", calibrated_file.path},
-            {"nominal", nominal_file.path},
-            {"q_file", o.q_file},
-            {"length_unit", calibrated_file.length_unit},
-            {"measure", o.measure},
-            {"tool_determined", tool_note.empty()},
-            {"tool_note", tool_note.empty() ? json(nullptr) : json(tool_note)},
-            {"counts", ikCountsJson(rows)},
-            {"rows", ikRowsJson(rows, false)}};
+  auto csv = [&] { return solutionsCsv(comments, n, rows); };
+  auto j = [&] {
+    return json{{"name", calibrated_file.name},
+                {"source", calibrated_file.path},
+                {"nominal", nominal_file.path},
+                {"q_file", o.q_file},
+                {"length_unit", calibrated_file.length_unit},
+                {"measure", o.measure},
+                {"tool_determined", tool_note.empty()},
+                {"tool_note", tool_note.empty() ? json(nullptr) : json(tool_note)},
+                {"counts", ikCountsJson(rows)},
+                {"rows", ikRowsJson(rows, false)}};
+  };
   auto text = [&](std::ostream& out) {
     printSummary(out, "compensate: " + std::to_string(rows.size()) + " joint vectors of " + o.q_file + " (" + o.measure +
                           "), " + robotLabel(nominal_file) + " -> " + robotLabel(calibrated_file),
