@@ -1,7 +1,10 @@
 // The lowpair command line (design.md "The lowpair command line"). Exit status: 0 ok, 1 a validation
 // fell outside tolerance, 2 bad input or usage (one line on stderr: "error: FILE: what is wrong").
 
+#include <unistd.h>
+
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +16,7 @@
 
 #include "cli/commands.hpp"
 #include "io/one_line.hpp"
+#include "lowpair/interrupt.hpp"
 
 namespace lowpair::cli {
 
@@ -49,6 +53,24 @@ namespace {
 
 // The one error line: "error: " and the message with every control character (a newline in a file name,
 // a YAML key or a --tip value) folded into a space, so the contract holds whatever the input held.
+// SIGINT (Ctrl-C): the long loops poll it (lowpair/interrupt.hpp) and the command ends with exit 130 and nothing
+// written (every output is written whole at the end); a second SIGINT ends the process at once.
+volatile std::sig_atomic_t sigint_received = 0;
+
+extern "C" void onSigint(int) {
+  if (sigint_received) _exit(130);
+  sigint_received = 1;
+}
+
+bool sigintReceived() { return sigint_received != 0; }
+
+// validate runs worker threads that do not poll: it keeps the default SIGINT (the process ends at once)
+void catchSigint(const CLI::App& sub) {
+  if (sub.get_name() == "validate") return;
+  std::signal(SIGINT, onSigint);
+  lowpair::setInterruptCheck(&sigintReceived);
+}
+
 int reportError(const std::string& message) {
   std::cerr << io::oneLine("error: " + message) << "\n";
   return 2;
@@ -124,8 +146,12 @@ int main(int argc, char** argv) {
     for (const auto& [sub, run] : commands) {
       if (!sub->parsed()) continue;
       refuseEmptyValues(*sub);
+      catchSigint(*sub);
       return checkedExit(run());
     }
+  } catch (const lowpair::Interrupted&) {
+    std::cerr << "error: interrupted (SIGINT): stopped, nothing written\n";
+    return 130;
   } catch (const RobotFileError& e) {
     return reportError(e.what());
   } catch (const UsageError& e) {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "io/output.hpp"
+#include "lowpair/interrupt.hpp"
 
 namespace lowpair::commands {
 
@@ -24,6 +25,7 @@ IkRow solveFromRandomSeeds(const PoeModel& model, Data& data, const Pose& target
   bool have = false;
   VecX q_seed(model.dof());
   for (int s = 0; s < seeds; ++s) {
+    pollInterrupt();  // every attempt: up to 1000 seeds of a row
     randomSample(seed, row * static_cast<unsigned long long>(seeds) + static_cast<unsigned long long>(s), ranges, q_seed);
     const IkResult& attempt = inverseKinematics(model, data, target, q_seed, options, work);
     if (!have || betterIkAttempt(attempt, best.result, model.lengthScale())) {
@@ -44,6 +46,7 @@ std::vector<IkRow> compensateJointRows(const PoeModel& nominal, const PoeModel& 
   std::vector<IkRow> rows;
   rows.reserve(static_cast<size_t>(q_nominal.rows()));
   for (Eigen::Index k = 0; k < q_nominal.rows(); ++k) {
+    pollInterrupt();
     rows.push_back({compensate(nominal, calibrated, data, q_nominal.row(k).transpose(), options, work), -1,
                     lines[static_cast<size_t>(k)]});
   }

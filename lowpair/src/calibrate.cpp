@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "check.hpp"
+#include "lowpair/interrupt.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
@@ -233,6 +234,7 @@ std::optional<Trial> tryStep(const Problem& p, const ErrorModel& em, const VecX&
 bool levenbergMarquardt(const Problem& p, const LmOptions& lm, Iterate& it) {
   double mu = lm.mu_start;
   for (int pass = 0; pass < lm.max_iterations; ++pass) {
+    pollInterrupt();
     ++it.iterations;
     if (p.rank == 0 || it.cost == 0.0) return true;
     const Eigen::JacobiSVD<MatX> svd = reducedSvd(p, it.em);
@@ -298,6 +300,7 @@ int reweight(Problem& p, const LmOptions& lm, Loss chosen, bool stated, Iterate&
     if (loss == Loss::Huber && chosen != Loss::Huber && reweightings > 0) continue;
     const RobustLoss robust = RobustLoss::of(loss);
     for (int pass = 0; pass < kMaxReweightings; ++pass) {
+      pollInterrupt();
       const std::vector<double> u = unweightedNormalized(p, it.em);
       const double scale = noiseUnit(u, stated, p);
       VecX next(count);

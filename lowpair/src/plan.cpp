@@ -8,6 +8,7 @@
 #include <random>
 
 #include "check.hpp"
+#include "lowpair/interrupt.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
@@ -117,6 +118,7 @@ class Search {
   int exchangePass() {
     int swaps = 0;
     for (size_t k = 0; k < set_.size(); ++k) {
+      pollInterrupt();  // one pose of the set against every candidate between polls
       const int i = set_[k];
       const Tall W_i = block(Wt_, i);
       Small I_minus_Sii = -W_i.transpose().lazyProduct(W_i);
@@ -218,7 +220,10 @@ PlanResult finish(const PlanCandidates& c, std::vector<int> set, const PlanValue
 template <int R>
 PlanResult runPlan(const PlanCandidates& c, std::vector<int> start, int N, const PlanOptions& options) {
   Search<R> search(c, std::move(start));
-  while (static_cast<int>(search.set().size()) < N) search.addBest();
+  while (static_cast<int>(search.set().size()) < N) {
+    pollInterrupt();
+    search.addBest();
+  }
   const PlanValue before = evaluatePlan(c, search.set());
   int swaps = 0, passes = 0;
   while (passes < options.max_exchange_passes) {

@@ -8,6 +8,8 @@
 // calls too; the files of python/src/ convert arrays and arguments and call it, one topic per file binding its
 // classes and functions (expose.hpp). This one makes the module, its error type and the translation of C++
 // exceptions into it.
+#include <atomic>
+#include <chrono>
 #include <exception>
 #include <new>
 #include <stdexcept>
@@ -16,10 +18,32 @@
 #include "common.hpp"
 #include "expose.hpp"
 #include "io/one_line.hpp"
+#include "lowpair/interrupt.hpp"
 #include "lowpair/version.hpp"
 
 using namespace lowpair;
 using namespace lowpair::python;
+
+namespace {
+
+// Ctrl-C during a long call (the GIL released): the library polls this between steps (lowpair/interrupt.hpp); at
+// most every 20 ms it takes the GIL and runs Python's signal handlers (they run in the main thread only). A
+// handler that raises (KeyboardInterrupt, or another exception of a handler the user installed) stops the call
+// (lowpair::Interrupted), and the translator raises KeyboardInterrupt when the call returns.
+bool pythonInterruptCheck() {
+  using Clock = std::chrono::steady_clock;
+  static std::atomic<Clock::rep> next{0};
+  const Clock::rep now = Clock::now().time_since_epoch().count();
+  if (now < next.load(std::memory_order_relaxed)) return false;
+  next.store(now + std::chrono::duration_cast<Clock::duration>(std::chrono::milliseconds(20)).count(),
+             std::memory_order_relaxed);
+  py::gil_scoped_acquire gil;
+  if (PyErr_CheckSignals() == 0) return false;
+  PyErr_Clear();  // raised again as KeyboardInterrupt by the translator, once the call has unwound
+  return true;
+}
+
+}  // namespace
 
 PYBIND11_MODULE(_lowpair, m) {
   m.doc() = "lowpair: serial-robot POE/D-H kinematics, Jacobians, singularities, identifiability and calibration "
@@ -37,6 +61,8 @@ PYBIND11_MODULE(_lowpair, m) {
       throw;
     } catch (const py::builtin_exception&) {
       throw;
+    } catch (const Interrupted&) {  // Ctrl-C (pythonInterruptCheck): nothing was returned
+      PyErr_SetNone(PyExc_KeyboardInterrupt);
     } catch (const UsageError& e) {  // "SUBJECT: message", as the CLI prints it
       PyErr_SetString(error.ptr(), io::oneLine(e.subject().empty() ? std::string(e.what()) : e.subject() + ": " + e.what()).c_str());
     } catch (const std::invalid_argument& e) {
@@ -52,6 +78,7 @@ PYBIND11_MODULE(_lowpair, m) {
     }
   });
 
+  setInterruptCheck(&pythonInterruptCheck);
   exposeRobot(m);
   exposeKinematics(m);
   exposeIdentifiability(m);
