@@ -1,5 +1,6 @@
 #include "mujoco/messages.hpp"
 
+#include <atomic>
 #include <mujoco/mujoco.h>
 
 #include <cstdio>
@@ -27,10 +28,24 @@ std::string mujocoLine(const char* text) {
 
 void setLoadingModel(const std::string& path) { g_loading = path; }
 
+namespace {
+std::atomic<NoteSink> g_note_sink{nullptr};
+}  // namespace
+
+NoteSink setNoteSink(NoteSink sink) { return g_note_sink.exchange(sink); }
+
+void emitNote(const std::string& text) {
+  if (const NoteSink sink = g_note_sink.load()) {
+    sink(text);
+  } else {
+    std::fprintf(stderr, "note: %s\n", text.c_str());
+  }
+}
+
 void installMujocoHandlers() {
   static std::once_flag once;
   std::call_once(once, [] {
-    mju_user_warning = [](const char* msg) { std::fprintf(stderr, "note: MuJoCo: %s\n", mujocoLine(msg).c_str()); };
+    mju_user_warning = [](const char* msg) { emitNote("MuJoCo: " + mujocoLine(msg)); };
     mju_user_error = [](const char* msg) {
       std::fprintf(stderr, "error: %s: MuJoCo: %s\n", g_loading.c_str(), mujocoLine(msg).c_str());
       std::fflush(stderr);

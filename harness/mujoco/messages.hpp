@@ -19,4 +19,12 @@ void installMujocoHandlers();
 /// The model this thread loads, named by the fatal-error handler (which gets no context from MuJoCo).
 void setLoadingModel(const std::string& path);
 
+/// Where the loader's notes go (MuJoCo's warnings, what a model copy dropped), one sentence each without
+/// "note: ": by default a "note: TEXT" line on stderr; the Python module collects them and issues warnings.
+using NoteSink = void (*)(const std::string& text);
+/// Installs `sink` for the whole process (nullptr: stderr); returns the previous one.
+NoteSink setNoteSink(NoteSink sink);
+/// Sends a note to the installed sink.
+void emitNote(const std::string& text);
+
 }  // namespace lowpair::mujoco

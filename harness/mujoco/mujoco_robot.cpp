@@ -434,7 +434,7 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
     fail(path, e.what());
   }
   // notes once the model is accepted: a rejected file gets its one error line
-  for (const std::string& n : notes) std::fprintf(stderr, "note: %s\n", n.c_str());
+  for (const std::string& n : notes) emitNote(n);
 }
 
 MujocoRobot::~MujocoRobot() = default;

@@ -14,6 +14,7 @@
 #include "commands/robot_source.hpp"
 #include "lowpair/registration.hpp"
 #include "lowpair/tolerances.hpp"
+#include "mujoco/messages.hpp"
 #include "mujoco/mujoco_robot.hpp"
 
 namespace lowpair::python {
@@ -30,6 +31,15 @@ py::array_t<double> rangesArray(const Robot& r) {
   }
   return out;
 }
+
+// The notes of the loader on this thread (mujoco::setNoteSink, installed by exposeRobot), issued by load as
+// warnings with the GIL held.
+std::vector<std::string>& pendingNotes() {
+  thread_local std::vector<std::string> notes;
+  return notes;
+}
+
+void collectNote(const std::string& text) { pendingNotes().push_back(text); }
 
 // Robot.transformed(T): the same robot seen from another frame (every twist Ad(T) xi, the tool T exp(xi_T)).
 RobotPtr transformedRobot(const Robot& r, const InArray& T) {
@@ -115,6 +125,7 @@ void exposeRobotFrames(py::class_<Robot, RobotPtr>& robot) {
 }  // namespace
 
 void exposeRobot(py::module_& m) {
+  mujoco::setNoteSink(&collectNote);
   py::class_<Robot, RobotPtr> robot(m, "Robot",
                               "An immutable serial robot (POE model, and the D-H model of a D-H robot file). Made by "
                               "lowpair.load or lowpair.calibrate; safe to use from several threads at once.");
@@ -234,10 +245,15 @@ void exposeRobot(py::module_& m) {
         if (!py::isinstance<py::str>(fs_path)) throw UsageError("path", "expected a text path (str), got bytes");
         const std::string path = fs_path.cast<std::string>();
         io::RobotFile file;
+        pendingNotes().clear();
         {
           py::gil_scoped_release release;
           file = commands::loadRobot({path, tip.value_or(""), base.value_or("")}, pythonSpelling());
         }
+        // the loader's notes (MuJoCo's warnings, what a model copy dropped) as UserWarnings, as the CLI's note: lines
+        std::vector<std::string> notes;
+        notes.swap(pendingNotes());
+        for (const std::string& note : notes) warnUser(note);
         return std::make_shared<Robot>(std::move(file));
       },
       py::arg("path"), py::arg("tip") = py::none(), py::arg("base") = py::none(),

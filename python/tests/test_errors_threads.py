@@ -173,3 +173,22 @@ def test_four_threads_give_the_sequential_results():
     for th in threads:
         th.join()
     assert not failures, failures[:5]
+
+
+def test_mjcf_loading_notes_are_python_warnings():
+    """The loader's notes (attributes newer than MuJoCo 2.2.2 dropped from a kinematics copy) are UserWarnings,
+    which warnings.catch_warnings sees (before: printed to the C-level stderr), four for this file as the CLI's
+    note: lines; a robot file gives none."""
+    import warnings
+    path = os.path.join(SOURCE, "tests/data/mjcf/newer_mujoco.xml")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = lowpair.load(path, tip="tool")
+    notes = [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
+    assert len(notes) == 4 and all(n.startswith(path + ": ") for n in notes), notes
+    assert any("dropped <option integrator='implicitfast'>" in n for n in notes)
+    assert robot.dof == 3
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        lowpair.load(os.path.join(SOURCE, "models/puma560_corke.yaml"))
+    assert not caught
