@@ -46,7 +46,7 @@ struct Simulation {
 // with the seeded noise and blunders of commands/sampling.hpp, so the same arguments give the CLI's numbers.
 Simulation simulate(const Robot& r, std::optional<int> poses, const std::optional<InArray>& q_arg, long long seed,
                     const std::string& measure_text, const std::optional<std::vector<std::string>>& targets,
-                    const std::optional<std::vector<double>>& frame, double noise_position, double noise_rotation,
+                    const std::optional<py::object>& frame, double noise_position, double noise_rotation,
                     const std::optional<std::tuple<double, double>>& blunders) {
   if (poses.has_value() == q_arg.has_value()) throw UsageError("poses", "give poses=N or q=(N, n) joint values, one of them");
   if (poses && (*poses < 1 || *poses > commands::kMaxSimulatedPoses)) {
@@ -64,16 +64,23 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   if (measure == Measure::Targets) {
     s.target_names = commands::robotFileTargets(r.file.targets, targets, r.subject(), pythonSpelling(), setup.targets);
   }
-  if (frame) {
-    if (frame->size() != 6) {
-      throw UsageError("frame", "expected 6 numbers rx, ry, rz, x, y, z (rotation vector in rad, translation), got " +
-                                    std::to_string(frame->size()));
+  if (frame) {  // the frame's pose in the base: 6 numbers (the CLI's --frame) or a (4, 4) rigid motion
+    const InArray f = InArray::ensure(*frame);
+    if (!f) throw UsageError("frame", "expected 6 numbers or a (4, 4) rigid motion");
+    if (f.ndim() == 2) {
+      setup.T_frame_base = rigidMotionArgument(f, "frame").inverse();
+    } else {
+      if (f.ndim() != 1 || f.shape(0) != 6) {
+        throw UsageError("frame", "expected 6 numbers rx, ry, rz, x, y, z (rotation vector in rad, translation) or a "
+                                  "(4, 4) rigid motion, got shape " + shapeText(f));
+      }
+      for (py::ssize_t k = 0; k < 6; ++k) {
+        if (!(std::abs(f.at(k)) <= kMaxMagnitude)) {
+          throw UsageError("frame", "'" + io::shortest(f.at(k)) + "' is not finite or above 1e100");
+        }
+      }
+      setup.T_frame_base = commands::measurementFrame(Vec3(f.at(0), f.at(1), f.at(2)), Vec3(f.at(3), f.at(4), f.at(5))).inverse();
     }
-    for (const double x : *frame) {
-      if (!(std::abs(x) <= kMaxMagnitude)) throw UsageError("frame", "'" + io::shortest(x) + "' is not finite or above 1e100");
-    }
-    const auto& f = *frame;
-    setup.T_frame_base = commands::measurementFrame(Vec3(f[0], f[1], f[2]), Vec3(f[3], f[4], f[5])).inverse();
   }
   setup.sd_position = noise_position;
   setup.sd_rotation = noise_rotation;
@@ -277,7 +284,8 @@ void exposeFiles(py::module_& m) {
         "kinematics at `poses` random joint vectors (sample k of the stream `seed`, uniform in the joint ranges)\n"
         "or at the rows of q (N, n); measure 'pose', 'position' or 'targets' (the robot file's targets, all or\n"
         "the names in `targets`, one row per target per pose); frame: (rx, ry, rz, x, y, z), the measurement\n"
-        "frame's pose in the base (rotation vector rad, translation length_unit); noise_position (length_unit)\n"
+        "frame's pose in the base (rotation vector rad, translation length_unit), or that pose as a (4, 4) rigid\n"
+        "motion T_base_frame; noise_position (length_unit)\n"
         "and noise_rotation (rad): Gaussian noise per coordinate / axis; blunders: (count, size), rows moved by\n"
         "`size` in random directions. Same arguments, same numbers as the CLI on the robot file. (A model file's\n"
         "MuJoCo ground truth with --joint-variables is the CLI's only.)");

@@ -42,20 +42,29 @@ std::vector<std::string>& pendingNotes() {
 void collectNote(const std::string& text) { pendingNotes().push_back(text); }
 
 // Robot.transformed(T): the same robot seen from another frame (every twist Ad(T) xi, the tool T exp(xi_T)).
-RobotPtr transformedRobot(const Robot& r, const InArray& T) {
+}  // namespace
+
+Pose rigidMotionArgument(const InArray& T, const std::string& subject) {
   if (T.ndim() != 2 || T.shape(0) != 4 || T.shape(1) != 4) {
-    throw UsageError("T", "expected a (4, 4) array, got " + shapeText(T));
+    throw UsageError(subject, "expected a (4, 4) array, got " + shapeText(T));
   }
   Mat4 M;
   for (int i = 0; i < 4; ++i) {
     for (int k = 0; k < 4; ++k) M(i, k) = T.at(i, k);
   }
-  requireFinite(M.data(), 16, 16, "T", "entry");
+  requireFinite(M.data(), 16, 16, subject, "entry");
   const Pose P = Pose::fromMatrix(M);
   if (M.row(3) != Eigen::RowVector4d(0, 0, 0, 1) ||
       !((P.R.transpose() * P.R - Mat3::Identity()).norm() <= kRotationOrthonormal) || P.R.determinant() <= 0) {
-    throw UsageError("T", "expected a rigid motion [R p; 0 0 0 1] with R a rotation");
+    throw UsageError(subject, "expected a rigid motion [R p; 0 0 0 1] with R a rotation");
   }
+  return P;
+}
+
+namespace {
+
+RobotPtr transformedRobot(const Robot& r, const InArray& T) {
+  const Pose P = rigidMotionArgument(T, "T");
   io::RobotFile f = r.file;
   f.dh.reset();
   f.path.clear();

@@ -50,6 +50,10 @@ struct Robot {
 };
 using RobotPtr = std::shared_ptr<Robot>;  // immutable by convention: no method changes it
 
+/// A (4, 4) rigid motion [R p; 0 0 0 1] argument (R a rotation to kRotationOrthonormal), or lowpair.Error naming
+/// `subject`.
+Pose rigidMotionArgument(const InArray& T, const std::string& subject);
+
 // The model fk(model=...) evaluates: 'poe' or 'dh' (None: the file's own).
 inline std::string kindOf(const Robot& r, const std::optional<std::string>& model) {
   const std::string kind = model.value_or("file");

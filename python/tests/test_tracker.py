@@ -448,3 +448,20 @@ def test_identification_work_limit_is_the_clis():
     # known targets count too: three known ones give the tool's 6 columns (30 + 6 + 6 with free pitch)
     known = nominal.with_targets(SMRS, known=True)
     assert lowpair.identifiability(known, measure="targets", poses=20, free_pitch=True).expected == 42
+
+
+def test_simulate_frame_as_a_4x4_rigid_motion_equals_the_6_numbers(tracker_robot):
+    """frame=T (4, 4), the measurement frame's pose in the base, measures what frame=(rx, ry, rz, x, y, z) of the
+    same pose measures (here a turn about z: exp of the rotation vector and cos/sin round apart by a few eps
+    of the positions' size, 4 m)."""
+    theta, t = 1.1, [3000.0, -800.0, 400.0]
+    c, s = np.cos(theta), np.sin(theta)
+    T = np.array([[c, -s, 0, t[0]], [s, c, 0, t[1]], [0, 0, 1, t[2]], [0, 0, 0, 1]])
+    robot = lowpair.load(tracker_robot)
+    a = lowpair.simulate(robot, poses=20, seed=3, frame=T)
+    b = lowpair.simulate(robot, poses=20, seed=3, frame=[0, 0, theta] + t)
+    assert np.abs(a.positions - b.positions).max() <= 64 * np.finfo(float).eps * 4000.0
+    for bad, message in [(np.eye(3), "expected a (4, 4) array"), (np.diag([1.0, 1, 2, 1]), "rigid motion"),
+                         ([1.0, 2.0], "expected 6 numbers")]:
+        with pytest.raises(lowpair.Error, match=re.escape(message)):
+            lowpair.simulate(robot, poses=2, frame=bad)
