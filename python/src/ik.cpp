@@ -56,15 +56,24 @@ std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>
     }
   } else if (targets.ndim() == 2 && targets.shape(1) == 3) {
     pose = rotations.has_value();
-    if (rotations && (rotations->ndim() != 2 || rotations->shape(0) != targets.shape(0) || rotations->shape(1) != 4)) {
-      throw UsageError("rotations", "expected shape (" + std::to_string(targets.shape(0)) +
-                                        ", 4) (unit quaternions qw, qx, qy, qz), got shape " + shapeText(*rotations));
+    const py::ssize_t N = targets.shape(0);
+    // rotations: (N, 4) unit quaternions qw..qz, or (N, 3, 3) rotation matrices
+    const bool matrices = rotations && rotations->ndim() == 3 && rotations->shape(0) == N &&
+                          rotations->shape(1) == 3 && rotations->shape(2) == 3;
+    if (rotations && !matrices && (rotations->ndim() != 2 || rotations->shape(0) != N || rotations->shape(1) != 4)) {
+      throw UsageError("rotations", "expected shape (" + std::to_string(N) + ", 4) (unit quaternions qw, qx, qy, qz) or (" +
+                                        std::to_string(N) + ", 3, 3) (rotation matrices), got shape " + shapeText(*rotations));
     }
     auto t = targets.unchecked<2>();
     for (py::ssize_t k = 0; k < t.shape(0); ++k) {
       Pose T;
       T.p = Vec3(t(k, 0), t(k, 1), t(k, 2));
-      if (rotations) {
+      if (matrices) {  // checked as a rotation by the solver (kRotationOrthonormal), as a transform's is
+        auto m = rotations->unchecked<3>();
+        for (int a = 0; a < 3; ++a) {
+          for (int c = 0; c < 3; ++c) T.R(a, c) = m(k, a, c);
+        }
+      } else if (rotations) {
         auto w = rotations->unchecked<2>();
         T.R = quaternionRotation(w(k, 0), w(k, 1), w(k, 2), w(k, 3), "rotations", k);
       }
@@ -108,8 +117,33 @@ std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, s
 
 // `lowpair ik`: one problem per target, from q0 (the CSV's q columns) or from up to `seeds` random seeds (sample
 // k * seeds + s of the stream `seed`, the sampling convention), the first ok kept, else the best attempt.
-IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<InArray>& rotations,
+// A rotation given in single precision (float32 arrays: rounding of about 6e-8 in |R^T R - I|, above the solver's
+// double-precision rule) taken as the nearest rotation (polar factor U V^T) when it is one to float32 rounding:
+// 64 float32 epsilons, 7.6e-6; beyond, it is left to the solver's refusal.
+void roundFromSinglePrecision(std::vector<Pose>& poses) {
+  constexpr double kSingleRounding = 64.0 * 1.1920928955078125e-07;
+  for (Pose& T : poses) {
+    if (!((T.R.transpose() * T.R - Mat3::Identity()).norm() <= kSingleRounding) || !(T.R.determinant() > 0.0)) continue;
+    const Eigen::JacobiSVD<Mat3> svd(T.R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    T.R = svd.matrixU() * svd.matrixV().transpose();
+  }
+}
+
+bool singlePrecision(const py::object& a) {
+  if (!py::isinstance<py::array>(a)) return false;
+  const auto array = py::reinterpret_borrow<py::array>(a);
+  return array.dtype().kind() == 'f' && array.itemsize() < 8;
+}
+
+IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optional<py::object>& rotations_obj,
                const std::optional<InArray>& q0, int seeds, long long seed) {
+  const InArray targets_arg = InArray::ensure(targets_obj);
+  if (!targets_arg) throw UsageError("targets", "expected an array of numbers");
+  std::optional<InArray> rotations;
+  if (rotations_obj) {
+    rotations = InArray::ensure(*rotations_obj);
+    if (!*rotations) throw UsageError("rotations", "expected an array of numbers");
+  }
   if (seeds < 1 || seeds > commands::kMaxIkSeeds) {
     throw UsageError("seeds", "must be in [1, " + std::to_string(commands::kMaxIkSeeds) + "], got " +
                                   std::to_string(seeds));
@@ -117,7 +151,8 @@ IkSolutions ik(const Robot& r, const InArray& targets_arg, const std::optional<I
   checkSeed(seed);
   checkRowCount(targets_arg, "targets");
   bool pose = false;
-  const std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
+  std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
+  if (singlePrecision(targets_obj) || (rotations_obj && singlePrecision(*rotations_obj))) roundFromSinglePrecision(targets);
   const std::optional<MatX> given = seedRows(r, q0, targets.size());
   const PoeModel& model = r.poe;
   IkOptions options;

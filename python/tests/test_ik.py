@@ -1,6 +1,7 @@
 """lowpair.ik and lowpair.compensate against `lowpair ik --json` / `lowpair compensate --json`, the stated tolerance
 (docs/ik.md: 1e-10 L and 1e-10 rad) and the compensation's purpose."""
 import json
+import re
 
 import numpy as np
 import pytest
@@ -172,3 +173,22 @@ def test_ik_and_compensate_errors():
         with pytest.raises(lowpair.Error, match=message):
             call()
             pytest.fail(f"no lowpair.Error matching {message!r}")
+
+
+def test_ik_takes_float32_transforms_and_rotation_matrices():
+    """float32 (N, 4, 4) transforms (rotation rounding ~6e-8, above the double-precision rule) are taken as the
+    nearest rotation, and (N, 3, 3) rotation matrices with (N, 3) positions are the same task as the transforms;
+    before, the first was refused as 'not a rotation' and the second as a shape error."""
+    robot = lowpair.load("models/puma560_corke.yaml")
+    q = np.array([[0.1, -0.5, 0.3, 0.2, 0.4, -0.1], [0.3, -0.2, 0.1, -0.4, 0.6, 0.2]])
+    T = robot.fk(q)
+    T32 = T.astype(np.float32)
+    got = lowpair.ik(robot, T32, q0=q)
+    assert got.ok.all()
+    # the solution reaches the float32 target to the float32 rounding of its entries (positions ~1 m: 1e-7 m)
+    reached = robot.fk(got.q)
+    assert np.abs(reached[:, :3, 3] - T32[:, :3, 3].astype(float)).max() <= 64 * np.finfo(np.float32).eps
+    by_matrices = lowpair.ik(robot, T[:, :3, 3], rotations=T[:, :3, :3], q0=q)
+    assert np.array_equal(by_matrices.q, lowpair.ik(robot, T, q0=q).q)
+    with pytest.raises(lowpair.Error, match=re.escape("(2, 3, 3) (rotation matrices)")):
+        lowpair.ik(robot, T[:, :3, 3], rotations=np.zeros((2, 3)))
