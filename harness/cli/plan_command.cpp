@@ -148,7 +148,8 @@ void printPlan(std::ostream& out, const PlanReport& r, const std::string& out_pa
   }
   if (!out_path.empty()) out << r.q.size() << " joint vectors written to " << out_path << "\n";
   out << "time: plan " << fixed(r.seconds_plan, 3) << " s (" << p.swaps << " exchange(s) in " << p.passes
-      << " pass(es)), random sets " << fixed(r.seconds_random, 3) << " s, standard deviations "
+      << " pass(es)" << (p.work_limit ? ", ended at the work limit: PlanOptions::max_exchange_work, docs/plan.md" : "")
+      << "), random sets " << fixed(r.seconds_random, 3) << " s, standard deviations "
       << fixed(r.seconds_uncertainty, 3) << " s\n";
 }
 

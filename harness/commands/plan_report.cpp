@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "io/output.hpp"
 #include "lowpair/tolerances.hpp"
@@ -12,6 +13,17 @@
 #include "commands/sampling.hpp"
 
 namespace lowpair::commands {
+
+namespace {
+
+std::string scientific(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+}  // namespace
+
 
 using nlohmann::json;
 
@@ -83,6 +95,17 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
                          io::shortest(kMaxIdentificationWork) + " for the SVD of them stacked, rows columns^2 + 5 "
                          "columns^3; here " + io::shortest(stacked.work()) + "): fewer candidates" +
                          (options.targets.size() > 1 ? " or targets" : ""));
+  }
+  // the greedy steps alone (PlanOptions::max_exchange_work, rank <= columns): each pose added after a trial
+  // against every candidate (rows x (rank + rows)) and every candidate's factor updated (rows x rank^2); the
+  // exchange passes stop at the same budget
+  const double greedy = static_cast<double>(request.poses) * request.candidates * rows * (columns + rows + columns * columns);
+  if (greedy > options.max_exchange_work) {
+    throw UsageError(spelling.name("candidates"),
+                     std::to_string(request.poses) + " poses from " + std::to_string(request.candidates) +
+                         " candidates exceed the plan's work limit (" + io::shortest(options.max_exchange_work) +
+                         " operations, about a minute; the greedy choice alone takes " + scientific(greedy) +
+                         "): fewer candidates or poses");
   }
 
   options.validate();
@@ -178,6 +201,7 @@ json planJson(const PlanReport& r, const std::string& out_path) {
   o["greedy"] = value(p.start);
   o["swaps"] = p.swaps;
   o["passes"] = p.passes;
+  o["exchange_work_limit"] = p.work_limit;
   o["random"] = {{"sets", kPlanRandomSets},
                  {"log_det", spreadJson(r.random_log_det)},
                  {"O1", spreadJson(r.random_o1)},

@@ -219,6 +219,12 @@ PlanResult finish(const PlanCandidates& c, std::vector<int> set, const PlanValue
 
 template <int R>
 PlanResult runPlan(const PlanCandidates& c, std::vector<int> start, int N, const PlanOptions& options) {
+  // the search's work (PlanOptions::max_exchange_work): a trial of a pose against a candidate costs about
+  // rows x (rank + rows) operations, a pose added or swapped in candidates x rows x rank^2 (every candidate's
+  // factor updated)
+  const double M = c.count(), rows = c.rows_per_pose, rank = c.rank;
+  const double trial = rows * (rank + rows), update = M * rows * rank * rank;
+  double work = static_cast<double>(N - static_cast<int>(start.size())) * (M * trial + update);
   Search<R> search(c, std::move(start));
   while (static_cast<int>(search.set().size()) < N) {
     pollInterrupt();
@@ -226,13 +232,22 @@ PlanResult runPlan(const PlanCandidates& c, std::vector<int> start, int N, const
   }
   const PlanValue before = evaluatePlan(c, search.set());
   int swaps = 0, passes = 0;
+  const double pass_trials = static_cast<double>(N) * M * trial;
+  bool work_limit = false;
   while (passes < options.max_exchange_passes) {
+    if (work + pass_trials > options.max_exchange_work) {  // the greedy steps and the passes so far count
+      work_limit = true;
+      break;
+    }
     ++passes;
     const int made = search.exchangePass();
+    work += pass_trials + made * update;
     swaps += made;
     if (made == 0) break;
   }
-  return finish(c, search.set(), before, swaps, passes, options.criterion);
+  PlanResult out = finish(c, search.set(), before, swaps, passes, options.criterion);
+  out.work_limit = work_limit;
+  return out;
 }
 
 PlanResult dispatch(const PlanCandidates& c, std::vector<int> start, int N, const PlanOptions& options) {
@@ -261,6 +276,7 @@ void PlanOptions::validate() const {
     LP_CHECK(t.point_tool->allFinite(), "a target's point is not finite");
   }
   LP_CHECK(max_exchange_passes >= 0, "max_exchange_passes must be >= 0, got " << max_exchange_passes);
+  LP_CHECK(max_exchange_work > 0.0, "max_exchange_work must be positive, got " << max_exchange_work);
 }
 
 const char* planCriterionName(PlanCriterion criterion) { return criterion == PlanCriterion::D ? "D" : "O1"; }

@@ -70,6 +70,11 @@ TEST(WorkLimits, CrossValidationBeyondItsWorkIsRefusedNamingRepeats) {
                 "exceed the cross-validation work limit");
 }
 
+// plan --poses 1000 from 46,296 candidates (before: 288 s; the greedy steps alone 153 s): --candidates is named
+TEST(WorkLimits, PlanBeyondItsSearchWorkIsRefusedNamingCandidates) {
+  expectRefusal("plan " + kNominal + " --poses 1000 --candidates 46296", "--candidates", "exceed the plan's work limit");
+}
+
 // plan of 1000 targets: the stacked candidates' SVD is over whatever --candidates says: the robot file is named
 TEST(WorkLimits, PlanOfManyTargetsIsRefusedBeforeTheWork) {
   const std::string many = nominalWithTargets(1000);

@@ -454,3 +454,28 @@ TEST(PlanInput, BadArgumentsThrow) {
   }
   for (int i = 0; i < 20; ++i) EXPECT_NEAR(count[static_cast<size_t>(i)], 1000, 6 * 27.4) << "index " << i;
 }
+
+// The work budget (PlanOptions::max_exchange_work): a budget below one exchange pass stops the search at the
+// greedy set, and says so; the default budget leaves a small plan's search untouched (it ends by itself).
+TEST(PlanExchange, WorkBudgetEndsTheSearchAndSaysSo) {
+  const std::vector<RobotCase> all = robots();
+  const RobotCase& robot = all.front();
+  std::mt19937_64 rng(23);
+  const std::vector<VecX> q = sampleInRanges(robot.model, 600, rng);
+  PlanOptions options;
+  const PlanCandidates c = planCandidates(robot.model, q, options);
+  const PlanResult free = planPoses(c, 20, options);
+  EXPECT_FALSE(free.work_limit);
+  EXPECT_GT(free.passes, 0);
+  // the greedy steps of 20 poses cost 20 x (600 x trial + update); one pass 20 x 600 x trial more: a budget
+  // of the greedy work alone allows no pass
+  const double rows = c.rows_per_pose, rank = c.rank;
+  options.max_exchange_work = 20.0 * (600.0 * rows * (rank + rows) + 600.0 * rows * rank * rank);
+  const PlanResult stopped = planPoses(c, 20, options);
+  EXPECT_TRUE(stopped.work_limit);
+  EXPECT_EQ(stopped.passes, 0);
+  EXPECT_EQ(stopped.value.log_det, stopped.start.log_det);  // the greedy set, as it was
+  EXPECT_EQ(stopped.start.log_det, free.start.log_det);
+  options.max_exchange_work = 0.0;
+  EXPECT_THROW(options.validate(), std::invalid_argument);
+}
