@@ -43,8 +43,13 @@ Pose frameOf(const RobotFile& file, const std::string& frame) {
 // agrees with it only to rounding: 2 eps in R, 9 eps L in p measured, docs/ik.md.)
 int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::string& kind, const FkFileOptions& o,
                bool as_json, const Pose& T_frame_base) {
-  const JointTable table = readJointTable(o.q_file, TableKind::Joints, file.dof(), robot_path, csvJointNames(file));
+  JointTable table = readJointTable(o.q_file, TableKind::Joints, file.dof(), robot_path, csvJointNames(file));
   for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
+  // prismatic joint values in the robot's unit (revolute and helical q are rad)
+  if (const std::string note = convertTableUnit(table, file.length_unit, robot_path, prismaticJoints(file.poeModel()));
+      !note.empty()) {
+    std::cerr << "note: " << note << "\n";
+  }
   const std::vector<long long>& lines = table.lines;
   const MatX Q = table.matrix();
   const Measure measure = commands::parseMeasure(o.measure, cliSpelling());
