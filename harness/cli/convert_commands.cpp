@@ -50,6 +50,7 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
       !note.empty()) {
     std::cerr << "note: " << note << "\n";
   }
+  checkJointRows(table, file.poeModel());
   const std::vector<long long>& lines = table.lines;
   const MatX Q = table.matrix();
   const Measure measure = commands::parseMeasure(o.measure, cliSpelling());
@@ -209,7 +210,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     const std::string kind = o->model_kind == "file" ? (file.poe ? "poe" : "dh") : o->model_kind;
     const Pose T_frame_base = frameOf(file, o->frame);
     if (q_file_option->count() > 0) return fkFromFile(file, o->robot.path, kind, *fk_file, o->as_json, T_frame_base);
-    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
+    const VecX q = parseJointVector(o->q_text, file, o->robot.path);
     const bool measurement = o->frame == "measurement";
     const Pose T = T_frame_base * (kind == "poe" ? poeForwardKinematics(file.poeModel(), q)
                                                  : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q));

@@ -177,6 +177,7 @@ int runIk(const IkCommandOptions& o) {
   if (const std::string note = convertTableUnit(table, file.length_unit, file.path, prismaticJoints(model)); !note.empty()) {
     notes.push_back(note);
   }
+  checkJointRows(table, model);  // the seeds
   IkOptions options;
   options.measure = table.pose ? Measure::Pose : Measure::Position;
   options.validate("inverseKinematics");
@@ -271,6 +272,7 @@ int runCompensate(const CompensateOptions& o) {
       !note.empty()) {
     std::cerr << "note: " << note << "\n";
   }
+  checkJointRows(table, nominal);
   IkOptions options;
   options.measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
   options.validate("compensate");
