@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "lowpair/types.hpp"
+#include "io/joint_table.hpp"
 #include "io/output.hpp"
 #include "io/robot_file.hpp"
 #include "commands/arguments.hpp"
@@ -40,6 +41,12 @@ inline commands::ArgumentSpelling cliSpelling() {
 
 /// Parses "Q1,Q2,..." into `dof` finite numbers. @throws UsageError (subject: `subject`)
 VecX parseJointVector(const std::string& text, int dof, const std::string& subject);
+/// Parses "Q1,Q2,..." into the robot's joint values, each within its joint's limits (commands::jointValueProblem:
+/// the pose at q is finite). @throws UsageError (subject: `subject`, "--q: q3: ...")
+VecX parseJointVector(const std::string& text, const io::RobotFile& robot, const std::string& subject);
+/// Refuses the first row of `table` whose joint values leave a joint's limits (commands::jointValueProblem).
+/// @throws io::RobotFileError "FILE:LINE: q3: ..."
+void checkJointRows(const io::JointTable& table, const PoeModel& model);
 
 /// Where a subcommand's robot comes from, read by loadRobot(source, cliSpelling()) (commands/robot_source.hpp,
 /// the Python module's lowpair.load too).

@@ -43,8 +43,14 @@ Pose frameOf(const RobotFile& file, const std::string& frame) {
 // agrees with it only to rounding: 2 eps in R, 9 eps L in p measured, docs/ik.md.)
 int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::string& kind, const FkFileOptions& o,
                bool as_json, const Pose& T_frame_base) {
-  const JointTable table = readJointTable(o.q_file, TableKind::Joints, file.dof(), robot_path, csvJointNames(file));
+  JointTable table = readJointTable(o.q_file, TableKind::Joints, file.dof(), robot_path, csvJointNames(file));
   for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
+  // prismatic joint values in the robot's unit (revolute and helical q are rad)
+  if (const std::string note = convertTableUnit(table, file.length_unit, robot_path, prismaticJoints(file.poeModel()));
+      !note.empty()) {
+    std::cerr << "note: " << note << "\n";
+  }
+  checkJointRows(table, file.poeModel());
   const std::vector<long long>& lines = table.lines;
   const MatX Q = table.matrix();
   const Measure measure = commands::parseMeasure(o.measure, cliSpelling());
@@ -204,7 +210,7 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     const std::string kind = o->model_kind == "file" ? (file.poe ? "poe" : "dh") : o->model_kind;
     const Pose T_frame_base = frameOf(file, o->frame);
     if (q_file_option->count() > 0) return fkFromFile(file, o->robot.path, kind, *fk_file, o->as_json, T_frame_base);
-    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
+    const VecX q = parseJointVector(o->q_text, file, o->robot.path);
     const bool measurement = o->frame == "measurement";
     const Pose T = T_frame_base * (kind == "poe" ? poeForwardKinematics(file.poeModel(), q)
                                                  : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q));

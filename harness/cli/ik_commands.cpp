@@ -159,20 +159,6 @@ int emit(const std::string& out_path, bool as_json, const std::function<std::str
   return s.all_ok() ? 0 : 1;
 }
 
-// A known unit other than the robot's: the factor to the robot's; throws for units lowpair does not convert.
-double unitFactor(const JointTable& table, const RobotFile& file, std::vector<std::string>& notes) {
-  if (table.length_unit.empty() || file.length_unit.empty() || table.length_unit == file.length_unit) return 1.0;
-  const auto from = metresPerUnit(table.length_unit), to = metresPerUnit(file.length_unit);
-  if (!from || !to) {
-    throw RobotFileError(table.path + ": lengths in " + table.length_unit + " (its length_unit comment) but " + file.path +
-                         " is in " + file.length_unit + ", and lowpair converts only m, mm, cm, dm, um, km, in, ft");
-  }
-  const double factor = *from / *to;
-  notes.push_back(table.path + ": lengths converted from " + table.length_unit + " (its length_unit comment) to " +
-                  file.length_unit + " (the robot's), x " + shortest(factor));
-  return factor;
-}
-
 // ---- ik ----------------------------------------------------------------------------------------------------------------
 
 struct IkCommandOptions {
@@ -189,13 +175,11 @@ int runIk(const IkCommandOptions& o) {
   const int n = model.dof();
   JointTable table = readJointTable(o.poses, TableKind::Targets, n, o.robot.path, csvJointNames(file));
   std::vector<std::string> notes = table.notes;  // the columns ignored, then a unit conversion
-  const double factor = unitFactor(table, file, notes);
-  for (Pose& T : table.targets) {
-    T.p *= factor;
-    if (!(T.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
-      throw RobotFileError(table.path + ": a position is above 1e100 in " + file.length_unit + " after the unit conversion");
-    }
+  // positions, and the seeds' prismatic joint values, in the robot's unit
+  if (const std::string note = convertTableUnit(table, file.length_unit, file.path, prismaticJoints(model)); !note.empty()) {
+    notes.push_back(note);
   }
+  checkJointRows(table, model);  // the seeds
   IkOptions options;
   options.measure = table.pose ? Measure::Pose : Measure::Position;
   options.validate("inverseKinematics");
@@ -285,8 +269,14 @@ int runCompensate(const CompensateOptions& o) {
                                             ": compensation needs one unit");
   }
   const int n = calibrated.dof();
-  const JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path, csvJointNames(calibrated_file));
+  JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path, csvJointNames(calibrated_file));
   for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
+  // prismatic joint values in the robots' unit (one unit: checked above)
+  if (const std::string note = convertTableUnit(table, nominal_file.length_unit, o.nominal, prismaticJoints(nominal));
+      !note.empty()) {
+    std::cerr << "note: " << note << "\n";
+  }
+  checkJointRows(table, nominal);
   IkOptions options;
   options.measure = o.measure == "pose" ? Measure::Pose : Measure::Position;
   options.validate("compensate");

@@ -84,7 +84,7 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
   jac->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(jac, [o] {
     const RobotFile file = loadRobot(o->robot, cliSpelling());
-    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
+    const VecX q = parseJointVector(o->q_text, file, o->robot.path);
     const PoeModel model = file.poeModel();
     Data data(model);
     Mat6X J(6, model.dof());
@@ -128,7 +128,7 @@ void addJacobianCommands(CLI::App& app, Commands& commands) {
   sing->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(sing, [o] {
     const RobotFile file = loadRobot(o->robot, cliSpelling());
-    const VecX q = parseJointVector(o->q_text, file.dof(), o->robot.path);
+    const VecX q = parseJointVector(o->q_text, file, o->robot.path);
     SingularityOptions options;
     options.max_null_vectors = kPrintedNullVectors;
     options.validate();

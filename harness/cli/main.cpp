@@ -15,7 +15,9 @@
 #include <lowpair/version.hpp>
 
 #include "cli/commands.hpp"
+#include "io/joint_table.hpp"
 #include "io/one_line.hpp"
+#include "commands/sampling.hpp"
 #include "lowpair/interrupt.hpp"
 
 namespace lowpair::cli {
@@ -41,6 +43,25 @@ VecX parseJointVector(const std::string& text, int dof, const std::string& subje
                                   std::to_string(values.size()));
   }
   return Eigen::Map<VecX>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+VecX parseJointVector(const std::string& text, const RobotFile& robot, const std::string& subject) {
+  const VecX q = parseJointVector(text, robot.dof(), subject);
+  const PoeModel model = robot.poeModel();
+  if (const int i = firstJointBeyondLimits(model, q); i >= 0) {
+    throw UsageError(subject, "--q: q" + std::to_string(i + 1) + ": " + commands::jointValueProblem(model, i, q[i]));
+  }
+  return q;
+}
+
+void checkJointRows(const JointTable& table, const PoeModel& model) {
+  if (table.dof != model.dof()) return;  // (a target table without seeds)
+  for (size_t k = 0; k < table.rows(); ++k) {
+    if (const int i = firstJointBeyondLimits(model, table.row(k)); i >= 0) {
+      throw RobotFileError(table.path + ":" + std::to_string(table.lines[k]) + ": q" + std::to_string(i + 1) + ": " +
+                           commands::jointValueProblem(model, i, table.row(k)[i]));
+    }
+  }
 }
 
 void addRobotArgument(CLI::App& sub, RobotSource& source) {

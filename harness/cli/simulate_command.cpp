@@ -63,6 +63,7 @@ struct Truth {
   std::string length_unit;  // "" when unknown
   bool model_file = false;
   std::vector<std::string> joint_names;               // the names a --q-file header may use (csv_columns.hpp)
+  std::vector<bool> prismatic;                        // per joint: q is a length (a --q-file's unit converts it)
   std::vector<Target> file_targets;                    // a robot file's `targets:` (the default of --targets)
   std::function<Vec3(const std::string&)> sitePoint;  // a model file: a site's point in the tip frame
 };
@@ -83,6 +84,7 @@ Truth robotFileTruth(const SimulateOptions& o) {
   truth.length_unit = file.length_unit;
   truth.file_targets = file.targets;
   for (const Joint& j : model->joints()) truth.joint_names.push_back(j.name);
+  truth.prismatic = prismaticJoints(*model);
   return truth;
 }
 
@@ -100,6 +102,12 @@ Truth modelTruth(const SimulateOptions& o) {
   truth.length_unit = sampled.length_unit;
   truth.ranges = sampled.ranges;
   for (const mujoco::MujocoJoint& j : robot->joints()) truth.joint_names.push_back(j.name);
+  // q is the joint-variable file's (its joint types), else MuJoCo's qpos - qpos0 (a slide's is a length)
+  if (sampled.file_model) {
+    truth.prismatic = prismaticJoints(*sampled.file_model);
+  } else {
+    for (const mujoco::MujocoJoint& j : robot->joints()) truth.prismatic.push_back(j.type == JointType::Prismatic);
+  }
   std::vector<JointMotion> variables = std::move(sampled.motions);
   auto evaluator = std::make_shared<MujocoRobot::Evaluator>(*robot);
   truth.tipPose = [robot, evaluator, variables, x = VecX(n)](const VecX& q) mutable {
@@ -295,10 +303,14 @@ int simulate(const SimulateOptions& given) {
   setup.sd_rotation = o.noise_rotation;
   // --q-file: the joint vectors given, rows of the q1..qn columns (the reader's rules: io/measurements.hpp)
   const auto joints = static_cast<Eigen::Index>(truth.ranges.size());
-  const JointTable q_table = o.q_file.empty() ? JointTable()
-                                              : readJointTable(o.q_file, TableKind::Joints, static_cast<int>(joints),
-                                                               o.robot.path, csvJointNames(truth.joint_names));
+  JointTable q_table = o.q_file.empty() ? JointTable()
+                                        : readJointTable(o.q_file, TableKind::Joints, static_cast<int>(joints), o.robot.path,
+                                                         csvJointNames(truth.joint_names));
   for (const std::string& note : q_table.notes) std::cerr << "note: " << note << "\n";
+  // prismatic joint values in the measured unit (revolute and helical q are rad)
+  if (const std::string note = convertTableUnit(q_table, truth.length_unit, o.robot.path, truth.prismatic); !note.empty()) {
+    std::cerr << "note: " << note << "\n";
+  }
   const std::vector<long long>& q_lines = q_table.lines;
   const MatX Q = q_table.matrix();
   if (!o.q_file.empty()) o.poses = static_cast<int>(Q.rows());

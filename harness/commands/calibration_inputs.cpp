@@ -81,6 +81,7 @@ CalibrationMeasurements readCalibrationMeasurements(const std::string& path, con
     for (Measurement& x : m.measurements) x.T_base_tool.p *= factor;
     out.notes.push_back(m.path + ": lengths converted from " + m.length_unit + " (its length_unit comment) to " +
                         robot.length_unit + " (the nominal's), x " + io::shortest(factor));
+    m.converted_from = m.length_unit;
     m.length_unit = robot.length_unit;
   }
   return out;

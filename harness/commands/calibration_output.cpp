@@ -137,7 +137,7 @@ CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, 
                                         CalibrationResult result, DhUncertainty dh, double seconds,
                                         std::optional<CalibratedBaseFrame> base_frame) {
   CalibrationReport r{std::move(nominal), std::move(fit), std::move(validation), std::move(result), std::move(dh),
-                      seconds, std::nullopt, std::nullopt, {}, {}, std::nullopt, {}, {}, std::move(base_frame)};
+                      seconds, std::nullopt, false, std::nullopt, {}, {}, std::nullopt, {}, {}, std::move(base_frame)};
   const CalibrationResult& c = r.result;
   r.registered_nominal = movedModel(r.nominal.poeModel(), c.registration.T_meas_base);
   r.target_names = r.fit.target_names;
@@ -164,6 +164,22 @@ CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, 
     v.inside_after = residualStatistics(c.model, inside, measure, c.targets);
     v.outside_after = residualStatistics(c.model, outside, measure, c.targets);
     r.validation_residuals = v;
+    // a validation set that contradicts the fit by orders of magnitude (kMaxValidationRatio): not accepted
+    const double fit_rms = c.after.rms_position, val_rms = v.after.rms_position;
+    const double L = c.model.lengthScale();
+    if (c.accepted && val_rms > kMaxValidationRatio * fit_rms && val_rms > kMaxValidationRelativeRms * L) {
+      const std::string u = lengthUnit(r.nominal);
+      std::ostringstream why;
+      why << "the validation set contradicts the calibrated model: its RMS position error after is " << residual(val_rms) << " "
+          << u << ", ";
+      if (fit_rms > 0) why << residual(val_rms / fit_rms) << " times the fit's own (" << residual(fit_rms) << " " << u << ")";
+      else why << "the fit's own is 0";
+      why << " and " << residual(100.0 * val_rms / L) << " % of the robot's size L = " << residual(L) << " " << u << " (at most "
+          << shortest(kMaxValidationRatio) << " times the fit's or " << shortest(100.0 * kMaxValidationRelativeRms) << " % of L)";
+      r.result.accepted = false;
+      r.result.reason = why.str();
+      r.validation_contradicts = true;
+    }
   }
   r.warnings = calibrationWarnings(r);
   return r;
@@ -217,9 +233,37 @@ std::vector<size_t> worstMeasurements(const CalibrationResult& c, size_t count) 
   return order;
 }
 
+namespace {
+
+// What a file's lengths were read in: "its length_unit comment says m (converted x 1000 to mm)", "its
+// length_unit comment says mm", "no length_unit comment (taken as mm)".
+std::string statedUnitText(const MeasurementFile& m, const std::string& robot_unit) {
+  if (!m.converted_from.empty()) {
+    const std::optional<double> from = metresPerUnit(m.converted_from), to = metresPerUnit(m.length_unit);
+    return "its length_unit comment says " + m.converted_from + " (converted" +
+           (from && to ? " x " + shortest(*from / *to) : std::string()) + " to " + m.length_unit + ")";
+  }
+  if (!m.length_unit.empty()) return "its length_unit comment says " + m.length_unit;
+  return "no length_unit comment (taken as " + robot_unit + ")";
+}
+
+}  // namespace
+
 std::string rejectionText(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   std::ostringstream s;
+  if (r.validation_contradicts && r.validation) {
+    const std::string u = lengthUnit(r.nominal);
+    s << r.validation->path << ": calibration rejected, nothing written: " << c.reason << "; look at, in order: units ("
+      << r.validation->path << ": " << statedUnitText(*r.validation, u) << "; " << r.fit.path << ": "
+      << statedUnitText(r.fit, u) << "), whether it measures this robot in the same measurement frame and tool as "
+      << r.fit.path << ", its joint columns (order, q in rad)";
+    if (r.validation_residuals && r.validation_residuals->outside_count > 0) {
+      s << ", extrapolation (" << r.validation_residuals->outside_count
+        << " of its measurements have a joint value beyond the fit's range)";
+    }
+    return s.str();
+  }
   s << r.fit.path << ": calibration rejected, nothing written: " << c.reason << "; worst lines";
   const std::vector<size_t> worst = worstMeasurements(c, kWorstMeasurementsShown);
   for (size_t k = 0; k < worst.size(); ++k) {

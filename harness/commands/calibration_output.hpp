@@ -32,6 +32,18 @@ struct ValidationResiduals {
   ResidualStatistics inside_after, outside_after;
 };
 
+/// A validation set that contradicts an accepted calibration by orders of magnitude rejects it (exit 1,
+/// nothing written): its RMS position error after the fit above kMaxValidationRatio times the fit's own AND
+/// above kMaxValidationRelativeRms of the robot size L. Why both: held-out residuals of a model that fits are
+/// a few times the fit's (noise, and extrapolation beyond the fit's joint ranges: at most 3x in the shipped
+/// cases and tests); a factor 100 is no such spread but a set of other numbers, typically lengths in another
+/// unit than its `# length_unit` says (x 1000 for mm written as m, x 25.4 for inches). The L bound keeps a
+/// noise-free fit (after ~1e-12 L) from rejecting on a validation set with ordinary noise: it is the
+/// verdict's own bound on an accepted fit's RMS without stated noise (kMaxRelativeRmsPosition, 1 %), so a set
+/// beyond both is one that calibrate would not have accepted as fitting data either.
+constexpr double kMaxValidationRatio = 100.0;
+constexpr double kMaxValidationRelativeRms = kMaxRelativeRmsPosition;
+
 /// The calibrated robot in the nominal's base frame (the gauge, base_frame.hpp) and the measurement frame
 /// with its standard deviations (numerical propagation, dh_uncertainty.hpp).
 struct CalibratedBaseFrame {
@@ -51,6 +63,9 @@ struct CalibrationReport {
   DhUncertainty dh;
   double seconds = 0.0;  ///< calibrate + dhUncertainty
   std::optional<ValidationResiduals> validation_residuals;  ///< set when there is a validation file
+  /// The validation set contradicts the fit (kMaxValidationRatio): result.accepted was set false and
+  /// result.reason says so; rejectionText then names the validation file and the units first.
+  bool validation_contradicts = false;
   /// The nominal moved into the measurement frame by the registration (what "before" and the change per
   /// joint compare with).
   std::optional<PoeModel> registered_nominal;
@@ -67,7 +82,8 @@ struct CalibrationReport {
   std::optional<CalibratedBaseFrame> base_frame;
 };
 
-/// Moves the inputs in and computes the validation residuals and the warnings.
+/// Moves the inputs in and computes the validation residuals and the warnings; rejects an accepted fit whose
+/// validation set contradicts it (kMaxValidationRatio).
 /// @param base_frame the calibrated robot in the nominal's base frame, `dh` its table (calibrate), or none
 CalibrationReport makeCalibrationReport(io::RobotFile nominal, io::MeasurementFile fit,
                                         std::optional<io::MeasurementFile> validation, CalibrationResult result,

@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "io/output.hpp"
 #include "io/robot_file.hpp"
 #include "lowpair/se3.hpp"
 
@@ -78,6 +79,15 @@ void drawSample(Engine& rng, const std::vector<Range>& ranges, Eigen::Ref<VecX> 
 Range defaultRange(JointType type, double L) {
   if (type == JointType::Prismatic) return {-L, L};
   return {-M_PI, M_PI};
+}
+
+std::string jointValueProblem(const PoeModel& model, int i, double q) {
+  const Joint& j = model.joint(i);
+  if (jointValueWithinLimits(j, q)) return "";
+  if (!std::isfinite(q)) return "'" + io::shortest(q) + "' is not finite";
+  return "'" + io::shortest(q) + "' is beyond joint " + std::to_string(i + 1) + "'s limit (" +
+         (j.name.empty() ? std::string() : j.name + ", ") + jointTypeName(j.type) + ": |" +
+         (j.type == JointType::Helical ? "pitch " : "") + "scale (q + offset)| at most 1e100, kMaxMagnitude): its pose would not be finite";
 }
 
 std::vector<Range> samplingRanges(const PoeModel& model) {

@@ -33,6 +33,13 @@ Range defaultRange(JointType type, double L);
 /// defaultRange with L = model.lengthScale().
 std::vector<Range> samplingRanges(const PoeModel& model);
 
+/// What is wrong with evaluating `model` at value `q` of joint `i` (jointValueWithinLimits, model.hpp): ""
+/// when nothing; "'nan' is not finite"; or "'1e+308' is beyond joint 3's limit (j3, prismatic: |scale (q +
+/// offset)| at most 1e100, kMaxMagnitude): its pose would not be finite". The one check the CLI (--q,
+/// --q-file rows, ik seeds) and the Python module (fk, jacobian, singular, ik, compensate, simulate,
+/// calibrate) make before evaluating, so that no result they print or return is inf or NaN.
+std::string jointValueProblem(const PoeModel& model, int i, double q);
+
 /// The sampled joint variable q of a MuJoCo chain: a robot file's (`joint_variables`, checked against the
 /// chain: x_i = scale (q_i + offset)) or MuJoCo's own (x = q). Its sampling ranges, per joint, the first of:
 /// `given` (a scenario's explicit ranges), the joint-variable file's range, the model's (MJCF/URDF) range

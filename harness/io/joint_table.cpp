@@ -12,6 +12,7 @@
 #include "io/measurements.hpp"
 #include "io/output.hpp"
 #include "io/robot_file.hpp"
+#include "lowpair/tolerances.hpp"
 
 namespace lowpair::io {
 
@@ -112,6 +113,49 @@ JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof
   if (!have_header) throw RobotFileError(path + ": no header line " + expectedColumns(kind));
   if (table.rows() == 0) throw RobotFileError(path + ": no rows");
   return table;
+}
+
+std::string convertTableUnit(JointTable& table, const std::string& robot_unit, const std::string& robot_path,
+                             const std::vector<bool>& prismatic) {
+  if (table.length_unit.empty() || robot_unit.empty() || table.length_unit == robot_unit) return "";
+  const std::optional<double> from = metresPerUnit(table.length_unit), to = metresPerUnit(robot_unit);
+  if (!from || !to) {
+    throw RobotFileError(table.path + ": lengths in " + table.length_unit + " (its length_unit comment) but " + robot_path + " is in " +
+                         robot_unit +
+                         ", and lowpair converts only m, mm, cm, dm, um, km, in, ft");
+  }
+  const double factor = *from / *to;
+  const bool targets = !table.targets.empty();
+  bool any_prismatic = false;
+  for (size_t k = 0; k < table.rows(); ++k) {
+    const auto beyond = [&](const std::string& what) {
+      throw RobotFileError(table.path + ":" + std::to_string(table.lines[k]) + ": " + what + " is above 1e100 in " + robot_unit +
+                           " after the unit conversion from " + table.length_unit);
+    };
+    for (int i = 0; i < table.dof && static_cast<size_t>(i) < prismatic.size(); ++i) {
+      if (!prismatic[static_cast<size_t>(i)]) continue;
+      any_prismatic = true;
+      double& q = table.q[k * static_cast<size_t>(table.dof) + static_cast<size_t>(i)];
+      q *= factor;
+      if (!(std::abs(q) <= kMaxMagnitude)) beyond("q" + std::to_string(i + 1));
+    }
+    if (targets) {
+      Vec3& p = table.targets[k].p;
+      p *= factor;
+      if (!(p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) beyond("a position");
+    }
+  }
+  const std::string unit_from = table.length_unit;
+  table.length_unit = robot_unit;
+  if (!targets && !any_prismatic) return "";  // revolute joints only: q is rad, nothing to convert
+  return table.path + ": " + (targets ? "lengths" : "prismatic joint values") + " converted from " + unit_from +
+         " (its length_unit comment) to " + robot_unit + " (the robot's), x " + shortest(factor);
+}
+
+std::vector<bool> prismaticJoints(const PoeModel& model) {
+  std::vector<bool> out;
+  for (const Joint& j : model.joints()) out.push_back(j.type == JointType::Prismatic);
+  return out;
 }
 
 MatX JointTable::matrix() const {

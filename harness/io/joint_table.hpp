@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "lowpair/model.hpp"
 #include "lowpair/types.hpp"
 
 namespace lowpair::io {
@@ -41,5 +42,21 @@ struct JointTable {
 /// @throws RobotFileError `FILE:LINE: what` or `FILE: what`
 JointTable readJointTable(const std::string& path, TableKind kind, int robot_dof, const std::string& robot_path,
                           const std::vector<std::string>& joint_names = {});
+
+/// The table's lengths in the robot's unit: when its `# length_unit` and `robot_unit` are both stated and
+/// differ, the prismatic joints' values (`prismatic[i]`: joint i's q is a length; revolute and helical q are
+/// rad) and the Targets' positions are multiplied by metresPerUnit(table) / metresPerUnit(robot), and
+/// table.length_unit becomes robot_unit. One of them unstated, or both the same: nothing changes (as
+/// calibrate reads a measurement CSV).
+/// @return the note saying what was converted ("" when nothing was): "FILE: lengths converted from mm (its
+///   length_unit comment) to m (the robot's), x 0.001" (Targets), "FILE: prismatic joint values converted ..."
+///   (Joints)
+/// @throws RobotFileError naming the file and the unit when one of the two is not a unit lowpair converts, or
+///   `FILE:LINE: ...` when a converted value exceeds kMaxMagnitude
+std::string convertTableUnit(JointTable& table, const std::string& robot_unit, const std::string& robot_path,
+                             const std::vector<bool>& prismatic);
+
+/// The joint types as convertTableUnit takes them: true where q is a length (a prismatic joint).
+std::vector<bool> prismaticJoints(const PoeModel& model);
 
 }  // namespace lowpair::io

@@ -60,6 +60,9 @@ struct MeasurementFile {
   std::vector<Measurement> measurements;  ///< rotation = identity for position measurements
   std::vector<long long> lines;           ///< the file line of each measurement (for messages)
   std::string length_unit;  ///< from a `# length_unit: U` comment; "" when the file states none
+  /// The unit its `# length_unit` comment stated when a reader converted its lengths to the robot's (and set
+  /// length_unit to the robot's): "" when nothing was converted.
+  std::string converted_from;
   /// Measure::Targets: the target names in order of first appearance (Measurement::target indexes them);
   /// empty otherwise.
   std::vector<std::string> target_names;

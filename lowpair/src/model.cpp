@@ -369,4 +369,18 @@ DhModel::DhModel(const DhParams& base, std::vector<DhJoint> joints, double tool_
   checkSize(length_scale_);
 }
 
+bool jointValueWithinLimits(const JointMotion& j, double q) {
+  const double x = std::abs(j.motion(q));  // NaN (q NaN or infinite) fails both comparisons
+  return x <= kMaxMagnitude && std::abs(j.slideRate()) * x <= kMaxMagnitude;
+}
+
+int firstJointBeyondLimits(const PoeModel& model, const Eigen::Ref<const VecX>& q) {
+  LP_CHECK(q.size() == model.dof(), "firstJointBeyondLimits: q has " << q.size() << " values, the model has "
+                                                                     << model.dof() << " joints");
+  for (int i = 0; i < model.dof(); ++i) {
+    if (!jointValueWithinLimits(model.joint(i), q[i])) return i;
+  }
+  return -1;
+}
+
 }  // namespace lowpair

@@ -56,7 +56,7 @@ std::vector<std::string> numberTargets(const std::vector<std::string>& names, st
 io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const InArray& positions,
                                       const std::optional<InArray>& rotations,
                                       const std::optional<std::vector<std::string>>& targets, const std::string& prefix) {
-  const MatX Q = jointMatrix(q, r.dof(), r.subject(), prefix + "q");
+  const MatX Q = jointMatrix(q, r.dof(), r.subject(), prefix + "q", &r.poe);
   const auto N = Q.rows();
   if (N == 0) throw UsageError(prefix + "q", "no measurements");
   if (positions.ndim() != 2 || positions.shape(0) != N || positions.shape(1) != 3) {

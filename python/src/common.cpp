@@ -7,6 +7,7 @@
 #include "io/measurements.hpp"
 #include "io/output.hpp"
 #include "commands/sampling.hpp"
+#include "lowpair/model.hpp"
 
 namespace lowpair::python {
 
@@ -87,7 +88,20 @@ void requireFinite(const double* x, py::ssize_t count, py::ssize_t per_row, cons
   }
 }
 
-VecX jointVector(const InArray& q, int dof, const std::string& subject, const std::string& what) {
+void requireWithinLimits(const PoeModel& model, const double* q, py::ssize_t rows, const std::string& subject,
+                         const std::string& what, bool batch, py::ssize_t first_row) {
+  const int dof = model.dof();
+  for (py::ssize_t k = 0; k < rows; ++k) {
+    const Eigen::Map<const VecX> x(q + k * dof, dof);
+    if (const int i = firstJointBeyondLimits(model, x); i >= 0) {
+      const std::string where = batch ? "[" + std::to_string(first_row + k) + ", " + std::to_string(i) + "]"
+                                      : "[" + std::to_string(i) + "]";
+      throw UsageError(subject, what + where + ": " + commands::jointValueProblem(model, i, x[i]));
+    }
+  }
+}
+
+VecX jointVector(const InArray& q, int dof, const std::string& subject, const std::string& what, const PoeModel* model) {
   if (q.ndim() != 1 || q.shape(0) != dof) {
     throw UsageError(subject, what + ": expected " + std::to_string(dof) + " joint values (shape (" +
                                   std::to_string(dof) + ",)), got shape " + shapeText(q));
@@ -96,10 +110,11 @@ VecX jointVector(const InArray& q, int dof, const std::string& subject, const st
   auto r = q.unchecked<1>();
   for (int i = 0; i < dof; ++i) out(i) = r(i);
   requireFinite(out.data(), dof, 0, subject, what);
+  if (model) requireWithinLimits(*model, out.data(), 1, subject, what, false);
   return out;
 }
 
-MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const std::string& what) {
+MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const std::string& what, const PoeModel* model) {
   if (Q.ndim() != 2 || Q.shape(1) != dof) {
     throw UsageError(subject, what + ": expected shape (N, " + std::to_string(dof) + "), got shape " + shapeText(Q));
   }
@@ -115,6 +130,10 @@ MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const st
                                       io::shortest(out(k, i)) + "' is not finite");
       }
     }
+  }
+  if (model) {
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows = out;
+    requireWithinLimits(*model, rows.data(), rows.rows(), subject, what, true);
   }
   return out;
 }

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lowpair/model.hpp"
 #include "lowpair/types.hpp"
 #include "commands/arguments.hpp"
 
@@ -69,11 +70,19 @@ std::string shapeText(const py::array& a);
 void requireFinite(const double* x, py::ssize_t count, py::ssize_t per_row, const std::string& subject,
                    const std::string& what);
 
-// (n,) joint vector.
-VecX jointVector(const InArray& q, int dof, const std::string& subject, const std::string& what = "q");
+// The joint values of `rows` rows of `dof` values (row-major, row 0 is row `first_row` of the argument) within
+// their joints' limits (commands::jointValueProblem: the pose there is finite), else UsageError(subject,
+// "what[k, i]: ...") ("what[i]: ..." when `batch` is false). A NaN is "'nan' is not finite".
+void requireWithinLimits(const PoeModel& model, const double* q, py::ssize_t rows, const std::string& subject,
+                         const std::string& what, bool batch, py::ssize_t first_row = 0);
 
-// (N, n) joint values, column-major (what the library takes).
-MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const std::string& what = "q");
+// (n,) joint vector; with `model`, each value within its joint's limits (requireWithinLimits).
+VecX jointVector(const InArray& q, int dof, const std::string& subject, const std::string& what = "q",
+                 const PoeModel* model = nullptr);
+
+// (N, n) joint values, column-major (what the library takes); with `model`, within its joints' limits.
+MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const std::string& what = "q",
+                 const PoeModel* model = nullptr);
 
 // A float64 array read in place: C-contiguous and aligned (what numpy makes). Anything else (lists, integers,
 // Fortran order, strided views, other byte orders) is converted by numpy first, as InArray is.

@@ -85,7 +85,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   setup.sd_position = noise_position;
   setup.sd_rotation = noise_rotation;
   const PoeModel& model = r.poe;
-  const std::optional<MatX> Q = q_arg ? std::optional<MatX>(jointMatrix(*q_arg, r.dof(), r.subject())) : std::nullopt;
+  const std::optional<MatX> Q = q_arg ? std::optional<MatX>(jointMatrix(*q_arg, r.dof(), r.subject(), "q", &r.poe)) : std::nullopt;
   const long long count = Q ? static_cast<long long>(Q->rows()) : *poses;
   if (count == 0) throw UsageError("q", "no joint values");
   const long long rows = commands::simulationRows(count, setup, Q ? "q" : "poses");

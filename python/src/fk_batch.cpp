@@ -15,6 +15,8 @@
 #endif
 
 #include "lowpair/kinematics.hpp"
+#include "lowpair/tolerances.hpp"
+#include "common.hpp"
 
 namespace lowpair::python {
 
@@ -44,23 +46,22 @@ bool resident(const void* p, size_t bytes) {
 }
 
 // The chunk's rows of the row-major (len x dof) q, transposed into the column-major Q the library takes: two
-// rows at a time, each 2 x 2 block (row pair, joint pair) transposed in registers (SSE2), the finiteness check
-// folded in; false when a value is not finite.
-bool transposeChunk(const double* q, Eigen::Index len, Eigen::Index dof, MatX& Q) {
-  constexpr double kLargest = std::numeric_limits<double>::max();
+// rows at a time, each 2 x 2 block (row pair, joint pair) transposed in registers (SSE2), the check of the
+// joint limits folded in: false when a value is not within its joint's `bound` (|q_i| <= bound[i]; NaN fails).
+bool transposeChunk(const double* q, Eigen::Index len, Eigen::Index dof, const double* bound, MatX& Q) {
   double* dst = Q.data();
   const Eigen::Index ld = Q.rows();
   bool finite = true;
   Eigen::Index k = 0;
 #if defined(__SSE2__)
-  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff)), largest = _mm_set1_pd(kLargest);
-  __m128d bad = _mm_setzero_pd();  // lanes of NaN or +-inf: not (|x| <= largest)
+  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+  __m128d bad = _mm_setzero_pd();  // lanes of NaN or beyond the bound: not (|x| <= bound)
   for (; k + 2 <= len; k += 2) {
     const double* a = q + k * dof;  // rows k and k + 1
     const double* b = a + dof;
     Eigen::Index i = 0;
     for (; i + 2 <= dof; i += 2) {
-      const __m128d ra = _mm_loadu_pd(a + i), rb = _mm_loadu_pd(b + i);
+      const __m128d ra = _mm_loadu_pd(a + i), rb = _mm_loadu_pd(b + i), largest = _mm_loadu_pd(bound + i);
       bad = _mm_or_pd(bad, _mm_or_pd(_mm_cmpnle_pd(_mm_and_pd(ra, magnitude), largest),
                                      _mm_cmpnle_pd(_mm_and_pd(rb, magnitude), largest)));
       _mm_storeu_pd(dst + i * ld + k, _mm_unpacklo_pd(ra, rb));
@@ -68,7 +69,7 @@ bool transposeChunk(const double* q, Eigen::Index len, Eigen::Index dof, MatX& Q
     }
     for (; i < dof; ++i) {
       dst[i * ld + k] = a[i], dst[i * ld + k + 1] = b[i];
-      finite &= std::abs(a[i]) <= kLargest && std::abs(b[i]) <= kLargest;
+      finite &= std::abs(a[i]) <= bound[i] && std::abs(b[i]) <= bound[i];
     }
   }
   finite &= _mm_movemask_pd(bad) == 0;
@@ -77,7 +78,7 @@ bool transposeChunk(const double* q, Eigen::Index len, Eigen::Index dof, MatX& Q
     for (Eigen::Index i = 0; i < dof; ++i) {
       const double x = q[k * dof + i];
       dst[i * ld + k] = x;
-      finite &= std::abs(x) <= kLargest;
+      finite &= std::abs(x) <= bound[i];
     }
   }
   return finite;
@@ -124,10 +125,19 @@ void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, 
   const size_t bytes = static_cast<size_t>(count) * 16 * sizeof(double);
   stream = bytes >= kStreamBytes && reinterpret_cast<uintptr_t>(out) % 16 == 0 && resident(out, bytes);
 #endif
+  // |q_i| within bound[i] keeps joint i within its limits (jointValueWithinLimits: |scale (q + offset)| and the
+  // slide at most kMaxMagnitude); a value beyond is checked exactly (the bound is a little conservative)
+  std::vector<double> bound(static_cast<size_t>(dof));
+  for (Eigen::Index i = 0; i < dof; ++i) {
+    const Joint& j = r.poe.joint(static_cast<int>(i));
+    const double b = kMaxMagnitude / std::max(1.0, std::abs(j.slideRate())) / j.scale - std::abs(j.offset);
+    bound[static_cast<size_t>(i)] = std::max(0.0, b * (1.0 - 1e-15));
+  }
   for (Eigen::Index start = 0; start < count; start += kFkChunk) {
     const Eigen::Index len = std::min(kFkChunk, count - start);
-    if (!transposeChunk(q + start * dof, len, dof, Q)) {
-      requireFinite(q, (start + len) * dof, dof, r.subject(), "q");  // throws, naming the first value
+    if (!transposeChunk(q + start * dof, len, dof, bound.data(), Q)) {
+      // throws, naming the first value beyond its limit (rows before this chunk were within)
+      requireWithinLimits(r.poe, q + start * dof, len, r.subject(), "q", true, start);
     }
     if (poe) {
       forwardKinematicsBatch(r.poe, Q.topRows(len), poses.topRows(len));

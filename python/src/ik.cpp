@@ -104,10 +104,10 @@ void checkRowCount(const InArray& a, const std::string& what) {
 std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, size_t rows) {
   if (!q0) return std::nullopt;
   if (q0->ndim() == 1) {
-    const VecX x = jointVector(*q0, r.dof(), r.subject(), "q0");
+    const VecX x = jointVector(*q0, r.dof(), r.subject(), "q0", &r.poe);
     return MatX(x.transpose().replicate(static_cast<Eigen::Index>(rows), 1));
   }
-  MatX Q = jointMatrix(*q0, r.dof(), r.subject(), "q0");
+  MatX Q = jointMatrix(*q0, r.dof(), r.subject(), "q0", &r.poe);
   if (Q.rows() != static_cast<Eigen::Index>(rows)) {
     throw UsageError("q0", "expected shape (" + std::to_string(rows) + ", " + std::to_string(r.dof()) + ") or (" +
                                std::to_string(r.dof()) + ",), got shape " + shapeText(*q0));
@@ -211,8 +211,10 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
                                                " in " + unit(nominal) + ": compensation needs one unit");
   }
   checkRowCount(q_arg, "q");
-  const MatX Q = q_arg.ndim() == 1 ? MatX(jointVector(q_arg, calibrated.dof(), calibrated.subject()).transpose())
-                                   : jointMatrix(q_arg, calibrated.dof(), calibrated.subject());
+  // the nominal's joint values (evaluated by its FK, then seeds of the calibrated robot's IK)
+  const MatX Q = q_arg.ndim() == 1
+                     ? MatX(jointVector(q_arg, calibrated.dof(), calibrated.subject(), "q", &nominal.poe).transpose())
+                     : jointMatrix(q_arg, calibrated.dof(), calibrated.subject(), "q", &nominal.poe);
   IkOptions options;
   options.measure = measure == "pose" ? Measure::Pose : Measure::Position;
   options.validate("compensate");

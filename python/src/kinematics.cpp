@@ -45,7 +45,9 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
                                         std::to_string(dof) + ",)), got shape " + shapeText(q));
     }
     const Eigen::Map<const VecX> x(q.data(), dof);
-    if (!x.allFinite()) requireFinite(x.data(), dof, 0, r.subject(), "q");  // throws, naming the value
+    if (firstJointBeyondLimits(r.poe, x) >= 0) {
+      requireWithinLimits(r.poe, x.data(), 1, r.subject(), "q", false);  // throws, naming the value
+    }
     double* dst = outBuffer<2>(out_arg, {4, 4});
     py::array_t<double> result;
     if (!dst) {
@@ -89,9 +91,7 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
       // into the caller's buffer: every value checked before the first result is written, so a refusal leaves
       // `out` as it was (the kernel checks chunk by chunk, after earlier chunks were written)
       const size_t values = static_cast<size_t>(count) * static_cast<size_t>(dof);
-      if (!Eigen::Map<const VecX>(x, static_cast<Eigen::Index>(values)).allFinite()) {
-        requireFinite(x, static_cast<py::ssize_t>(values), dof, r.subject(), "q");  // throws, naming the value
-      }
+      requireWithinLimits(r.poe, x, count, r.subject(), "q", true);  // throws, naming the value
       // results written over joint values not read yet would be read back as joint values: q is copied first,
       // as numpy copies an input that overlaps a ufunc's out=
       if (sharesBytes(x, values * sizeof(double), dst, static_cast<size_t>(count) * 16 * sizeof(double))) {
@@ -109,7 +109,7 @@ py::array_t<double> jacobian(const Robot& r, const InArray& q, const std::string
   if (frame != "spatial" && frame != "body" && frame != "geometric") {
     throw UsageError("frame", "expected 'spatial', 'body' or 'geometric', got '" + frame + "'");
   }
-  const VecX x = jointVector(q, r.dof(), r.subject());
+  const VecX x = jointVector(q, r.dof(), r.subject(), "q", &r.poe);
   Mat6X J(6, r.dof());
   {
     py::gil_scoped_release release;
@@ -133,7 +133,7 @@ DhTable dhTable(const Robot& r, double parallel_threshold, bool modified) {
 }
 
 Singularity singular(const Robot& r, const InArray& q) {
-  const VecX x = jointVector(q, r.dof(), r.subject());
+  const VecX x = jointVector(q, r.dof(), r.subject(), "q", &r.poe);
   SingularityOptions options;
   options.max_null_vectors = io::kPrintedNullVectors;
   options.validate();

@@ -106,3 +106,35 @@ def test_out_of_the_wrong_kind_names_what_differs(puma, buf, what):
     ro.setflags(write=False)
     with pytest.raises(lowpair.Error, match="got a read-only C-contiguous float64 array"):
         puma.fk(random_q(puma, 10, seed=9), out=ro)
+
+
+STANFORD = "models/stanford_corke.yaml"  # joint 3 prismatic (metres)
+LIMIT = r"'1e\+300' is beyond joint 3's limit \(j3, prismatic: \|scale \(q \+ offset\)\| at most 1e100"
+
+
+def test_joint_values_beyond_their_limits_are_refused_naming_the_index():
+    # a slide of 1e300 gave inf/nan from fk, jacobian, ik and compensate, and simulate wrote a CSV its reader
+    # refuses; the bound is the one the model's range ends obey (|scale (q + offset)| <= 1e100)
+    robot = lowpair.load(STANFORD)
+    q = np.array([0.1, 0.2, 1e300, 0.0, 0.3, 0.0])
+    for call in (robot.fk, robot.jacobian, robot.singular):
+        with pytest.raises(lowpair.Error, match=r"stanford_corke.yaml: q\[2\]: " + LIMIT):
+            call(q)
+    Q = np.tile(np.array([0.1, 0.2, 0.5, 0.0, 0.3, 0.0]), (600, 1))
+    Q[300, 2] = 1e300  # the second chunk of the batch (256 rows each)
+    buf = np.full((600, 4, 4), 7.0)
+    for out in (None, buf):
+        with pytest.raises(lowpair.Error, match=r"q\[300, 2\]: " + LIMIT):
+            robot.fk(Q, out=out)
+    assert np.all(buf == 7.0)
+    with pytest.raises(lowpair.Error, match=r"q0\[2\]: " + LIMIT):
+        lowpair.ik(robot, np.array([[0.3, 0.2, 0.5]]), q0=q)
+    with pytest.raises(lowpair.Error, match=r"q\[0, 2\]: " + LIMIT):
+        lowpair.compensate(robot, robot, q[None, :])
+    with pytest.raises(lowpair.Error, match=r"q\[1, 0\]: '1e\+200' is beyond joint 1's limit \(j1, revolute"):
+        lowpair.simulate(robot, q=np.array([[0.1, 0.2, 0.5, 0, 0, 0], [1e200, 0.2, 0.5, 0, 0, 0]]))
+    # at the limit every result is finite
+    edge = q.copy()
+    edge[2] = 1e100
+    assert np.all(np.isfinite(robot.fk(edge))) and np.all(np.isfinite(robot.jacobian(edge)))
+    assert np.all(np.isfinite(robot.fk(np.tile(edge, (300, 1)))))

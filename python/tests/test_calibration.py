@@ -139,3 +139,18 @@ def test_save_and_export_round_trip(tmp_path):
     status, out, _ = run_cli("export", "models/puma560_corke.yaml", "--format", "urdf")
     # same body as the CLI's output but for the provenance comment
     assert [l for l in open(urdf) if "Made by" not in l] == [l + "\n" for l in out.split("\n") if l and "Made by" not in l]
+
+
+def test_validation_contradicting_the_fit_rejects_it(walkthrough):
+    # validation positions 1000 times too large (mm read as m and converted): after 1e5 mm against the fit's
+    # 0.015 mm, beyond 100 times the fit's and 1 % of L (calibration_output.hpp kMaxValidationRatio): rejected,
+    # as `calibrate --validation` is (exit 1); the right arrays stay accepted (the test above)
+    _, m, v, _, _ = walkthrough
+    robot = lowpair.load(NOMINAL)
+    Q, P, W = read_csv(m, robot.dof)
+    Qv, Pv, Wv = read_csv(v, robot.dof)
+    cal = lowpair.calibrate(robot, q=Q, positions=P, rotations=W, noise_position=0.01, noise_rotation=1e-5,
+                            free_pitch=True, validation_q=Qv, validation_positions=Pv * 1000.0, validation_rotations=Wv)
+    assert not cal.accepted
+    assert cal.reason.startswith("the validation set contradicts the calibrated model"), cal.reason
+    assert cal.validation["after"]["rms_position"] > 100 * cal.after["rms_position"]

@@ -394,6 +394,44 @@ TEST(Calibrate, MeasurementsInAnotherLengthUnitAreConverted) {
   EXPECT_TRUE(nlohmann::json::parse(r.out)["converged"].get<bool>()) << r.out;
 }
 
+// A validation file whose `# length_unit` is wrong by 1000 (mm values, the comment says m): converted, it lies
+// 1e5 mm off a fit whose own RMS is 0.015 mm. It was printed at exit 0 ("validation, after 1.55e+05"); now the
+// calibration is refused (exit 1, --out not written) naming the units first. The same file with the right
+// comment validates as before (exit 0, 0.00716 mm in docs/calibration.md's walk-through).
+TEST(CalibrateRejects, ValidationThatContradictsTheFitByOrdersOfMagnitude) {
+  const std::string fit = simulateTo("val_unit_fit.csv", kMujocoActual + " --poses 50 --seed 1 --noise-position 0.01 --noise-rotation 1e-5");
+  const std::string good = simulateTo("val_unit_good.csv", kMujocoActual + " --poses 20 --seed 2");
+  std::ifstream in(good);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  ASSERT_NE(text.find("\n# length_unit: mm\n"), std::string::npos);
+  const std::string wrong = writeScratchFile("val_unit_wrong.csv", std::regex_replace(text, std::regex("# length_unit: mm\n"),
+                                                                                    "# length_unit: m\n"));
+  const std::string out = scratch() + "/val_unit_cal.yaml";
+  const std::string base = "calibrate " + shellQuote(kNominal) + " --measurements " + shellQuote(fit) +
+                           " --noise-position 0.01 --noise-rotation 1e-5 --free-pitch --out " + shellQuote(out) + " --validation ";
+  const CliRun ok = runCli(base + shellQuote(good));
+  ASSERT_EQ(ok.status, 0) << ok.err;
+  ASSERT_TRUE(fs::exists(out));
+  fs::remove(out);
+  const CliRun r = runCli(base + shellQuote(wrong));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_FALSE(fs::exists(out)) << "--out written by a refused calibration";
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("error: " + wrong + ": calibration rejected, nothing written: the validation set contradicts", 0), 0u)
+      << r.err;
+  // the units first among what to look at: the validation file's comment and the fit's
+  const size_t look = r.err.find("look at, in order: units (" + wrong + ": its length_unit comment says m (converted x 1000 to mm); " +
+                                 fit + ": its length_unit comment says mm)");
+  EXPECT_NE(look, std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("verdict: REJECTED: the validation set contradicts"), std::string::npos) << r.out;
+  // JSON: the verdict says so too
+  const CliRun j = runCli(base + shellQuote(wrong) + " --json");
+  EXPECT_EQ(j.status, 1);
+  const auto json = nlohmann::json::parse(j.out);
+  EXPECT_FALSE(json["accepted"].get<bool>());
+  EXPECT_NE(json["verdict"].get<std::string>().find("times the fit's own"), std::string::npos) << json["verdict"];
+}
+
 // ---- columns by name (docs/calibration.md "Measurement files (CSV)") -------------------------------------
 
 namespace {

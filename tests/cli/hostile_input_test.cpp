@@ -501,3 +501,31 @@ TEST(HostileInput, ModelFilesAreBoundedAndRegular) {
   expectRejected("validate " + shellQuote(includes_fifo) + " --tip t --samples 10", "not a regular file", fifo);
   expectRejected("fk " + shellQuote(includes_fifo) + " --tip t --q 0", "not a regular file", fifo);
 }
+
+// Finite but huge joint values: a prismatic joint at 1e308 gave inf/nan at exit 0 (fk, jacobian); a slide
+// of 10 x 1e100 from a CSV value the reader takes (scale 10) did too. Now one line naming the value, the
+// joint and its limit (|scale (q + offset)| at most 1e100: the bound the model's own range ends obey), for
+// --q and for every row of --q-file and ik's seeds; at the limit the output is finite.
+TEST(HostileInput, JointValuesBeyondTheirLimitsAreNamed) {
+  const std::string stanford = modelPath("stanford_corke.yaml");
+  for (const std::string command : {"fk", "jacobian", "singular"}) {
+    expectRejected(command + " " + stanford + " --q 0,0,1e308,0,0,0",
+                   "--q: q3: '1e+308' is beyond joint 3's limit (j3, prismatic: |scale (q + offset)| at most 1e100", stanford);
+  }
+  const CliRun edge = runCli("jacobian " + stanford + " --q 0,0,1e100,0,0,0 --json");
+  ASSERT_EQ(edge.status, 0) << edge.err;
+  EXPECT_EQ(edge.out.find("inf"), std::string::npos) << edge.out;
+  EXPECT_EQ(edge.out.find("nan"), std::string::npos) << edge.out;
+  // a prismatic joint of scale 10: 2e99 in a CSV (within the reader's 1e100) slides 2e100
+  const std::string slide = writeScratchFile(
+      "slide_scale.yaml", "name: t\nlength_unit: m\npoe:\n  joints:\n    - {type: revolute, twist: [0, 0, 1, 0, 0, 0]}\n"
+                          "    - {type: prismatic, twist: [0, 0, 0, 10, 0, 0]}\n  tool: [0, 0, 0, 1, 0, 0]\n");
+  const std::string rows = writeScratchFile("slide_rows.csv", "q1,q2\n0.1,2\n0.2,2e99\n");
+  const std::string beyond = "q2: '2e+99' is beyond joint 2's limit (prismatic: |scale (q + offset)| at most 1e100";
+  expectRejected("fk " + slide + " --q-file " + rows, beyond, rows + ":3: ");
+  expectRejected("compensate " + slide + " --nominal " + slide + " --q-file " + rows, beyond, rows + ":3: ");
+  const std::string seeds = writeScratchFile("slide_seeds.csv", "q1,q2,x,y,z\n0.1,2e99,1,0,0\n");
+  expectRejected("ik " + slide + " --poses " + seeds, beyond, seeds + ":2: ");
+  const CliRun ok = runCli("fk " + slide + " --q 0.2,9e98");  // a slide of 9e99, within 1e100
+  EXPECT_EQ(ok.status, 0) << ok.err;
+}

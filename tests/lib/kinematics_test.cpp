@@ -16,6 +16,7 @@
 #include "lowpair/convert.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
+#include "lowpair/tolerances.hpp"
 #include "random_robot.hpp"
 #include "sincos.hpp"
 
@@ -175,6 +176,39 @@ TEST(ForwardKinematics, HugeJointValuesStayAccurate) {
     EXPECT_LE(rotationError(data.T_base_tool.R, ref.R), tol) << big;
     EXPECT_LE((data.T_base_tool.p - ref.p).norm(), tol) << big;
   }
+}
+
+TEST(JointLimits, BoundTheSlideAtTheCauseOfNonFinitePoses) {
+  // joint 1 revolute (scale 2), joint 2 prismatic (scale 10), joint 3 helical (pitch 1e3): each at the largest value its
+  // limit admits gives finite poses; the next double up is refused, and at 1e308 the pose is not finite
+  std::vector<JointSpec> specs(3);
+  specs[0].twist << 0, 0, 2, 0, 0, 0;  // (an unnormalized twist: its norm is the scale)
+  specs[1].twist << 0, 0, 0, 10, 0, 0;
+  specs[1].type = JointType::Prismatic;
+  specs[2].twist << 0, 0, 1, 0, 0, 1e3;  // v = pitch w: a helical joint through the origin
+  specs[2].type = JointType::Helical;
+  const PoeModel model(specs, Pose{});
+  Data data(model);
+  const double limits[3] = {kMaxMagnitude / 2.0, kMaxMagnitude / 10.0, kMaxMagnitude / 1e3};
+  for (int i = 0; i < 3; ++i) {
+    VecX q = VecX::Zero(3);
+    q[i] = limits[i] * (1 - 1e-15);  // (the limit divided by the scale or pitch rounds: stay a few ulps inside)
+    EXPECT_EQ(firstJointBeyondLimits(model, q), -1) << i;
+    forwardKinematics(model, data, q);
+    EXPECT_TRUE(data.T_base_tool.R.allFinite() && data.T_base_tool.p.allFinite()) << i;
+    q[i] = limits[i] * (1 + 1e-15);
+    EXPECT_EQ(firstJointBeyondLimits(model, q), i) << i;
+    q[i] = -q[i];
+    EXPECT_EQ(firstJointBeyondLimits(model, q), i) << i;
+    for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+      q[i] = bad;
+      EXPECT_EQ(firstJointBeyondLimits(model, q), i) << i;
+    }
+  }
+  // what the bound prevents: q2 = 1e308 slides 10 x 1e308, an infinite position
+  forwardKinematics(model, data, (VecX(3) << 0.0, 1e308, 0.0).finished());
+  EXPECT_FALSE(data.T_base_tool.p.allFinite());
+  expectInvalid([&] { firstJointBeyondLimits(model, VecX::Zero(2)); }, "firstJointBeyondLimits: q has 2 values, the model has 3 joints");
 }
 
 // ---- size checks ---------------------------------------------------------------------------------------

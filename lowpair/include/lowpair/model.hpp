@@ -85,6 +85,17 @@ class PoeModel {
   KinematicChain chain_;
 };
 
+/// Whether joint value `q` keeps joint `j` within the magnitude limits an accepted model obeys at its range
+/// ends (tolerances.hpp kMaxMagnitude): `q` finite, its motion `|x| = |scale (q + offset)|` and its slide
+/// `|slideRate() x|` (a prismatic or helical joint's length) at most kMaxMagnitude. Within them every pose
+/// and Jacobian of the model is finite (sums and products of at most three numbers <= 1e100, as for the
+/// model itself); beyond them a slide of 1e308 is not (inf, then NaN in the rotation-times-position terms).
+bool jointValueWithinLimits(const JointMotion& j, double q);
+
+/// The first joint `i` whose `q[i]` is not within its limits (jointValueWithinLimits); -1 when all are.
+/// @throws std::invalid_argument if q.size() != model.dof()
+int firstJointBeyondLimits(const PoeModel& model, const Eigen::Ref<const VecX>& q);
+
 /// The kind of a D-H row: standard (eq. 9) or Hayati's modified row for nearly parallel axes
 /// (Hayati & Mirmirani 1985; docs/conventions.md, "Hayati rows").
 enum class DhRowKind { Standard, Hayati };
