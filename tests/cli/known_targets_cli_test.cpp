@@ -17,13 +17,13 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "rigid_fit.hpp"
 #include "csv_text.hpp"
 
 namespace {
 
 using namespace lowpair_test;
 using nlohmann::json;
-using Points = std::vector<Eigen::Vector3d>;
 
 const std::string kNominal = modelPath("puma560_okamura_nominal.yaml");
 const std::string kActualYaml = modelPath("puma560_okamura_actual.yaml");
@@ -77,31 +77,10 @@ Points fkPoints(const std::string& robot, const std::string& q_file) {
   return p;
 }
 
-// The RMS distance between a and b left after the best rigid motion (Kabsch), and that motion's size.
-struct Rigid {
-  double rms = 0.0, translation = 0.0, angle = 0.0;
-};
-Rigid rigidRms(const Points& a, const Points& b) {
-  Eigen::Vector3d ca = Eigen::Vector3d::Zero(), cb = Eigen::Vector3d::Zero();
-  for (size_t k = 0; k < a.size(); ++k) {
-    ca += a[k] / static_cast<double>(a.size());
-    cb += b[k] / static_cast<double>(b.size());
-  }
-  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-  for (size_t k = 0; k < a.size(); ++k) M += (b[k] - cb) * (a[k] - ca).transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  const Eigen::Matrix3d R = svd.matrixU() * D * svd.matrixV().transpose();
-  const Eigen::Vector3d t = cb - R * ca;
-  double s = 0.0;
-  for (size_t k = 0; k < a.size(); ++k) s += (R * a[k] + t - b[k]).squaredNorm();
-  return {std::sqrt(s / static_cast<double>(a.size())), t.norm(), Eigen::AngleAxisd(R).angle()};
-}
 
 struct Compensated {
   json out;
-  Rigid after;  // the actual's TCP at the compensated joints vs the nominal program
+  RigidFit after;  // the actual's TCP at the compensated joints vs the nominal program
 };
 
 // compensate CAL against the nominal program q, then MuJoCo's actual commanded with the result.
@@ -122,7 +101,7 @@ Compensated compensateAndCommand(const std::string& cal, const std::string& q, c
     got.push_back(reached_all[k]);
   }
   EXPECT_GE(got.size(), 180u) << comp.out.substr(0, 1000);
-  c.after = rigidRms(got, wanted);
+  c.after = rigidFit(got, wanted);
   return c;
 }
 
