@@ -167,6 +167,7 @@ def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
     puma = lowpair.load("models/puma560_corke.yaml")  # has joint ranges
     W = np.tile([1.0, 0, 0, 0], (len(fit), 1))
     names = list(fit.targets)
+    three = lowpair.simulate(nominal, poses=3, seed=4, measure="position")  # three poses
     cases = [
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names[:-1]), "targets: expected 150 target names"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=["bad name"] + names[1:]),
@@ -185,6 +186,11 @@ def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", parameters="full"), "not both"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", folds=1), "folds: must be in"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", repeats=0), "repeats: must be in"),
+        (lambda: lowpair.calibrate(nominal, three.q, three.positions, select="cv", folds=20),
+         r"^folds: 20 folds but <arrays> holds 3 poses; .* \(at most 3 folds here, or more poses\)$"),
+        (lambda: lowpair.calibrate(nominal, np.repeat(three.q[:1], 40, axis=0),
+                                   np.repeat(three.positions[:1], 40, axis=0), select="cv"),
+         "^folds: 5 folds but <arrays> holds 1 pose: its 40 measurements repeat joint vectors, 1 distinct"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, parameters="j1.offset,,j2.offset"), "an empty name"),
         (lambda: lowpair.calibrate(puma, np.where(np.eye(4, 6) > 0, 100.0, 0.0), np.zeros((4, 3))),
          r"q: \[0, 0\] = 100 is outside joint 1's range .* by more than 10 times its width"),

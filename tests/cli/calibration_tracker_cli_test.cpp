@@ -177,3 +177,32 @@ TEST(CalibrateTracker, ParameterLevelsAndCrossValidation) {
   EXPECT_EQ(j1["cross_validation"]["repeats"], 1);
   EXPECT_NE(j1["cross_validation"]["candidates"][0]["score"], j["cross_validation"]["candidates"][0]["score"]);
 }
+
+// Fewer poses than folds is the argument's fault, named as such (it said "crossValidate: 3 poses for 20 folds"
+// after the nominal's name); measurements that repeat one joint vector say so and how many are distinct.
+TEST(CalibrateTracker, FoldsBeyondThePosesNameFoldsAndDuplicates) {
+  const std::string fit = simulateTo("folds_fit.csv", kMujocoActual + " --poses 3 --seed 9 --noise-position 0.01");
+  const std::string base = "calibrate " + shellQuote(kNominal) + " --select cv --measurements ";
+  expectRejected(base + shellQuote(fit) + " --folds 20",
+                 "--folds: 20 folds but " + fit + " holds 3 poses; cross-validation deals poses to folds and needs at "
+                 "least as many poses as folds (at most 3 folds here, or more poses)",
+                 "--folds");
+  // one data row repeated 40 times
+  std::ifstream in(fit);
+  std::string text, line, row;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] == '#') {
+      text += line + "\n";
+    } else if (!header) {
+      header = true;
+      text += line + "\n";
+    } else if (row.empty()) {
+      row = line;
+    }
+  }
+  for (int k = 0; k < 40; ++k) text += row + "\n";
+  const std::string dup = writeScratchFile("folds_dup.csv", text);
+  expectRejected(base + shellQuote(dup), "--folds: 5 folds but " + dup + " holds 1 pose: its 40 measurements repeat "
+                 "joint vectors, 1 distinct", "--folds");
+}
