@@ -206,3 +206,21 @@ TEST(CalibrateTracker, FoldsBeyondThePosesNameFoldsAndDuplicates) {
   expectRejected(base + shellQuote(dup), "--folds: 5 folds but " + dup + " holds 1 pose: its 40 measurements repeat "
                  "joint vectors, 1 distinct", "--folds");
 }
+
+// A robust fit that flags every measurement has no variance factor because of the flags, not for want of
+// data (120 target readings, rank 19): it said "variance factor none (no redundancy)".
+TEST(CalibrateTracker, EveryReadingFlaggedIsSaidNotNoRedundancy) {
+  const std::string data = simulateTo("all_flagged.csv", kMujocoActual + " --poses 40 --seed 3 --measure targets "
+                                                                          "--targets smr_a,smr_b,smr_c --noise-position 0.01");
+  // offsets only cannot follow the actual robot's geometry: residuals of tens of mm against 0.01 mm noise
+  const CliRun r = runCli("calibrate " + shellQuote(modelPath("smr/puma560_okamura_nominal_smr.yaml")) + " --measurements " +
+                          shellQuote(data) + " --loss huber --parameters offsets --noise-position 0.01");
+  EXPECT_EQ(r.status, 1) << r.err;  // (more than a quarter flagged: rejected)
+  EXPECT_NE(r.out.find("outliers (normalized residual > 5): 120 of 120"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("variance factor none (all 120 measurements were flagged as outliers, and it is estimated from "
+                       "the others)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("no redundancy"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no variance factor: all 120 measurements were flagged"), std::string::npos) << r.out;
+}
