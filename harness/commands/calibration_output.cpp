@@ -211,6 +211,14 @@ CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, 
   return r;
 }
 
+std::string parameterRankText(const CalibrationResult& c) {
+  if (c.parameter_set == ParameterSet::Full) {
+    return "rank " + std::to_string(c.rank.rank) + " of " + std::to_string(c.expected.total());
+  }
+  return std::string(parameterSetName(c.parameter_set)) + ", rank " + std::to_string(c.rank.rank) + " of " +
+         std::to_string(c.error_model.size()) + " (the complete set would be " + std::to_string(c.expected.total()) + ")";
+}
+
 std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   const std::string u = lengthUnit(r.nominal);
@@ -477,11 +485,10 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
         << vf << ")\n";
   }
   if (c.parameter_set == ParameterSet::Full) {
-    out << "parameters: rank " << c.rank.rank << " of " << c.expected.total() << " (" << countFormula(c.expected)
+    out << "parameters: " << parameterRankText(c) << " (" << countFormula(c.expected)
         << (c.error_model.freePitch() ? ", free pitch" : "") << ")\n";
   } else {
-    out << "parameters: " << parameterSetName(c.parameter_set) << ", rank " << c.rank.rank << " of "
-        << c.error_model.size() << " (the complete set would be " << c.expected.total() << ")\n";
+    out << "parameters: " << parameterRankText(c) << "\n";
   }
   if (r.cross_validation) {
     const CrossValidation& cv = *r.cross_validation;

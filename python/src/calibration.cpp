@@ -315,9 +315,9 @@ void exposeCalibrationArrays(py::class_<Calibration>& calibration) {
                              "list[str]: the report's warnings in sentences (rank below the count, no convergence, "
                              "residuals inconsistent with the noise, the D-H conversion's conditioning).")
       .def("__repr__", [](const Calibration& c) {
-        return "<lowpair.Calibration rank " + std::to_string(c.report.result.rank.rank) + " of " +
-               std::to_string(c.report.result.expected.total()) + ", " + (c.report.result.accepted ? "accepted" : "rejected") +
-               ">";
+        // the CLI's words ("rank 33 of 33 (the complete set would be 39)" for a level)
+        return "<lowpair.Calibration " + commands::parameterRankText(c.report.result) + ", " +
+               (c.report.result.accepted ? "accepted" : "rejected") + ">";
       });
 }
 

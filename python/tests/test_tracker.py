@@ -158,6 +158,16 @@ def test_cross_validation_equals_cli(tmp_path):
     named = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations, noise_position=0.01, noise_rotation=1e-5,
                               free_pitch=True, parameters="offsets")
     assert named.to_dict()["parameter_set"] == "offsets" and named.cross_validation is None
+    # repr says what the CLI's text says ("parameters: offsets, rank 19 of 21 (the complete set would be 39)"),
+    # not the count as if the complete set had been fitted
+    status, text, _ = run_cli("calibrate", NOMINAL, "--measurements", m, "--noise-position", "0.01", "--noise-rotation",
+                              "1e-5", "--free-pitch", "--parameters", "offsets", check=False)
+    line = next(x for x in text.splitlines() if x.startswith("parameters: "))
+    assert "(the complete set would be " in line
+    assert repr(named) == "<lowpair.Calibration " + line[len("parameters: "):] + (", accepted>" if named.accepted else ", rejected>")
+    full = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations, noise_position=0.01, noise_rotation=1e-5,
+                             free_pitch=True)
+    assert repr(full).startswith(f"<lowpair.Calibration rank {full.rank} of {full.expected}, ")
 
 
 def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
