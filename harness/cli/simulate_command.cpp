@@ -91,7 +91,9 @@ Truth robotFileTruth(const SimulateOptions& o) {
 // MuJoCo's tip pose at the motion x_i = variables[i].motion(q_i); q is the --joint-variables file's
 // variable, else MuJoCo's own (qpos - qpos0).
 Truth modelTruth(const SimulateOptions& o) {
-  if (o.robot.tip.empty()) throw UsageError(o.robot.path, "--tip NAME is required with a model file");
+  if (o.robot.tip.empty()) {
+    throw UsageError(o.robot.path, "--tip NAME is required with a model file; " + mujoco::tipCandidates(o.robot.path));
+  }
   auto robot = std::make_shared<const MujocoRobot>(o.robot.path, o.robot.tip, o.robot.base);
   const int n = robot->dof();
   SampledVariable sampled = sampledVariable(*robot, o.joint_variables, o.robot.path, o.robot.tip);

@@ -91,7 +91,9 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
     std::vector<Scenario> scenarios;
     const bool model_mode = o->inputs.size() == 1 && (endsWith(o->inputs[0], ".xml") || endsWith(o->inputs[0], ".urdf"));
     if (model_mode) {
-      if (o->tip.empty()) throw UsageError(o->inputs[0], "--tip NAME is required with a model file");
+      if (o->tip.empty()) {
+        throw UsageError(o->inputs[0], "--tip NAME is required with a model file; " + mujoco::tipCandidates(o->inputs[0]));
+      }
       Scenario s;
       s.name = fs::path(o->inputs[0]).stem().string();
       s.model = o->inputs[0];

@@ -37,6 +37,28 @@ double redundancy(const CalibrationResult& c) {
   return rows - c.rank.rank;
 }
 
+// Why a fit has no variance factor (CalibrationResult::variance_factor NaN: residual rows <= rank), in a few
+// words: a robust loss that flagged every measurement (or all but a few), else no redundancy in the data.
+std::string noVarianceFactorCause(const CalibrationResult& c) {
+  if (c.loss != Loss::Squared && c.outliers > 0) {
+    const size_t n = c.residuals.size();
+    if (static_cast<size_t>(c.outliers) == n) {
+      return "all " + std::to_string(n) + " measurements were flagged as outliers, and it is estimated from the others";
+    }
+    double rows = 0.0, all = 0.0;
+    for (const MeasurementResidual& m : c.residuals) {
+      all += m.rows;
+      if (!m.outlier) rows += m.rows;
+    }
+    if (all - c.rank.rank > 0) {  // the flags took the redundancy away
+      return std::to_string(c.outliers) + " of the " + std::to_string(n) + " measurements were flagged as outliers, " +
+             "and the " + std::to_string(static_cast<long long>(rows)) + " residuals of the others do not exceed the " + std::to_string(c.rank.rank) +
+             " determined parameters";
+    }
+  }
+  return "";
+}
+
 // A measurement's file line; "measurement K" (1-based) for measurements that came from no file (a scenario's).
 std::string measurementLabel(const CalibrationReport& r, size_t k) {
   return k < r.fit.lines.size() ? std::to_string(r.fit.lines[k]) : "measurement " + std::to_string(k + 1);
@@ -83,8 +105,12 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
   }
   if (!c.converged) w.push_back("did not converge in " + std::to_string(c.iterations) + " iterations");
   if (!std::isfinite(c.variance_factor)) {
-    w.push_back("no redundancy: " + std::to_string(c.rank.rank) + " determined parameters from as many residuals "
-                "or fewer, so the fit passes through the noise" +
+    const std::string cause = noVarianceFactorCause(c);
+    w.push_back((cause.empty() ? "no redundancy: " + std::to_string(c.rank.rank) +
+                                     " determined parameters from as many residuals or fewer, so the fit passes through "
+                                     "the noise"
+                               : "no variance factor: " + cause + " (look at the worst measurements, the units and "
+                                 "the stated noise)") +
                 (c.noise_stated ? std::string("; the standard deviations come from the stated noise alone")
                                 : std::string("; without stated noise there are no standard deviations")));
   } else if (c.noise_stated && (c.variance_factor > chiSquareBound(redundancy(c)) || c.variance_factor < kVarianceFactorLow)) {
@@ -183,6 +209,14 @@ CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, 
   }
   r.warnings = calibrationWarnings(r);
   return r;
+}
+
+std::string parameterRankText(const CalibrationResult& c) {
+  if (c.parameter_set == ParameterSet::Full) {
+    return "rank " + std::to_string(c.rank.rank) + " of " + std::to_string(c.expected.total());
+  }
+  return std::string(parameterSetName(c.parameter_set)) + ", rank " + std::to_string(c.rank.rank) + " of " +
+         std::to_string(c.error_model.size()) + " (the complete set would be " + std::to_string(c.expected.total()) + ")";
 }
 
 std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
@@ -433,7 +467,10 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
   out << "calibration of " << robotLabel(r.nominal) << " (" << r.nominal.path << ") from " << r.fit.measurements.size()
       << " " << measurementsText(r.fit.measure) << " ("
       << r.fit.path << ")\n";
-  const std::string vf = std::isfinite(c.variance_factor) ? fixed(c.variance_factor, 3) : std::string("none (no redundancy)");
+  const std::string no_vf_cause = noVarianceFactorCause(c);
+  const std::string vf = std::isfinite(c.variance_factor) ? fixed(c.variance_factor, 3)
+                         : no_vf_cause.empty()            ? std::string("none (no redundancy)")
+                                                          : "none (" + no_vf_cause + ")";
   if (c.noise_stated) {
     out << "noise (stated): position " << deviation(c.sigma_position) << " " << u;
     if (!c.sigma_position_stated) out << " (derived: sigma_rotation L)";
@@ -448,11 +485,10 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
         << vf << ")\n";
   }
   if (c.parameter_set == ParameterSet::Full) {
-    out << "parameters: rank " << c.rank.rank << " of " << c.expected.total() << " (" << countFormula(c.expected)
+    out << "parameters: " << parameterRankText(c) << " (" << countFormula(c.expected)
         << (c.error_model.freePitch() ? ", free pitch" : "") << ")\n";
   } else {
-    out << "parameters: " << parameterSetName(c.parameter_set) << ", rank " << c.rank.rank << " of "
-        << c.error_model.size() << " (the complete set would be " << c.expected.total() << ")\n";
+    out << "parameters: " << parameterRankText(c) << "\n";
   }
   if (r.cross_validation) {
     const CrossValidation& cv = *r.cross_validation;

@@ -101,6 +101,10 @@ void printDhWithDeviations(std::ostream& out, const io::RobotFile& file, const D
 /// The same as JSON: base, joints, tool, each value with `sd` (null = undetermined) and `fixed`.
 nlohmann::json dhUncertaintyJson(const DhUncertainty& dh);
 
+/// The rank of a fit against its parameters, as calibrate prints it: "rank 42 of 42" (the full set: of the
+/// count), "lines, rank 33 of 33 (the complete set would be 39)" (a level or named parameters: of those fitted).
+std::string parameterRankText(const CalibrationResult& result);
+
 nlohmann::json calibrationJson(const CalibrationReport& report);
 void printCalibration(std::ostream& out, const CalibrationReport& report);
 /// The `#` lines of a calibrated robot file: where it came from and how well it fits.

@@ -4,6 +4,10 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <string>
+#include <vector>
+
+#include "lowpair/cross_validation.hpp"
 
 #include "io/output.hpp"
 #include "commands/calibration_inputs.hpp"
@@ -73,6 +77,28 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   const auto start = std::chrono::steady_clock::now();
   std::optional<CrossValidation> cv;
   if (a.select) {
+    // at least one pose per fold: said with the argument's name, and with the cause when joint vectors repeat
+    const int poses = crossValidationPoses(fit.measurements);
+    if (poses < a.folds) {
+      std::vector<VecX> qs;
+      for (const Measurement& m : fit.measurements) qs.push_back(m.q);
+      std::sort(qs.begin(), qs.end(), [](const VecX& x, const VecX& y) {
+        return std::lexicographical_compare(x.data(), x.data() + x.size(), y.data(), y.data() + y.size());
+      });
+      const auto distinct = static_cast<size_t>(std::unique(qs.begin(), qs.end()) - qs.begin());
+      const size_t n = fit.measurements.size();
+      const bool repeats = (fit.measure != Measure::Targets && static_cast<size_t>(poses) < n) ||
+                           distinct < static_cast<size_t>(poses);
+      std::string text = std::to_string(a.folds) + " folds but " + fit.path + " holds " + std::to_string(poses) +
+                         (poses == 1 ? " pose" : " poses");
+      if (repeats) {
+        text += ": its " + std::to_string(n) + " measurements repeat joint vectors, " + std::to_string(distinct) +
+                " distinct (duplicates: consecutive measurements at one joint vector are one pose)";
+      }
+      text += "; cross-validation deals poses to folds and needs at least as many poses as folds";
+      if (poses >= 2) text += " (at most " + std::to_string(poses) + " folds here, or more poses)";
+      throw UsageError(spelling.name("folds"), text);
+    }
     if (const auto problem = crossValidationSizeProblem(fit.measurements.size(), nominal.dof(), fit.measure,
                                                         static_cast<int>(fit.target_names.size()), a.folds, a.repeats)) {
       throw UsageError(spelling.name("repeats"), *problem);

@@ -17,7 +17,8 @@ io::RobotFile loadRobot(const RobotSource& source, const ArgumentSpelling& spell
     return io::readRobotFile(source.path);
   }
   if (source.tip.empty()) {
-    throw UsageError(source.path, spelling.setting("tip", "NAME") + " is required with a model file");
+    throw UsageError(source.path, spelling.setting("tip", "NAME") + " is required with a model file; " +
+                                      mujoco::tipCandidates(source.path));
   }
   return mujoco::robotFileOfModel(source.path, source.tip, source.base);
 }

@@ -261,22 +261,25 @@ const char* urdfTypeName(int type) {
   }
 }
 
+// The links that exist, so the user sees the file's spelling (the first 20).
+std::string linkNames(const urdf::ModelInterface& model) {
+  std::string s;
+  int count = 0;
+  for (const auto& [name, link] : model.links_) {
+    if (count == 20) {
+      s += ", ... (" + std::to_string(model.links_.size()) + " in all)";
+      break;
+    }
+    s += (count++ ? ", " : "") + quoted(name);
+  }
+  return s;
+}
+
 // The joints from `base` down to `tip`, base first.
 std::vector<urdf::JointConstSharedPtr> chainJoints(const std::string& path, const urdf::ModelInterface& model,
                                                    const std::string& tip, const std::string& base) {
-  // a name not found: the links that exist, so the user sees the file's spelling (the first 20)
-  auto links = [&model]() {
-    std::string s;
-    int count = 0;
-    for (const auto& [name, link] : model.links_) {
-      if (count == 20) {
-        s += ", ... (" + std::to_string(model.links_.size()) + " in all)";
-        break;
-      }
-      s += (count++ ? ", " : "") + quoted(name);
-    }
-    return s;
-  };
+  // a name not found: the links that exist
+  auto links = [&model]() { return linkNames(model); };
   if (!model.getLink(tip)) fail(path, "tip " + quoted(tip) + " is not a link; links: " + links());
   if (!model.getLink(base)) fail(path, "base " + quoted(base) + " is not a link; links: " + links());
   std::vector<urdf::JointConstSharedPtr> joints;
@@ -305,6 +308,8 @@ bool sameLine(const Line& a, const Line& b) {
 }  // namespace
 
 void checkUrdf(const std::string& path) { parse(path, readText(path)); }
+
+std::string urdfTipCandidates(const std::string& path) { return "links: " + linkNames(*parse(path, readText(path))); }
 
 RobotFile readUrdf(const std::string& path, const std::string& tip, const std::string& base) {
   const urdf::ModelInterfaceSharedPtr model = parse(path, readText(path));

@@ -31,6 +31,10 @@ namespace lowpair::io {
 ///         joints, a zero axis, and what PoeModel rejects (e.g. a range with lower > upper).
 RobotFile readUrdf(const std::string& path, const std::string& tip, const std::string& base = "");
 
+/// The tips a URDF offers, for the message of a missing or wrong tip: "links: 'base', 'link1', ..." (the first
+/// 20, as a wrong tip's message lists them). @throws RobotFileError as readUrdf does for a file urdfdom cannot parse
+std::string urdfTipCandidates(const std::string& path);
+
 /// Checks that urdfdom accepts the URDF at `path` (known joint types, every joint's links defined, one tree
 /// with one root). ModelCopy calls it before MuJoCo 2.2.2 sees a URDF: MuJoCo's URDF parser crashes on an
 /// unknown joint type or a joint whose links are not in the tree (fuzz regressions urdf_mj_loadxml_segv_*).

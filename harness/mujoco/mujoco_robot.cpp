@@ -561,6 +561,19 @@ PoeModel matchingModel(const RobotFile& file, const MujocoRobot& robot, const st
   return m;
 }
 
+std::string tipCandidates(const std::string& path) {
+  if (std::filesystem::path(path).extension() == ".urdf") return io::urdfTipCandidates(path);
+  installMujocoHandlers();
+  setLoadingModel(path);
+  const ModelCopy copy(path, nullptr);  // kinematics only (its notes are the load's, printed by a real load)
+  char error[1000] = "";
+  const std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(copy.path().c_str(), nullptr, error, sizeof error),
+                                                           mj_deleteModel);
+  if (!model) fail(path, "MuJoCo could not load the model: " + mujocoLine(error));
+  const mjModel* m = model.get();
+  return "sites: " + namesOf(m, mjOBJ_SITE, m->nsite, 0) + "; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1);
+}
+
 io::RobotFile robotFileOfModel(const std::string& path, const std::string& tip, const std::string& base) {
   if (std::filesystem::path(path).extension() == ".urdf") return io::readUrdf(path, tip, base);  // urdfdom, not MuJoCo
   const MujocoRobot robot(path, tip, base);

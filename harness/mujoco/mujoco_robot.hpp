@@ -103,6 +103,11 @@ class MujocoRobot {
 PoeModel matchingModel(const io::RobotFile& file, const MujocoRobot& robot, const std::string& model_path,
                        const std::string& tip);
 
+/// The tips a model file offers, for the message of a missing tip, as a wrong tip's message lists them: an
+/// MJCF's "sites: 'tool'; bodies: 'link1', ...", a URDF's "links: ...".
+/// @throws io::RobotFileError for a file MuJoCo (or urdfdom) cannot load
+std::string tipCandidates(const std::string& path);
+
 /// The chain of a model file to `tip` as a robot file (POE): a URDF read by urdfdom, an MJCF by MuJoCo. The
 /// one reading of `ROBOT --tip NAME` for the command line and the Python module.
 /// @throws io::RobotFileError, std::invalid_argument as readUrdf and MujocoRobot

@@ -41,6 +41,12 @@ std::vector<int> foldsOfRepeat(int poses, int folds, int repeat) {
 
 }  // namespace
 
+int crossValidationPoses(const std::vector<Measurement>& measurements) {
+  int poses = measurements.empty() ? 0 : 1;
+  for (size_t m = 1; m < measurements.size(); ++m) poses += measurements[m].q == measurements[m - 1].q ? 0 : 1;
+  return poses;
+}
+
 CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                               const CalibrationOptions& options, int folds, int repeats) {
   LP_CHECK(folds >= 2 && folds <= kMaxCrossValidationFolds,
@@ -52,7 +58,7 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
   for (size_t m = 1; m < measurements.size(); ++m) {
     pose[m] = pose[m - 1] + (measurements[m].q == measurements[m - 1].q ? 0 : 1);
   }
-  const int poses = measurements.empty() ? 0 : pose.back() + 1;
+  const int poses = crossValidationPoses(measurements);
   LP_CHECK(poses >= folds, "crossValidate: " << poses << " poses for " << folds << " folds");
   // distinct partitions only (few poses allow few: as many poses as folds, one)
   std::vector<std::vector<int>> partitions;

@@ -190,13 +190,15 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
   return calibrateArrays(r, std::move(fit), std::move(held_out), request);
 }
 
-py::dict statisticsDict(const ResidualStatistics& s) {
+// The statistics as to_dict() has them: rotation None where no rotation was measured (position or target data).
+py::dict statisticsDict(const ResidualStatistics& s, Measure measure) {
+  const bool rotation = measure == Measure::Pose;
   py::dict d;
   d["count"] = s.count;
   d["rms_position"] = s.rms_position;
   d["max_position"] = s.max_position;
-  d["rms_rotation"] = s.rms_rotation;
-  d["max_rotation"] = s.max_rotation;
+  d["rms_rotation"] = rotation ? py::object(py::float_(s.rms_rotation)) : py::object(py::none());
+  d["max_rotation"] = rotation ? py::object(py::float_(s.max_rotation)) : py::object(py::none());
   return d;
 }
 
@@ -228,17 +230,19 @@ py::class_<Calibration> exposeCalibrationSummary(py::module_& m) {
       .def_property_readonly("variance_factor", [](const Calibration& c) { return c.report.result.variance_factor; },
                              "cost / (rows - rank): 1 expected when the stated noise is right (inf or NaN without "
                              "redundancy; to_dict() has null).")
-      .def_property_readonly("before", [](const Calibration& c) { return statisticsDict(c.report.result.before); },
-                             "dict count, rms_position, max_position (length_unit), rms_rotation, max_rotation (rad): "
+      .def_property_readonly("before", [](const Calibration& c) { return statisticsDict(c.report.result.before, c.report.fit.measure); },
+                             "dict count, rms_position, max_position (length_unit), rms_rotation, max_rotation (rad; "
+                             "None when no rotation was measured: position or target data, as in to_dict()): "
                              "the nominal (registered) against the measurements.")
-      .def_property_readonly("after", [](const Calibration& c) { return statisticsDict(c.report.result.after); },
+      .def_property_readonly("after", [](const Calibration& c) { return statisticsDict(c.report.result.after, c.report.fit.measure); },
                              "dict as `before`, for the calibrated model.")
       .def_property_readonly("validation",
                              [](const Calibration& c) -> py::object {
                                if (!c.report.validation_residuals) return py::none();
                                py::dict d;
-                               d["before"] = statisticsDict(c.report.validation_residuals->before);
-                               d["after"] = statisticsDict(c.report.validation_residuals->after);
+                               const Measure measure = c.report.validation->measure;
+                               d["before"] = statisticsDict(c.report.validation_residuals->before, measure);
+                               d["after"] = statisticsDict(c.report.validation_residuals->after, measure);
                                return std::move(d);
                              },
                              "dict before/after on the validation arrays, or None.");
@@ -315,9 +319,9 @@ void exposeCalibrationArrays(py::class_<Calibration>& calibration) {
                              "list[str]: the report's warnings in sentences (rank below the count, no convergence, "
                              "residuals inconsistent with the noise, the D-H conversion's conditioning).")
       .def("__repr__", [](const Calibration& c) {
-        return "<lowpair.Calibration rank " + std::to_string(c.report.result.rank.rank) + " of " +
-               std::to_string(c.report.result.expected.total()) + ", " + (c.report.result.accepted ? "accepted" : "rejected") +
-               ">";
+        // the CLI's words ("rank 33 of 33 (the complete set would be 39)" for a level)
+        return "<lowpair.Calibration " + commands::parameterRankText(c.report.result) + ", " +
+               (c.report.result.accepted ? "accepted" : "rejected") + ">";
       });
 }
 

@@ -120,6 +120,22 @@ def test_position_measurements(walkthrough):
                                                                        want["accepted"])
     assert cal.after["rms_position"] == pytest.approx(want["after"]["rms_position"], rel=1e-12)
     assert cal.reason == ("" if want["accepted"] else want["verdict"])
+    # no rotation measured: None in the statistics, as to_dict() (the JSON's null) has it (it was 0.0 here)
+    for when in ("before", "after"):
+        assert cal.to_dict()[when]["rms_rotation"] is None and want[when]["max_rotation"] is None
+        assert getattr(cal, when)["rms_rotation"] is None and getattr(cal, when)["max_rotation"] is None
+        assert getattr(cal, when)["count"] == want[when]["count"]
+    Qv, Pv = Q[:20], P[:20]
+    held = lowpair.calibrate(robot, q=Q, positions=P, noise_position=0.01, free_pitch=True, validation_q=Qv,
+                             validation_positions=Pv)
+    for when in ("before", "after"):
+        assert held.validation[when]["rms_rotation"] is None and held.validation[when]["max_rotation"] is None
+        assert held.validation[when]["rms_position"] == held.to_dict()["validation"][when]["rms_position"]
+    # pose data keep their numbers
+    Qp, Pp, Wp = read_csv(m, robot.dof)
+    pose = lowpair.calibrate(robot, q=Qp, positions=Pp, rotations=Wp, noise_position=0.01, noise_rotation=1e-5,
+                             free_pitch=True)
+    assert pose.after["rms_rotation"] == pose.to_dict()["after"]["rms_rotation"] > 0
 
 
 def test_save_and_export_round_trip(tmp_path):

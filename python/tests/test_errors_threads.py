@@ -72,6 +72,10 @@ def test_model_file_tip_errors():
         lowpair.load("models/puma560_corke.xml", tip="no_such_site")
     with pytest.raises(lowpair.Error, match="tip/base go with a model file"):
         lowpair.load(PUMA, tip="tool")
+    # no tip: the candidates, as a wrong tip lists them
+    with pytest.raises(lowpair.Error, match=r"^models/panda.xml: tip='NAME' is required with a model file; sites: 'tool'; "
+                                            r"bodies: 'link1', "):
+        lowpair.load("models/panda.xml")
 
 
 @pytest.mark.parametrize("bad", [np.zeros(5), np.zeros((2, 5)), np.zeros((2, 3, 6)), np.zeros(7), np.array(3.0)])

@@ -158,6 +158,16 @@ def test_cross_validation_equals_cli(tmp_path):
     named = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations, noise_position=0.01, noise_rotation=1e-5,
                               free_pitch=True, parameters="offsets")
     assert named.to_dict()["parameter_set"] == "offsets" and named.cross_validation is None
+    # repr says what the CLI's text says ("parameters: offsets, rank 19 of 21 (the complete set would be 39)"),
+    # not the count as if the complete set had been fitted
+    status, text, _ = run_cli("calibrate", NOMINAL, "--measurements", m, "--noise-position", "0.01", "--noise-rotation",
+                              "1e-5", "--free-pitch", "--parameters", "offsets", check=False)
+    line = next(x for x in text.splitlines() if x.startswith("parameters: "))
+    assert "(the complete set would be " in line
+    assert repr(named) == "<lowpair.Calibration " + line[len("parameters: "):] + (", accepted>" if named.accepted else ", rejected>")
+    full = lowpair.calibrate(lowpair.load(NOMINAL), q, positions, rotations, noise_position=0.01, noise_rotation=1e-5,
+                             free_pitch=True)
+    assert repr(full).startswith(f"<lowpair.Calibration rank {full.rank} of {full.expected}, ")
 
 
 def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
@@ -167,6 +177,7 @@ def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
     puma = lowpair.load("models/puma560_corke.yaml")  # has joint ranges
     W = np.tile([1.0, 0, 0, 0], (len(fit), 1))
     names = list(fit.targets)
+    three = lowpair.simulate(nominal, poses=3, seed=4, measure="position")  # three poses
     cases = [
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=names[:-1]), "targets: expected 150 target names"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, targets=["bad name"] + names[1:]),
@@ -185,6 +196,11 @@ def test_tracker_and_simulate_errors(tracker_robot, tracker_data):
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", parameters="full"), "not both"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", folds=1), "folds: must be in"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, select="cv", repeats=0), "repeats: must be in"),
+        (lambda: lowpair.calibrate(nominal, three.q, three.positions, select="cv", folds=20),
+         r"^folds: 20 folds but <arrays> holds 3 poses; .* \(at most 3 folds here, or more poses\)$"),
+        (lambda: lowpair.calibrate(nominal, np.repeat(three.q[:1], 40, axis=0),
+                                   np.repeat(three.positions[:1], 40, axis=0), select="cv"),
+         "^folds: 5 folds but <arrays> holds 1 pose: its 40 measurements repeat joint vectors, 1 distinct"),
         (lambda: lowpair.calibrate(nominal, fit.q, fit.positions, parameters="j1.offset,,j2.offset"), "an empty name"),
         (lambda: lowpair.calibrate(puma, np.where(np.eye(4, 6) > 0, 100.0, 0.0), np.zeros((4, 3))),
          r"q: \[0, 0\] = 100 is outside joint 1's range .* by more than 10 times its width"),

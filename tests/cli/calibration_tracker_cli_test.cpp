@@ -177,3 +177,50 @@ TEST(CalibrateTracker, ParameterLevelsAndCrossValidation) {
   EXPECT_EQ(j1["cross_validation"]["repeats"], 1);
   EXPECT_NE(j1["cross_validation"]["candidates"][0]["score"], j["cross_validation"]["candidates"][0]["score"]);
 }
+
+// Fewer poses than folds is the argument's fault, named as such (it said "crossValidate: 3 poses for 20 folds"
+// after the nominal's name); measurements that repeat one joint vector say so and how many are distinct.
+TEST(CalibrateTracker, FoldsBeyondThePosesNameFoldsAndDuplicates) {
+  const std::string fit = simulateTo("folds_fit.csv", kMujocoActual + " --poses 3 --seed 9 --noise-position 0.01");
+  const std::string base = "calibrate " + shellQuote(kNominal) + " --select cv --measurements ";
+  expectRejected(base + shellQuote(fit) + " --folds 20",
+                 "--folds: 20 folds but " + fit + " holds 3 poses; cross-validation deals poses to folds and needs at "
+                 "least as many poses as folds (at most 3 folds here, or more poses)",
+                 "--folds");
+  // one data row repeated 40 times
+  std::ifstream in(fit);
+  std::string text, line, row;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] == '#') {
+      text += line + "\n";
+    } else if (!header) {
+      header = true;
+      text += line + "\n";
+    } else if (row.empty()) {
+      row = line;
+    }
+  }
+  for (int k = 0; k < 40; ++k) text += row + "\n";
+  const std::string dup = writeScratchFile("folds_dup.csv", text);
+  expectRejected(base + shellQuote(dup), "--folds: 5 folds but " + dup + " holds 1 pose: its 40 measurements repeat "
+                 "joint vectors, 1 distinct", "--folds");
+}
+
+// A robust fit that flags every measurement has no variance factor because of the flags, not for want of
+// data (120 target readings, rank 19): it said "variance factor none (no redundancy)".
+TEST(CalibrateTracker, EveryReadingFlaggedIsSaidNotNoRedundancy) {
+  const std::string data = simulateTo("all_flagged.csv", kMujocoActual + " --poses 40 --seed 3 --measure targets "
+                                                                          "--targets smr_a,smr_b,smr_c --noise-position 0.01");
+  // offsets only cannot follow the actual robot's geometry: residuals of tens of mm against 0.01 mm noise
+  const CliRun r = runCli("calibrate " + shellQuote(modelPath("smr/puma560_okamura_nominal_smr.yaml")) + " --measurements " +
+                          shellQuote(data) + " --loss huber --parameters offsets --noise-position 0.01");
+  EXPECT_EQ(r.status, 1) << r.err;  // (more than a quarter flagged: rejected)
+  EXPECT_NE(r.out.find("outliers (normalized residual > 5): 120 of 120"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("variance factor none (all 120 measurements were flagged as outliers, and it is estimated from "
+                       "the others)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("no redundancy"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no variance factor: all 120 measurements were flagged"), std::string::npos) << r.out;
+}

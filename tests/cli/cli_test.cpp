@@ -228,6 +228,19 @@ TEST(CliModelFiles, TipRules) {
                  model("elbow_mls.xml"));
   const CliRun fk = run("fk " + model("elbow_mls.xml") + " --tip tool --q 0,0,0,0,0,0 --json");
   ASSERT_EQ(fk.status, 0) << fk.err;
+  // no --tip: the candidates listed as a wrong --tip lists them (it said only "--tip NAME is required")
+  const std::string urdf = model("puma560_okamura_nominal.urdf"), mjcf = model("panda.xml");
+  const std::string links = "links: 'base', 'j1_link', 'j2_link', 'j3_link', 'j4_link', 'j5_link', 'j6_link', 'tool'";
+  const std::string sites = "sites: 'tool'; bodies: 'link1', 'link2', 'link3', 'link4', 'link5', 'link6', 'link7'";
+  for (const std::string& command : {"export " + urdf + " --format dh", "fk " + urdf + " --q 0", "simulate " + urdf + " --poses 2",
+                                    "validate " + urdf}) {
+    expectRejected(command, "--tip NAME is required with a model file; " + links, urdf);
+  }
+  expectRejected("export " + urdf + " --format dh --tip nope", "tip 'nope' is not a link; " + links, urdf);
+  for (const std::string& command : {"export " + mjcf + " --format dh", "simulate " + mjcf + " --poses 2", "validate " + mjcf}) {
+    expectRejected(command, "--tip NAME is required with a model file; " + sites, mjcf);
+  }
+  expectRejected("export " + mjcf + " --format dh --tip nope", "tip 'nope' is neither a site nor a body; " + sites, mjcf);
   const auto T = nlohmann::json::parse(fk.out)["T_base_tool"];
   EXPECT_NEAR(T[1][3].get<double>(), 2.0, 1e-15);  // l1 + l2
   EXPECT_NEAR(T[2][3].get<double>(), 1.0, 1e-15);  // l0

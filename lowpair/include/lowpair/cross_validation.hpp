@@ -43,7 +43,11 @@ struct CrossValidation {
   int repeats = 0;  ///< the distinct partitions used (at most the number asked)
 };
 
-/// @throws std::invalid_argument for fewer poses than folds, folds outside [2, kMaxCrossValidationFolds],
+/// The poses crossValidate deals to folds: runs of consecutive measurements at the same joint vector (a
+/// pose's targets) count once.
+int crossValidationPoses(const std::vector<Measurement>& measurements);
+
+/// @throws std::invalid_argument for fewer poses than folds (crossValidationPoses), folds outside [2, kMaxCrossValidationFolds],
 /// repeats outside [1, kMaxCrossValidationRepeats], or as calibrate
 CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                               const CalibrationOptions& options, int folds = 5,
