@@ -107,7 +107,7 @@ void parseParameters(const std::string& text, CalibrationOptions& options, const
   std::stringstream in(text);
   for (std::string name; std::getline(in, name, ',');) {
     const auto b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
-    if (b == std::string::npos) throw UsageError(spelling.name("parameters"), "an empty name in '" + text + "'");
+    if (b == std::string::npos) throw UsageError(spelling.name("parameters"), "an empty name in " + io::quotedFileText(text));
     options.parameter_names.push_back(name.substr(b, e - b + 1));
   }
   if (options.parameter_names.empty()) {

@@ -167,7 +167,7 @@ void exportTo(const Robot& r, const std::string& path, const std::string& format
   try {
     format = io::parseExportFormat(format_text);
   } catch (const std::invalid_argument&) {
-    throw UsageError("format", "expected 'urdf', 'mjcf', 'poe' or 'dh', got '" + format_text + "'");
+    throw UsageError("format", "expected 'urdf', 'mjcf', 'poe' or 'dh', got " + io::quotedFileText(format_text));
   }
   std::vector<std::string> comments = r.comments;
   comments.insert(comments.begin(), "Made by lowpair (Python) from " + r.subject() + ", format " + format_text +

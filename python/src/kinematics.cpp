@@ -37,7 +37,7 @@ void writePose(const Pose& T, double* dst) {
 py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::string>& model,
               const std::optional<py::array>& out_arg) {
   const std::string kind = kindOf(r, model);
-  const CArray q = cArray(q_arg, "q");
+  const CArray q = cArray(q_arg, "q", r.subject());
   const int dof = r.dof();
   if (q.ndim() == 1) {
     if (q.shape(0) != dof) {
@@ -107,7 +107,7 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
 
 py::array_t<double> jacobian(const Robot& r, const InArray& q, const std::string& frame) {
   if (frame != "spatial" && frame != "body" && frame != "geometric") {
-    throw UsageError("frame", "expected 'spatial', 'body' or 'geometric', got '" + frame + "'");
+    throw UsageError("frame", "expected 'spatial', 'body' or 'geometric', got " + io::quotedFileText(frame));
   }
   const VecX x = jointVector(q, r.dof(), r.subject(), "q", &r.poe);
   Mat6X J(6, r.dof());

@@ -33,6 +33,7 @@ py::array_t<double> rangesArray(const Robot& r) {
 
 // Robot.transformed(T): the same robot seen from another frame (every twist Ad(T) xi, the tool T exp(xi_T)).
 RobotPtr transformedRobot(const Robot& r, const InArray& T) {
+  requireAccepted(T, "", "T");
   if (T.ndim() != 2 || T.shape(0) != 4 || T.shape(1) != 4) {
     throw UsageError("T", "expected a (4, 4) array, got " + shapeText(T));
   }

@@ -54,7 +54,7 @@ using RobotPtr = std::shared_ptr<Robot>;  // immutable by convention: no method 
 inline std::string kindOf(const Robot& r, const std::optional<std::string>& model) {
   const std::string kind = model.value_or("file");
   if (kind == "file") return r.ownDh() ? "dh" : "poe";
-  if (kind != "poe" && kind != "dh") throw UsageError("model", "expected 'poe', 'dh' or None, got '" + kind + "'");
+  if (kind != "poe" && kind != "dh") throw UsageError("model", "expected 'poe', 'dh' or None, got " + io::quotedFileText(kind));
   return kind;
 }
 
