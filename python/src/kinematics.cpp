@@ -91,7 +91,9 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
       // into the caller's buffer: every value checked before the first result is written, so a refusal leaves
       // `out` as it was (the kernel checks chunk by chunk, after earlier chunks were written)
       const size_t values = static_cast<size_t>(count) * static_cast<size_t>(dof);
-      requireWithinLimits(r.poe, x, count, r.subject(), "q", true);  // throws, naming the value
+      if (!withinBounds(x, count, dof, jointMagnitudeBounds(r.poe))) {
+        requireWithinLimits(r.poe, x, count, r.subject(), "q", true);  // throws, naming the value
+      }
       // results written over joint values not read yet would be read back as joint values: q is copied first,
       // as numpy copies an input that overlaps a ufunc's out=
       if (sharesBytes(x, values * sizeof(double), dst, static_cast<size_t>(count) * 16 * sizeof(double))) {
