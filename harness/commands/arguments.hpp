@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "io/robot_file.hpp"
 #include "lowpair/calibration.hpp"
 
 namespace lowpair::commands {
@@ -37,7 +38,7 @@ inline Measure parseMeasure(const std::string& text, const ArgumentSpelling& spe
   for (const Measure m : {Measure::Pose, Measure::Position, Measure::Targets}) {
     if (text == measureName(m)) return m;
   }
-  throw UsageError(spelling.name("measure"), "expected 'pose', 'position' or 'targets', got '" + text + "'");
+  throw UsageError(spelling.name("measure"), "expected 'pose', 'position' or 'targets', got " + io::quotedFileText(text));
 }
 
 }  // namespace lowpair::commands

@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "io/csv_columns.hpp"
+#include "io/joint_table.hpp"
 #include "io/output.hpp"
 #include "lowpair/tolerances.hpp"
 
@@ -66,6 +67,34 @@ CalibrationMeasurements readCalibrationMeasurements(const std::string& path, con
   io::MeasurementFile& m = out.file;
   out.notes = m.notes;  // the columns ignored
   check_matches(m);  // a length_unit comment may also follow the header
+  // a CSV in another unit lowpair knows: its lengths (positions, and the prismatic joints' values, as a
+  // joint-value CSV's: io::convertTableUnit) converted to the nominal's, one note saying so; before the range
+  // check, which compares the joint values with the nominal's ranges in its unit
+  if (!m.length_unit.empty() && !robot.length_unit.empty() && m.length_unit != robot.length_unit) {
+    const double factor = *io::metresPerUnit(m.length_unit) / *io::metresPerUnit(robot.length_unit);
+    const std::vector<bool> prismatic = io::prismaticJoints(nominal);
+    for (size_t k = 0; k < m.measurements.size(); ++k) {
+      Measurement& x = m.measurements[k];
+      x.T_base_tool.p *= factor;
+      for (Eigen::Index i = 0; i < x.q.size(); ++i) {
+        if (!prismatic[static_cast<size_t>(i)]) continue;
+        x.q[i] *= factor;
+        if (!(std::abs(x.q[i]) <= kMaxMagnitude)) {
+          throw io::RobotFileError(m.path + ":" + std::to_string(m.lines[k]) + ": q" + std::to_string(i + 1) +
+                                   " is above 1e100 in " + robot.length_unit + " after the unit conversion from " +
+                                   m.length_unit);
+        }
+      }
+      if (!(x.T_base_tool.p.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
+        throw io::RobotFileError(m.path + ":" + std::to_string(m.lines[k]) + ": a position is above 1e100 in " +
+                                 robot.length_unit + " after the unit conversion from " + m.length_unit);
+      }
+    }
+    out.notes.push_back(m.path + ": lengths converted from " + m.length_unit + " (its length_unit comment) to " +
+                        robot.length_unit + " (the nominal's), x " + io::shortest(factor));
+    m.converted_from = m.length_unit;
+    m.length_unit = robot.length_unit;
+  }
   // joint values outside the nominal's ranges: a warning each (the first few), an error beyond
   // kFarOutsideRange range widths (a wrong column or unit, never fitted silently)
   const int outside = checkJointRanges(
@@ -75,15 +104,6 @@ CalibrationMeasurements readCalibrationMeasurements(const std::string& path, con
       },
       [](const std::string& text) { throw io::RobotFileError(text); }, warn);
   if (outside > kMaxRangeWarnings) warn(m.path + ": " + std::to_string(outside) + " joint values outside the ranges in all");
-  // a CSV in another unit lowpair knows: its lengths converted to the nominal's (one note says so)
-  if (!m.length_unit.empty() && !robot.length_unit.empty() && m.length_unit != robot.length_unit) {
-    const double factor = *io::metresPerUnit(m.length_unit) / *io::metresPerUnit(robot.length_unit);
-    for (Measurement& x : m.measurements) x.T_base_tool.p *= factor;
-    out.notes.push_back(m.path + ": lengths converted from " + m.length_unit + " (its length_unit comment) to " +
-                        robot.length_unit + " (the nominal's), x " + io::shortest(factor));
-    m.converted_from = m.length_unit;
-    m.length_unit = robot.length_unit;
-  }
   return out;
 }
 
@@ -107,7 +127,7 @@ void parseParameters(const std::string& text, CalibrationOptions& options, const
   std::stringstream in(text);
   for (std::string name; std::getline(in, name, ',');) {
     const auto b = name.find_first_not_of(" \t"), e = name.find_last_not_of(" \t");
-    if (b == std::string::npos) throw UsageError(spelling.name("parameters"), "an empty name in '" + text + "'");
+    if (b == std::string::npos) throw UsageError(spelling.name("parameters"), "an empty name in " + io::quotedFileText(text));
     options.parameter_names.push_back(name.substr(b, e - b + 1));
   }
   if (options.parameter_names.empty()) {

@@ -35,8 +35,9 @@ struct ValidationResiduals {
 /// A validation set that contradicts an accepted calibration by orders of magnitude rejects it (exit 1,
 /// nothing written): its RMS position error after the fit above kMaxValidationRatio times the fit's own AND
 /// above kMaxValidationRelativeRms of the robot size L. Why both: held-out residuals of a model that fits are
-/// a few times the fit's (noise, and extrapolation beyond the fit's joint ranges: at most 3x in the shipped
-/// cases and tests); a factor 100 is no such spread but a set of other numbers, typically lengths in another
+/// of the order of the fit's (0.005 to 1 times them in the walk-throughs of docs/calibration.md and plan.md:
+/// noisy or noise-free sets, blunders in the fit; somewhat more where a set extrapolates beyond the fit's joint
+/// ranges); a factor 100 is no such spread but a set of other numbers, typically lengths in another
 /// unit than its `# length_unit` says (x 1000 for mm written as m, x 25.4 for inches). The L bound keeps a
 /// noise-free fit (after ~1e-12 L) from rejecting on a validation set with ordinary noise: it is the
 /// verdict's own bound on an accepted fit's RMS without stated noise (kMaxRelativeRmsPosition, 1 %), so a set

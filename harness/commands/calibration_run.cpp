@@ -44,10 +44,10 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
     throw UsageError(spelling.name("outlier_threshold"), "must be in [0.001, 1e6], got " + io::shortest(a.outlier_threshold));
   }
   if (a.loss != "squared" && a.loss != "huber" && a.loss != "cauchy") {
-    throw UsageError(spelling.name("loss"), "expected 'squared', 'huber' or 'cauchy', got '" + a.loss + "'");
+    throw UsageError(spelling.name("loss"), "expected 'squared', 'huber' or 'cauchy', got " + io::quotedFileText(a.loss));
   }
   if (a.select && *a.select != "cv") {
-    throw UsageError(spelling.name("select"), "expected 'cv' or None, got '" + *a.select + "'");
+    throw UsageError(spelling.name("select"), "expected 'cv' or None, got " + io::quotedFileText(*a.select));
   }
   if (!(a.folds >= 2 && a.folds <= kMaxCrossValidationFolds)) {
     throw UsageError(spelling.name("folds"), "must be in [2, " + std::to_string(kMaxCrossValidationFolds) + "], got " +

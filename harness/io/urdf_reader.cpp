@@ -280,8 +280,8 @@ std::vector<urdf::JointConstSharedPtr> chainJoints(const std::string& path, cons
                                                    const std::string& tip, const std::string& base) {
   // a name not found: the links that exist
   auto links = [&model]() { return linkNames(model); };
-  if (!model.getLink(tip)) fail(path, "tip " + quoted(tip) + " is not a link; links: " + links());
-  if (!model.getLink(base)) fail(path, "base " + quoted(base) + " is not a link; links: " + links());
+  if (!model.getLink(tip)) fail(path, "tip " + quotedFileText(tip) + " is not a link; links: " + links());
+  if (!model.getLink(base)) fail(path, "base " + quotedFileText(base) + " is not a link; links: " + links());
   std::vector<urdf::JointConstSharedPtr> joints;
   std::string link = tip;
   while (link != base) {

@@ -167,7 +167,7 @@ Chain findChain(const mjModel* m, const std::string& path, int tip_owner, int ba
   Chain chain;
   chain.m = m;
   for (int b = tip_owner; b != base_body; b = m->body_parentid[b]) {
-    if (b == 0) fail(path, "base '" + base + "' is not an ancestor of the tip '" + tip + "'");
+    if (b == 0) fail(path, "base " + io::quotedFileText(base) + " is not an ancestor of the tip " + io::quotedFileText(tip));
     chain.bodies.push_back(b);
   }
   std::reverse(chain.bodies.begin(), chain.bodies.end());
@@ -382,12 +382,12 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
   tip_site_ = mj_name2id(m, mjOBJ_SITE, tip.c_str());
   if (tip_site_ < 0) tip_body_ = mj_name2id(m, mjOBJ_BODY, tip.c_str());
   if (tip_site_ < 0 && tip_body_ < 0) {
-    fail(path, "tip '" + tip + "' is neither a site nor a body; sites: " + namesOf(m, mjOBJ_SITE, m->nsite, 0) +
+    fail(path, "tip " + io::quotedFileText(tip) + " is neither a site nor a body; sites: " + namesOf(m, mjOBJ_SITE, m->nsite, 0) +
                    "; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1));
   }
   if (!base.empty()) {
     base_body_ = mj_name2id(m, mjOBJ_BODY, base.c_str());
-    if (base_body_ < 0) fail(path, "base '" + base + "' is not a body; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1));
+    if (base_body_ < 0) fail(path, "base " + io::quotedFileText(base) + " is not a body; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1));
   }
   const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;
   const Chain chain = findChain(m, path, tip_owner, base_body_, tip, base);
@@ -426,7 +426,7 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
 
   const std::vector<JointSpec> specs =
       extractJoints(chain, d.get(), coupled_slide, T_base_world, T_base_tip, path, joints_);
-  if (joints_.empty()) fail(path, "no joint between the base and the tip '" + tip + "'");
+  if (joints_.empty()) fail(path, "no joint between the base and the tip " + io::quotedFileText(tip));
   if (!finite(T_base_tip.p) || !T_base_tip.R.allFinite()) fail(path, "the tip pose at qpos0 is not finite");
   try {
     poe_ = std::make_unique<PoeModel>(specs, T_base_tip, path);

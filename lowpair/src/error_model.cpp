@@ -17,6 +17,9 @@ using namespace detail;
 
 namespace {
 
+// A name from the caller as a message quotes it: at most 40 bytes, then "..." (a megabyte of name is not echoed).
+std::string cut(const std::string& name) { return name.size() > 40 ? name.substr(0, 40) + "..." : name; }
+
 // u1 = u x e (e the base axis least aligned with u), u2 = u x u1: with u, a right-handed orthonormal basis.
 void perpendicularPair(const Vec3& u, Vec3& u1, Vec3& u2) {
   Eigen::Index k = 0;
@@ -261,12 +264,12 @@ ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : mode
       if (it == all_.end()) {
         std::ostringstream known;
         for (size_t k = 0; k < all_.size() && k < 12; ++k) known << (k ? ", " : "") << all_[k].name;
-        LP_CHECK(false, "error model: no parameter named '" << name << "' (the model's: " << known.str()
+        LP_CHECK(false, "error model: no parameter named '" << cut(name) << "' (the model's: " << known.str()
                                                             << (all_.size() > 12 ? ", ..." : "") << ")");
       }
       const int index = static_cast<int>(it - all_.begin());
       LP_CHECK(std::find(selected_.begin(), selected_.end(), index) == selected_.end(),
-               "error model: parameter '" << name << "' named twice");
+               "error model: parameter '" << cut(name) << "' named twice");
       selected_.push_back(index);
     }
     std::sort(selected_.begin(), selected_.end());

@@ -57,6 +57,8 @@ io::MeasurementFile measurementArrays(const Robot& r, const InArray& q, const In
                                       const std::optional<InArray>& rotations,
                                       const std::optional<std::vector<std::string>>& targets, const std::string& prefix) {
   const MatX Q = jointMatrix(q, r.dof(), r.subject(), prefix + "q", &r.poe);
+  requireAccepted(positions, "", prefix + "positions");
+  if (rotations) requireAccepted(*rotations, "", prefix + "rotations");
   const auto N = Q.rows();
   if (N == 0) throw UsageError(prefix + "q", "no measurements");
   if (positions.ndim() != 2 || positions.shape(0) != N || positions.shape(1) != 3) {

@@ -73,6 +73,44 @@ std::string shapeText(const py::array& a) {
   return s + (a.ndim() == 1 ? ",)" : ")");
 }
 
+std::string arrayProblem(const py::handle& x) {
+  py::array a;
+  if (py::isinstance<py::array>(x)) {
+    a = py::reinterpret_borrow<py::array>(x);
+  } else {
+    // a list or other sequence: numpy's own reading of it (what the conversion would convert); one numpy cannot
+    // read is left to the conversion
+    try {
+      const py::object o = py::module_::import("numpy").attr("asarray")(x);
+      if (!py::isinstance<py::array>(o)) return "";
+      a = py::reinterpret_borrow<py::array>(o);
+    } catch (const py::error_already_set&) {
+      return "";
+    }
+  }
+  const char kind = a.dtype().kind();
+  if (kind == 'c' || kind == 'M' || kind == 'm') {
+    return "expected real numbers, got an array of dtype " + py::str(a.dtype()).cast<std::string>() +
+           (kind == 'c' ? " (its imaginary part would be dropped)" : "");
+  }
+  const long long rows = a.ndim() >= 2 ? static_cast<long long>(a.shape(0)) : 1;
+  if (rows > kMaxArrayRows) {
+    return std::to_string(rows) + " rows, more than the " + std::to_string(kMaxArrayRows) +
+           " one call takes (the CLI's limit): split the array";
+  }
+  if (static_cast<long long>(a.size()) > kMaxArrayValues) {
+    return std::to_string(a.size()) + " values, more than the " + std::to_string(kMaxArrayValues) +
+           " one call takes (the CLI's limit): split the array";
+  }
+  return "";
+}
+
+void requireAccepted(const InArray& a, const std::string& subject, const std::string& what) {
+  if (a.refused.empty()) return;
+  if (subject.empty()) throw UsageError(what, a.refused);
+  throw UsageError(subject, what + ": " + a.refused);
+}
+
 void requireFinite(const double* x, py::ssize_t count, py::ssize_t per_row, const std::string& subject,
                    const std::string& what) {
   for (py::ssize_t k = 0; k < count; ++k) {
@@ -102,6 +140,7 @@ void requireWithinLimits(const PoeModel& model, const double* q, py::ssize_t row
 }
 
 VecX jointVector(const InArray& q, int dof, const std::string& subject, const std::string& what, const PoeModel* model) {
+  requireAccepted(q, subject, what);
   if (q.ndim() != 1 || q.shape(0) != dof) {
     throw UsageError(subject, what + ": expected " + std::to_string(dof) + " joint values (shape (" +
                                   std::to_string(dof) + ",)), got shape " + shapeText(q));
@@ -115,6 +154,7 @@ VecX jointVector(const InArray& q, int dof, const std::string& subject, const st
 }
 
 MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const std::string& what, const PoeModel* model) {
+  requireAccepted(Q, subject, what);
   if (Q.ndim() != 2 || Q.shape(1) != dof) {
     throw UsageError(subject, what + ": expected shape (N, " + std::to_string(dof) + "), got shape " + shapeText(Q));
   }

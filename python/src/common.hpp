@@ -37,7 +37,27 @@ py::object toPython(const json& j);
 
 // ----- arrays ------------------------------------------------------------------------------------------
 
-using InArray = py::array_t<double, py::array::forcecast>;
+// What is wrong with `x` as an array of numbers before numpy converts it to float64, without the argument's name
+// ("" when nothing): a dtype that is not real numbers (complex: numpy would drop the imaginary part with only a
+// warning; datetime64, timedelta64), or more than kMaxArrayRows rows or kMaxArrayValues values (a broadcast view
+// would be copied whole: 48 GB for np.broadcast_to(q, (10**9, 6))). Anything else numpy cannot read as numbers is
+// left to the conversion (TypeError).
+constexpr long long kMaxArrayRows = 1000000;       // io::kMaxMeasurements: the rows of a CSV the CLI reads
+constexpr long long kMaxArrayValues = 100000000;   // io::kMaxMeasurementJointValues
+std::string arrayProblem(const py::handle& x);
+
+// An array argument of numbers, as float64: anything numpy turns into float64 (lists, integers, bools, any order
+// or byte order), converted on the way in; `refused` is arrayProblem's text for one that is not converted (then
+// empty), which the function reading it raises with the argument's name (requireAccepted).
+struct InArray : py::array_t<double, py::array::forcecast> {
+  using Base = py::array_t<double, py::array::forcecast>;
+  InArray() = default;
+  explicit InArray(Base a) : Base(std::move(a)) {}
+  std::string refused;
+};
+
+// lowpair.Error(SUBJECT: what: refused) for an argument the conversion refused (subject "": "what: refused").
+void requireAccepted(const InArray& a, const std::string& subject, const std::string& what);
 
 py::array_t<double> matrixArray(const Eigen::Ref<const MatX>& m);
 py::array_t<double> vectorArray(const Eigen::Ref<const VecX>& v);
@@ -88,10 +108,16 @@ MatX jointMatrix(const InArray& Q, int dof, const std::string& subject, const st
 // Fortran order, strided views, other byte orders) is converted by numpy first, as InArray is.
 using CArray = py::array_t<double, py::array::c_style | py::array::forcecast | py::detail::npy_api::NPY_ARRAY_ALIGNED_>;
 
-inline CArray cArray(const py::handle& x, const char* what) {
-  if (CArray::check_(x) && py::detail::check_flags(x.ptr(), py::detail::npy_api::NPY_ARRAY_ALIGNED_)) {
-    return py::reinterpret_borrow<CArray>(x);
+// (subject: the robot, in the message of a refused array: arrayProblem)
+inline CArray cArray(const py::handle& x, const char* what, const std::string& subject) {
+  const bool in_place = CArray::check_(x) && py::detail::check_flags(x.ptr(), py::detail::npy_api::NPY_ARRAY_ALIGNED_);
+  // (a float64 array read in place: only its size to check, and a (6,) vector has none to check)
+  if (!in_place || py::reinterpret_borrow<py::array>(x).ndim() >= 2) {
+    if (const std::string problem = arrayProblem(x); !problem.empty()) {
+      throw UsageError(subject, std::string(what) + ": " + problem);
+    }
   }
+  if (in_place) return py::reinterpret_borrow<CArray>(x);
   CArray a = CArray::ensure(x);
   if (!a) {
     throw py::type_error(std::string(what) + ": expected an array of numbers (float64), got " +
@@ -141,5 +167,45 @@ void warnUser(const std::string& text);
 // A rotation from a quaternion qw, qx, qy, qz by the measurement CSV reader's rule (io::unitQuaternionRotation),
 // so that arrays and a CSV of the same numbers give the same bits.
 Mat3 quaternionRotation(double w, double x, double y, double z, const std::string& subject, Eigen::Index row);
+
+}  // namespace lowpair::python
+
+// The argument conversion of InArray: arrayProblem first (no copy of a refused array), then numpy's float64.
+namespace pybind11::detail {
+template <>
+struct type_caster<lowpair::python::InArray> {
+  PYBIND11_TYPE_CASTER(lowpair::python::InArray, const_name("numpy.ndarray[numpy.float64]"));
+  bool load(handle src, bool convert) {
+    using lowpair::python::InArray;
+    if (!convert && !InArray::Base::check_(src)) return false;
+    std::string problem = lowpair::python::arrayProblem(src);
+    if (!problem.empty()) {
+      value = InArray();
+      value.refused = std::move(problem);
+      return true;
+    }
+    auto a = InArray::Base::ensure(src);
+    if (!a) {
+      PyErr_Clear();
+      return false;
+    }
+    value = InArray(std::move(a));
+    return true;
+  }
+  static handle cast(const lowpair::python::InArray& src, return_value_policy, handle) { return src.inc_ref(); }
+};
+}  // namespace pybind11::detail
+
+namespace lowpair::python {
+
+/// An argument taken as a py::object (one that may be an array or something else) read through InArray's caster
+/// (py::cast<InArray> would bypass it: InArray is a py::object), refused as requireAccepted refuses.
+inline InArray arrayArgument(const py::handle& x, const std::string& what) {
+  pybind11::detail::make_caster<InArray> caster;
+  if (!caster.load(x, true)) throw UsageError(what, "expected an array of numbers");
+  InArray a = pybind11::detail::cast_op<InArray&&>(std::move(caster));
+  requireAccepted(a, "", what);
+  return a;
+}
 
 }  // namespace lowpair::python

@@ -65,8 +65,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
     s.target_names = commands::robotFileTargets(r.file.targets, targets, r.subject(), pythonSpelling(), setup.targets);
   }
   if (frame) {  // the frame's pose in the base: 6 numbers (the CLI's --frame) or a (4, 4) rigid motion
-    const InArray f = InArray::ensure(*frame);
-    if (!f) throw UsageError("frame", "expected 6 numbers or a (4, 4) rigid motion");
+    const InArray f = arrayArgument(*frame, "frame");
     if (f.ndim() == 2) {
       setup.T_frame_base = rigidMotionArgument(f, "frame").inverse();
     } else {
@@ -174,7 +173,7 @@ void exportTo(const Robot& r, const std::string& path, const std::string& format
   try {
     format = io::parseExportFormat(format_text);
   } catch (const std::invalid_argument&) {
-    throw UsageError("format", "expected 'urdf', 'mjcf', 'poe' or 'dh', got '" + format_text + "'");
+    throw UsageError("format", "expected 'urdf', 'mjcf', 'poe' or 'dh', got " + io::quotedFileText(format_text));
   }
   std::vector<std::string> comments = r.comments;
   comments.insert(comments.begin(), "Made by lowpair (Python) from " + r.subject() + ", format " + format_text +

@@ -117,6 +117,35 @@ void repackChunk(const MatX& poses, Eigen::Index len, double* out, bool stream) 
 
 }  // namespace
 
+std::vector<double> jointMagnitudeBounds(const PoeModel& model) {
+  std::vector<double> bound(static_cast<size_t>(model.dof()));
+  for (int i = 0; i < model.dof(); ++i) {
+    const Joint& j = model.joint(i);
+    const double b = kMaxMagnitude / std::max(1.0, std::abs(j.slideRate())) / j.scale - std::abs(j.offset);
+    bound[static_cast<size_t>(i)] = std::max(0.0, b * (1.0 - 1e-15));
+  }
+  return bound;
+}
+
+bool withinBounds(const double* q, Eigen::Index count, Eigen::Index dof, const std::vector<double>& bound) {
+  // the bounds repeated over 8 rows: one contiguous, branch-free pass the compiler vectorizes
+  constexpr Eigen::Index kRows = 8;
+  const auto tile_size = static_cast<size_t>(kRows * dof);
+  std::vector<double> tile(tile_size);
+  for (size_t t = 0; t < tile_size; ++t) tile[t] = bound[t % static_cast<size_t>(dof)];
+  bool ok = true;
+  Eigen::Index k = 0;
+  for (; k + kRows <= count; k += kRows, q += kRows * dof) {
+    bool tile_ok = true;
+    for (size_t t = 0; t < tile_size; ++t) tile_ok &= std::abs(q[t]) <= tile[t];
+    ok &= tile_ok;
+  }
+  for (; k < count; ++k, q += dof) {
+    for (Eigen::Index i = 0; i < dof; ++i) ok &= std::abs(q[i]) <= bound[static_cast<size_t>(i)];
+  }
+  return ok;
+}
+
 void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, double* out) {
   const Eigen::Index dof = r.dof(), rows = std::min(count, kFkChunk);
   MatX Q(rows, dof), poses(rows, 12);
@@ -125,14 +154,8 @@ void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, 
   const size_t bytes = static_cast<size_t>(count) * 16 * sizeof(double);
   stream = bytes >= kStreamBytes && reinterpret_cast<uintptr_t>(out) % 16 == 0 && resident(out, bytes);
 #endif
-  // |q_i| within bound[i] keeps joint i within its limits (jointValueWithinLimits: |scale (q + offset)| and the
-  // slide at most kMaxMagnitude); a value beyond is checked exactly (the bound is a little conservative)
-  std::vector<double> bound(static_cast<size_t>(dof));
-  for (Eigen::Index i = 0; i < dof; ++i) {
-    const Joint& j = r.poe.joint(static_cast<int>(i));
-    const double b = kMaxMagnitude / std::max(1.0, std::abs(j.slideRate())) / j.scale - std::abs(j.offset);
-    bound[static_cast<size_t>(i)] = std::max(0.0, b * (1.0 - 1e-15));
-  }
+  // |q_i| within bound[i] keeps joint i within its limits; a value beyond is checked exactly
+  const std::vector<double> bound = jointMagnitudeBounds(r.poe);
   for (Eigen::Index start = 0; start < count; start += kFkChunk) {
     const Eigen::Index len = std::min(kFkChunk, count - start);
     if (!transposeChunk(q + start * dof, len, dof, bound.data(), Q)) {

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "robot.hpp"
 
@@ -20,6 +21,13 @@ inline bool sharesBytes(const void* a, size_t a_bytes, const void* b, size_t b_b
 // Batched FK of `count` configurations (row-major count x dof `q`) into `out` (count x 4 x 4, row-major): per
 // chunk, transposeChunk (with the finiteness check), forwardKinematicsBatch, repackChunk. Called without the GIL
 // (the caller keeps `q` and `out` alive).
+// Per joint, a bound on |q_i| within which joint i is within its limits (jointValueWithinLimits: |scale (q +
+// offset)| and the slide at most kMaxMagnitude), a little conservative: a value beyond it is checked exactly.
+std::vector<double> jointMagnitudeBounds(const PoeModel& model);
+
+// Whether every value of the `count` rows of `dof` values at q is within its joint's bound (NaN is not).
+bool withinBounds(const double* q, Eigen::Index count, Eigen::Index dof, const std::vector<double>& bound);
+
 void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, double* out);
 
 }  // namespace lowpair::python

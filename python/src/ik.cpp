@@ -29,6 +29,8 @@ struct IkSolutions {
 // The targets of ik: (N, 4, 4) homogeneous transforms, or (N, 3) positions, made poses by rotations (N, 4) qw..qz
 // (the targets CSV's columns, converted as its reader converts them).
 std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>& rotations, bool& pose) {
+  requireAccepted(targets, "", "targets");
+  if (rotations) requireAccepted(*rotations, "", "rotations");
   std::vector<Pose> out;
   // (N, 4, 4) transforms, or one (4, 4) transform: a batch of one
   const bool one = targets.ndim() == 2 && targets.shape(0) == 4 && targets.shape(1) == 4;
@@ -94,6 +96,7 @@ std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>
 // The rows of ik and compensate: at most io::kMaxMeasurements, the CLI's limit (a file holds no more), checked
 // before anything is allocated (10^7 rows once grew to 7.7 GB).
 void checkRowCount(const InArray& a, const std::string& what) {
+  requireAccepted(a, "", what);
   if (a.ndim() >= 2 && a.shape(0) > io::kMaxMeasurements) {
     throw UsageError(what, std::to_string(a.shape(0)) + " rows, more than the " + std::to_string(io::kMaxMeasurements) +
                                " one call takes (the CLI's limit): split the array");
@@ -137,13 +140,9 @@ bool singlePrecision(const py::object& a) {
 
 IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optional<py::object>& rotations_obj,
                const std::optional<InArray>& q0, int seeds, long long seed) {
-  const InArray targets_arg = InArray::ensure(targets_obj);
-  if (!targets_arg) throw UsageError("targets", "expected an array of numbers");
+  const InArray targets_arg = arrayArgument(targets_obj, "targets");
   std::optional<InArray> rotations;
-  if (rotations_obj) {
-    rotations = InArray::ensure(*rotations_obj);
-    if (!*rotations) throw UsageError("rotations", "expected an array of numbers");
-  }
+  if (rotations_obj) rotations = arrayArgument(*rotations_obj, "rotations");
   if (seeds < 1 || seeds > commands::kMaxIkSeeds) {
     throw UsageError("seeds", "must be in [1, " + std::to_string(commands::kMaxIkSeeds) + "], got " +
                                   std::to_string(seeds));
@@ -199,7 +198,7 @@ IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optiona
 IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const InArray& q_arg,
                            const std::string& measure) {
   if (measure != "pose" && measure != "position") {
-    throw UsageError("measure", "expected 'pose' or 'position', got '" + measure + "'");
+    throw UsageError("measure", "expected 'pose' or 'position', got " + io::quotedFileText(measure));
   }
   if (nominal.dof() != calibrated.dof()) {
     throw UsageError(calibrated.subject(), "has " + std::to_string(calibrated.dof()) + " joints but nominal " +

@@ -37,7 +37,7 @@ void writePose(const Pose& T, double* dst) {
 py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::string>& model,
               const std::optional<py::array>& out_arg) {
   const std::string kind = kindOf(r, model);
-  const CArray q = cArray(q_arg, "q");
+  const CArray q = cArray(q_arg, "q", r.subject());
   const int dof = r.dof();
   if (q.ndim() == 1) {
     if (q.shape(0) != dof) {
@@ -91,7 +91,9 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
       // into the caller's buffer: every value checked before the first result is written, so a refusal leaves
       // `out` as it was (the kernel checks chunk by chunk, after earlier chunks were written)
       const size_t values = static_cast<size_t>(count) * static_cast<size_t>(dof);
-      requireWithinLimits(r.poe, x, count, r.subject(), "q", true);  // throws, naming the value
+      if (!withinBounds(x, count, dof, jointMagnitudeBounds(r.poe))) {
+        requireWithinLimits(r.poe, x, count, r.subject(), "q", true);  // throws, naming the value
+      }
       // results written over joint values not read yet would be read back as joint values: q is copied first,
       // as numpy copies an input that overlaps a ufunc's out=
       if (sharesBytes(x, values * sizeof(double), dst, static_cast<size_t>(count) * 16 * sizeof(double))) {
@@ -107,7 +109,7 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
 
 py::array_t<double> jacobian(const Robot& r, const InArray& q, const std::string& frame) {
   if (frame != "spatial" && frame != "body" && frame != "geometric") {
-    throw UsageError("frame", "expected 'spatial', 'body' or 'geometric', got '" + frame + "'");
+    throw UsageError("frame", "expected 'spatial', 'body' or 'geometric', got " + io::quotedFileText(frame));
   }
   const VecX x = jointVector(q, r.dof(), r.subject(), "q", &r.poe);
   Mat6X J(6, r.dof());

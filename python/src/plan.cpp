@@ -36,7 +36,7 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
   }
   checkSeed(seed);
   if (criterion_text != "D" && criterion_text != "O1") {
-    throw UsageError("criterion", "expected 'D' or 'O1', got '" + criterion_text + "'");
+    throw UsageError("criterion", "expected 'D' or 'O1', got " + io::quotedFileText(criterion_text));
   }
   commands::PlanRequest request;
   request.measure = commands::parseMeasure(measure_text, pythonSpelling());

@@ -45,6 +45,7 @@ void collectNote(const std::string& text) { pendingNotes().push_back(text); }
 }  // namespace
 
 Pose rigidMotionArgument(const InArray& T, const std::string& subject) {
+  requireAccepted(T, "", subject);
   if (T.ndim() != 2 || T.shape(0) != 4 || T.shape(1) != 4) {
     throw UsageError(subject, "expected a (4, 4) array, got " + shapeText(T));
   }

@@ -58,7 +58,7 @@ Pose rigidMotionArgument(const InArray& T, const std::string& subject);
 inline std::string kindOf(const Robot& r, const std::optional<std::string>& model) {
   const std::string kind = model.value_or("file");
   if (kind == "file") return r.ownDh() ? "dh" : "poe";
-  if (kind != "poe" && kind != "dh") throw UsageError("model", "expected 'poe', 'dh' or None, got '" + kind + "'");
+  if (kind != "poe" && kind != "dh") throw UsageError("model", "expected 'poe', 'dh' or None, got " + io::quotedFileText(kind));
   return kind;
 }
 

@@ -1,5 +1,7 @@
 """Arrays the module writes into or sizes from: out= sharing memory with q, a refusal that leaves out= as it was, an
 empty target list, and row counts beyond the CLI's limit (docs/python.md "Arrays")."""
+import re
+
 import numpy as np
 import pytest
 
@@ -138,3 +140,64 @@ def test_joint_values_beyond_their_limits_are_refused_naming_the_index():
     edge[2] = 1e100
     assert np.all(np.isfinite(robot.fk(edge))) and np.all(np.isfinite(robot.jacobian(edge)))
     assert np.all(np.isfinite(robot.fk(np.tile(edge, (300, 1)))))
+
+
+@pytest.mark.parametrize("dtype", ["complex128", "complex64", "datetime64[s]", "timedelta64[ms]"])
+def test_arrays_that_are_not_real_numbers_are_refused_naming_argument_and_dtype(puma, dtype):
+    # complex lost its imaginary part with only numpy's ComplexWarning; datetime64 was read as numbers
+    bad = np.zeros(6, dtype=dtype)
+    want = rf"q: expected real numbers, got an array of dtype {re.escape(str(bad.dtype))}"
+    for call in (puma.fk, puma.jacobian, puma.singular):
+        with pytest.raises(lowpair.Error, match=rf"^{PUMA}: {want}"):
+            call(bad)
+    with pytest.raises(lowpair.Error, match=rf"^{PUMA}: {want}"):
+        lowpair.simulate(puma, q=bad[None, :])
+    with pytest.raises(lowpair.Error, match=rf"^{want}"):
+        lowpair.compensate(puma, puma, bad[None, :])
+    with pytest.raises(lowpair.Error, match=rf"^targets: expected real numbers, got an array of dtype"):
+        lowpair.ik(puma, np.zeros((2, 3), dtype=dtype))
+    with pytest.raises(lowpair.Error, match=rf"^positions: expected real numbers, got an array of dtype"):
+        lowpair.calibrate(puma, np.zeros((8, 6)), np.zeros((8, 3), dtype=dtype))
+    # lists are read as numpy reads them
+    if dtype.startswith("complex"):
+        with pytest.raises(lowpair.Error, match="imaginary part would be dropped"):
+            puma.jacobian([0j] * 6)
+    # integers and bools are numbers (as before)
+    assert np.array_equal(puma.fk(np.zeros(6, dtype=int)), puma.fk(np.zeros(6)))
+
+
+def test_a_broadcast_view_beyond_the_row_limit_is_refused_before_any_copy(puma):
+    # (1e9, 6) of one row: numpy would copy 48 GB (MemoryError, or the TypeError of a failed conversion)
+    view = np.broadcast_to(np.zeros(6), (10**9, 6))
+    limit = rf"q: {10**9} rows, more than the {ROW_LIMIT} one call takes \(the CLI's limit\): split the array"
+    for call in (puma.fk, lambda q: lowpair.simulate(puma, q=q),
+                 lambda q: lowpair.calibrate(puma, q, np.zeros((3, 3)))):
+        with pytest.raises(lowpair.Error, match=rf"^{PUMA}: {limit}$"):
+            call(view)
+
+
+def test_a_huge_string_argument_is_cut_in_the_message(puma):
+    # a megabyte of text was echoed whole; quoted as a file's text is: 40 bytes, then "..."
+    big = "x" * 1_000_000
+    quoted = "'" + "x" * 40 + "...'"
+    m = lowpair.simulate(puma, poses=8, seed=1)
+    calls = [
+        (lambda: puma.fk(np.zeros(6), model=big), "model"),
+        (lambda: puma.jacobian(np.zeros(6), frame=big), "frame"),
+        (lambda: lowpair.load("models/panda.xml", tip=big), "tip"),
+        (lambda: lowpair.load("models/puma560_okamura_nominal.urdf", tip=big), "tip"),
+        (lambda: lowpair.load("models/panda.xml", tip="tool", base=big), "base"),
+        (lambda: lowpair.simulate(puma, poses=3, measure=big), "measure"),
+        (lambda: lowpair.calibrate(puma, m.q, m.positions, m.rotations, loss=big), "loss"),
+        (lambda: lowpair.calibrate(puma, m.q, m.positions, m.rotations, select=big), "select"),
+        (lambda: lowpair.calibrate(puma, m.q, m.positions, m.rotations, parameters=big), "parameters"),
+        (lambda: lowpair.calibrate(puma, m.q, m.positions, m.rotations, parameters=big + ",,x"), "parameters"),
+        (lambda: lowpair.compensate(puma, puma, m.q, measure=big), "measure"),
+        (lambda: lowpair.plan(puma, poses=3, criterion=big), "criterion"),
+        (lambda: lowpair.export(puma, "unused.urdf", format=big), "format"),
+    ]
+    for call, name in calls:
+        with pytest.raises(lowpair.Error) as info:
+            call()
+        text = str(info.value)
+        assert quoted in text and len(text) < 1000, (name, text[:300])

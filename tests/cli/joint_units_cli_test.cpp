@@ -4,6 +4,7 @@
 // The Stanford arm (models/stanford_corke.yaml, metres) has one prismatic joint, q3 in [0.3048, 1.27] m.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -91,6 +92,30 @@ TEST(JointTableUnits, IkSeedsAndPositionsConvertTogether) {
   EXPECT_NEAR(row["q"][2].get<double>(), 0.8, 1e-6);  // std::to_string keeps 1e-6 mm of the target
   ASSERT_EQ(j["notes"].size(), 1u);
   EXPECT_NE(j["notes"][0].get<std::string>().find("lengths converted from mm"), std::string::npos) << j["notes"];
+}
+
+TEST(JointTableUnits, CalibrateConvertsPrismaticValuesOfAMeasurementFileToo) {
+  // the robot's own noise-free positions, written in mm (x, y, z and q3 times 1000): converted back, the nominal
+  // fits them to rounding; q3 was taken as metres (800 m, far outside [0.3048, 1.27]: refused as a wrong unit)
+  const csv_test::Table m = csv_test::parseTable(runCli("simulate " + kStanford + " --poses 30 --seed 4 --measure position").out);
+  std::string text = "# length_unit: mm\nq1,q2,q3,q4,q5,q6,x,y,z\n";
+  for (size_t k = 0; k < m.rows.size(); ++k) {
+    for (const std::string column : {"q1", "q2", "q3", "q4", "q5", "q6", "x", "y", "z"}) {
+      const bool length = column == "q3" || column.size() == 1;
+      char buffer[40];
+      std::snprintf(buffer, sizeof buffer, "%.17g", m.number(k, column) * (length ? 1000.0 : 1.0));
+      text += std::string(column == "q1" ? "" : ",") + buffer;
+    }
+    text += "\n";
+  }
+  const std::string mm = writeScratchFile("units_cal_mm.csv", text);
+  const json j = json::parse(ok("calibrate " + kStanford + " --measurements " + mm + " --json").out);
+  ASSERT_EQ(j["notes"].size(), 1u);
+  EXPECT_NE(j["notes"][0].get<std::string>().find("lengths converted from mm (its length_unit comment) to m"),
+            std::string::npos);
+  // the nominal against its own positions: x 1000 then x 0.001 rounds each length once or twice (a few eps of
+  // 2 m); 1e-12 m fails on q3 read as metres by 14 digits
+  EXPECT_LT(j["before"]["rms_position"].get<double>(), 1e-12) << j["before"];
 }
 
 TEST(JointTableUnits, RevoluteOnlyRobotConvertsNothingAndSaysNothing) {
