@@ -77,4 +77,41 @@ std::string toolFrameText(const CalibrationResult& c) {
          "non-collinear targets as known (targets: known: true, docs/calibration.md) to pin it";
 }
 
+// The residual degrees of freedom behind a variance factor: rows (of the measurements not flagged, for a
+// robust loss) minus the determined parameters.
+double redundancy(const CalibrationResult& c) {
+  double rows = 0.0;
+  for (const MeasurementResidual& m : c.residuals) {
+    if (c.loss == Loss::Squared || !m.outlier) rows += m.rows;
+  }
+  return rows - c.rank.rank;
+}
+
+// Why a fit has no variance factor (CalibrationResult::variance_factor NaN: residual rows <= rank), in a few
+// words: a robust loss that flagged every measurement (or all but a few), else no redundancy in the data.
+std::string noVarianceFactorCause(const CalibrationResult& c) {
+  if (c.loss != Loss::Squared && c.outliers > 0) {
+    const size_t n = c.residuals.size();
+    if (static_cast<size_t>(c.outliers) == n) {
+      return "all " + std::to_string(n) + " measurements were flagged as outliers, and it is estimated from the others";
+    }
+    double rows = 0.0, all = 0.0;
+    for (const MeasurementResidual& m : c.residuals) {
+      all += m.rows;
+      if (!m.outlier) rows += m.rows;
+    }
+    if (all - c.rank.rank > 0) {  // the flags took the redundancy away
+      return std::to_string(c.outliers) + " of the " + std::to_string(n) + " measurements were flagged as outliers, " +
+             "and the " + std::to_string(static_cast<long long>(rows)) + " residuals of the others do not exceed the " + std::to_string(c.rank.rank) +
+             " determined parameters";
+    }
+  }
+  return "";
+}
+
+// A measurement's file line; "measurement K" (1-based) for measurements that came from no file (a scenario's).
+std::string measurementLabel(const CalibrationReport& r, size_t k) {
+  return k < r.fit.lines.size() ? std::to_string(r.fit.lines[k]) : "measurement " + std::to_string(k + 1);
+}
+
 }  // namespace lowpair::commands::detail

@@ -10,6 +10,7 @@
 
 #include "lowpair/calibration.hpp"
 #include "io/robot_file.hpp"
+#include "commands/calibration_output.hpp"
 
 namespace lowpair::commands::detail {
 
@@ -33,5 +34,12 @@ std::string countFormula(const ParameterCount& c);
 bool knownTarget(const CalibrationResult& c, size_t t);
 /// "tool frame: determined by ..." / "tool frame: not determined (...)": CalibrationResult::tool_rank in words.
 std::string toolFrameText(const CalibrationResult& c);
+/// The residual degrees of freedom behind a variance factor (rows of the measurements not flagged, for a robust
+/// loss, minus the determined parameters).
+double redundancy(const CalibrationResult& c);
+/// Why a calibration has no variance factor, in words.
+std::string noVarianceFactorCause(const CalibrationResult& c);
+/// A measurement's file line; "measurement K" (1-based) for measurements that came from no file.
+std::string measurementLabel(const CalibrationReport& r, size_t k);
 
 }  // namespace lowpair::commands::detail
