@@ -132,7 +132,8 @@ int knownPointsToolRank(const std::vector<Vec3>& known_points, double L) {
   Eigen::Matrix<double, 3, Eigen::Dynamic> d(3, static_cast<Eigen::Index>(known_points.size()));
   for (size_t k = 0; k < known_points.size(); ++k) d.col(static_cast<Eigen::Index>(k)) = known_points[k] - known_points[0];
   if (d.colwise().norm().maxCoeff() <= kRankFactor * kEps * L) return 3;  // one point: the turns about it are free
-  const Vec3 s = Eigen::JacobiSVD<MatX>(d).singularValues().head<3>();
+  // min(3, points) singular values; the first column is zero, so at least two and s[1] exists.
+  const VecX s = Eigen::JacobiSVD<MatX>(d).singularValues();
   return s[1] <= numericalRankTolerance(s[0], 3.0) ? 5 : 6;  // collinear: the turn about their line is free
 }
 
