@@ -57,12 +57,10 @@ bench: configure
 	BUILD='$(BUILD)' bash bench/run.sh
 
 # Sanitizers (CI runs this after `make check`): clang with AddressSanitizer and UndefinedBehaviorSanitizer
-# (float-cast-overflow included, no recovery), the whole test suite except three tests that cannot run
-# under them: package_consumer (the consumer would need the sanitizer runtime at link time),
-# ThreadThatCannotBeCreatedDoesNotAbort and OutOfMemoryIsOneLine (they limit virtual memory, and ASan
-# reserves terabytes), and two statistical tests of the pose planner (hundreds of calibrations, a minute each
-# under the sanitizers; the planner's code runs under them in the other plan tests). LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their robots
-# (tests/common/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
+# (float-cast-overflow included, no recovery), the test suite except the tests tests/sanitize_skip.txt lists
+# with their reasons: three that cannot run under them, and the statistical ones whose every code path a
+# lighter test runs under them. LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their
+# robots (tests/common/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
 # -O1 and line tables only: file:line in every report, less to compile and link than -O2 -g (not timed apart)
@@ -70,7 +68,7 @@ SAN_OPT := -O1 -gline-tables-only -DNDEBUG
 # SAN_SKIP_MORE: more tests to leave out, e.g. '|fuzz_replay\..*' when make fuzz-ci follows (CI: it replays
 # the same inputs and their mutants).
 SAN_SKIP_MORE ?=
-SAN_SKIP := ^(package_consumer|HostileInput.ThreadThatCannotBeCreatedDoesNotAbort|HostileInput.OutOfMemoryIsOneLine|PlanCalibration.PlannedFifteenPosesCalibrateBetterThanRandomOnes|PlanExchange.NoSingleSwapImprovesThePlan$(SAN_SKIP_MORE))$$
+SAN_SKIP := ^($(shell sed -n 's/^\([A-Za-z_][A-Za-z0-9_.]*\).*/\1/p' tests/sanitize_skip.txt | paste -sd'|')$(SAN_SKIP_MORE))$$
 .PHONY: sanitize sanitize-build
 sanitize-build: deps
 	@test -f $(SAN_BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) \
