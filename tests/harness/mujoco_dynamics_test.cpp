@@ -1,0 +1,209 @@
+// The masses of a MuJoCo robot's chain and MuJoCo's gravity force on it (harness/mujoco/mujoco_dynamics.hpp).
+//
+// - A hand-written chain: the link masses and centres of mass lumped by hand (a body fixed to a link, a
+//   body beyond the tip, a finger moved by a joint outside the chain, a body the chain does not move), in a
+//   rotated base frame.
+// - Every shipped model with seeded random masses (mass_variants.hpp), MJCF and URDF: MuJoCo's generalized
+//   gravity force (minus qfrc_bias, recursive Newton-Euler over MuJoCo's own bodies) equals the sum over the
+//   mass model's links of J_k^T m_k g, J_k MuJoCo's Jacobian (mj_jac) of link k's centre of mass carried
+//   rigidly from qpos0 to x. The two sides share only MuJoCo's kinematics: one is RNE over the bodies, the
+//   other the lumped links' point masses, so a wrong lumping, centre of mass, base frame, gravity or dof
+//   mapping (helical: hinge + pitch * slide) shows. Bound: 64 eps sum_k m_k |g| (|p_k| + L), rounding of
+//   sums of products of that size.
+// - Files without masses: no inertials, masses from geometry.
+#include <gtest/gtest.h>
+
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <random>
+
+#include "mass_variants.hpp"
+#include "mujoco/mujoco_dynamics.hpp"
+#include "mujoco/mujoco_robot.hpp"
+
+using namespace lowpair;
+using namespace lowpair::mujoco;
+
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// World -> stand (rotated +90 deg about x, the base) -> a (j1: hinge about the stand's z) -> b (j2: slide
+// along x) with the tip site; a_fixed is fixed to a, beyond fixed to b after the tip, finger on b moved by
+// the joint f outside the chain (ref 0.3: qpos0 = 0.3, at which the finger is where the XML puts it: MuJoCo's
+// `ref` is the joint value of the model's own configuration). Positions in the
+// stand's frame are the XML's (no rotation below the stand).
+const char* const kChain = R"(<mujoco model="chain">
+  <option gravity="0 0 -9.81"/>
+  <worldbody>
+    <body name="ground" pos="3 0 0"><inertial pos="0 0 0" mass="40" diaginertia="1 1 1"/></body>
+    <body name="stand" pos="0 0 0.1" quat="0.70710678118654757 0.70710678118654757 0 0">
+      <inertial pos="0 0 0" mass="7" diaginertia="1 1 1"/>
+      <body name="a" pos="0 0 0.5">
+        <inertial pos="0.1 0 0" mass="2" diaginertia=".01 .01 .01"/>
+        <joint name="j1" type="hinge" axis="0 0 1"/>
+        <body name="a_fixed" pos="0 0.2 0"><inertial pos="0 0 0.1" mass="1" diaginertia=".01 .01 .01"/></body>
+        <body name="b" pos="0.4 0 0">
+          <inertial pos="0.2 0 0" mass="3" diaginertia=".01 .01 .01"/>
+          <joint name="j2" type="slide" axis="1 0 0"/>
+          <site name="tool" pos="0.3 0 0"/>
+          <body name="beyond" pos="0.3 0 0"><inertial pos="0 0 -0.1" mass="0.5" diaginertia=".01 .01 .01"/></body>
+          <body name="finger" pos="0.3 0.1 0">
+            <joint name="f" type="hinge" axis="1 0 0" ref="0.3"/>
+            <inertial pos="0 0.1 0" mass="0.25" diaginertia=".01 .01 .01"/>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+)";
+
+TEST(MujocoMasses, HandWrittenChainLumpsEachBodyIntoTheLinkThatMovesIt) {
+  const std::string path = mass_variants::scratch().write("chain.xml", kChain);
+  const MujocoRobot robot(path, "tool", "stand");
+  const MujocoDynamics dynamics(robot);
+  const ModelMasses& mm = dynamics.masses();
+  ASSERT_EQ(mm.status, MassStatus::Ok) << massProblem(mm, path);
+  ASSERT_EQ(mm.masses.links.size(), 2u);
+  // link 1: a (2 kg at (0.1, 0, 0.5)) and a_fixed (1 kg at (0, 0.2, 0.6)); link 2: b (3 kg at (0.6, 0, 0.5)),
+  // beyond (0.5 kg at (0.7, 0, 0.4)), finger (0.25 kg at (0.7, 0.2, 0.5), unturned at qpos0 = ref); stand
+  // and ground: none
+  const Vec3 com1 = (2 * Vec3(0.1, 0, 0.5) + 1 * Vec3(0, 0.2, 0.6)) / 3;
+  const Vec3 finger(0.7, 0.2, 0.5);
+  const Vec3 com2 = (3 * Vec3(0.6, 0, 0.5) + 0.5 * Vec3(0.7, 0, 0.4) + 0.25 * finger) / 3.75;
+  EXPECT_NEAR(mm.masses.links[0].mass, 3.0, 4 * kEps * 3);
+  EXPECT_NEAR(mm.masses.links[1].mass, 3.75, 4 * kEps * 3.75);
+  EXPECT_LE((mm.masses.links[0].com - com1).norm(), 16 * kEps) << mm.masses.links[0].com.transpose();
+  EXPECT_LE((mm.masses.links[1].com - com2).norm(), 16 * kEps) << mm.masses.links[1].com.transpose();
+  // gravity (0, 0, -9.81) seen from the stand turned +90 deg about x: (0, -9.81, 0)
+  EXPECT_LE((mm.masses.gravity - Vec3(0, -9.81, 0)).norm(), 16 * kEps * 9.81) << mm.masses.gravity.transpose();
+  EXPECT_EQ(mm.masses.metres_per_unit, 1.0);
+  EXPECT_EQ(mm.masses.payload.mass, 0.0);
+}
+
+TEST(MujocoMasses, ShippedMjcfHasItsPlaceholderMassesAndNoGravity) {
+  // models/*.xml are kinematic models: 1 kg at each body's origin and <option gravity="0 0 0">
+  const MujocoRobot robot(std::string(LOWPAIR_MODELS) + "/puma560_corke.xml", "tool");
+  const MujocoDynamics dynamics(robot);
+  const ModelMasses& mm = dynamics.masses();
+  ASSERT_EQ(mm.status, MassStatus::Ok);
+  ASSERT_EQ(mm.masses.links.size(), 6u);
+  for (const PointMass& p : mm.masses.links) EXPECT_EQ(p.mass, 1.0);
+  EXPECT_EQ(mm.masses.gravity, Vec3::Zero());
+  MujocoDynamics::Evaluator eval(dynamics);
+  EXPECT_EQ(eval.gravityForce(VecX::Constant(6, 0.3)), VecX::Zero(6));
+}
+
+TEST(MujocoMasses, FilesWithoutMassesSayWhy) {
+  const auto& s = mass_variants::scratch();
+  // no inertial anywhere: every body weighs the copy's bound
+  const std::string bare = s.write("bare.xml", R"(<mujoco><worldbody><body name="a">
+    <joint name="j" type="hinge" axis="0 0 1"/><site name="tool" pos="1 0 0"/></body></worldbody></mujoco>)");
+  const MujocoRobot bare_robot(bare, "tool");
+  const MujocoDynamics bare_dynamics(bare_robot);
+  EXPECT_EQ(bare_dynamics.masses().status, MassStatus::NoInertials);
+  EXPECT_TRUE(bare_dynamics.masses().masses.empty());
+  EXPECT_NE(massProblem(bare_dynamics.masses(), bare).find("no masses"), std::string::npos);
+  // the moving body's mass comes from its geom, which no copy keeps; the static one's does not matter
+  const std::string geoms = s.write("geoms.xml", R"(<mujoco><worldbody>
+    <body name="pillar"><geom type="box" size="1 1 1"/></body>
+    <body name="arm"><joint name="j" type="hinge" axis="0 0 1"/><geom type="capsule" fromto="0 0 0 1 0 0" size="0.05"/>
+    <site name="tool" pos="1 0 0"/></body></worldbody></mujoco>)");
+  const MujocoRobot geom_robot(geoms, "tool");
+  const MujocoDynamics geom_dynamics(geom_robot);
+  EXPECT_EQ(geom_dynamics.masses().status, MassStatus::MassFromGeoms);
+  EXPECT_EQ(geom_dynamics.masses().bodies, std::vector<std::string>{"'arm'"});
+  EXPECT_NE(massProblem(geom_dynamics.masses(), geoms).find("'arm'"), std::string::npos);
+  // a URDF whose links have no <inertial>
+  const std::string urdf = s.write("bare.urdf", R"(<robot name="bare"><link name="base"/><link name="arm"/>
+    <link name="tool"/><joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint><joint name="t" type="fixed"><parent link="arm"/>
+    <child link="tool"/><origin xyz="1 0 0"/></joint></robot>)");
+  const MujocoRobot urdf_robot(urdf, "tool");
+  EXPECT_EQ(MujocoDynamics(urdf_robot).masses().status, MassStatus::NoInertials);
+}
+
+// sum_k J_k(x)^T m_k g with J_k MuJoCo's Jacobian of link k's centre of mass carried rigidly by the body of
+// joint k from qpos0 to x; also the bound 64 eps sum_k m_k |g| (|p_k| + L).
+VecX weightTorques(const MujocoDynamics& dynamics, const VecX& x, double& bound) {
+  const mjModel* m = dynamics.model();
+  const MujocoRobot& robot = dynamics.robot();
+  const MassModel& mm = dynamics.masses().masses;
+  std::unique_ptr<mjData, void (*)(mjData*)> d0(mj_makeData(m), mj_deleteData), d(mj_makeData(m), mj_deleteData);
+  mj_kinematics(m, d0.get());
+  for (size_t i = 0; i < robot.joints().size(); ++i) {
+    const MujocoJoint& j = robot.joints()[i];
+    d->qpos[j.qpos] += x[static_cast<Eigen::Index>(i)];
+    if (j.slide_qpos >= 0) d->qpos[j.slide_qpos] += j.pitch * x[static_cast<Eigen::Index>(i)];
+  }
+  mj_kinematics(m, d.get());
+  mj_comPos(m, d.get());
+  const Pose T_world_base = robot.T_base_world().inverse();
+  const Vec3 g_world = T_world_base.R * mm.gravity;
+  const double L = robot.poeModel().lengthScale();
+  std::vector<double> jacp(static_cast<size_t>(3 * m->nv));
+  VecX tau = VecX::Zero(robot.dof());
+  bound = 0;
+  auto bodyPose = [](const mjData* data, int b) {
+    Pose T;
+    T.p = Eigen::Map<const Vec3>(data->xpos + 3 * b);
+    T.R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(data->xmat + 9 * b);
+    return T;
+  };
+  for (size_t k = 0; k < mm.links.size(); ++k) {
+    const int body = m->jnt_bodyid[m->dof_jntid[robot.joints()[k].dof]];
+    const Vec3 p = bodyPose(d.get(), body) * (bodyPose(d0.get(), body).inverse() * (T_world_base * mm.links[k].com));
+    mj_jac(m, d.get(), jacp.data(), nullptr, p.data(), body);
+    const Vec3 f = mm.links[k].mass * g_world;
+    for (size_t i = 0; i < robot.joints().size(); ++i) {
+      const MujocoJoint& j = robot.joints()[i];
+      for (int r = 0; r < 3; ++r) {
+        double column = jacp[static_cast<size_t>(r * m->nv + j.dof)];
+        if (j.slide_dof >= 0) column += j.pitch * jacp[static_cast<size_t>(r * m->nv + j.slide_dof)];
+        tau[static_cast<Eigen::Index>(i)] += f[r] * column;
+      }
+    }
+    bound += 64 * kEps * f.norm() * (p.norm() + L);
+  }
+  return tau;
+}
+
+void expectGravityIsTheLinksWeight(const std::string& path, const std::string& tip, const std::string& base,
+                                   std::mt19937_64& rng, double& worst) {
+  SCOPED_TRACE(path);
+  const MujocoRobot robot(path, tip, base);
+  const MujocoDynamics dynamics(robot);
+  ASSERT_EQ(dynamics.masses().status, MassStatus::Ok) << massProblem(dynamics.masses(), path);
+  ASSERT_GT(dynamics.masses().masses.gravity.norm(), 9.0);
+  MujocoDynamics::Evaluator eval(dynamics);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0), stroke(-0.2, 0.2);
+  for (int sample = 0; sample < 50; ++sample) {
+    VecX x(robot.dof());
+    for (int i = 0; i < robot.dof(); ++i) {
+      x[i] = robot.joints()[static_cast<size_t>(i)].type == JointType::Prismatic ? stroke(rng) : angle(rng);
+    }
+    double bound = 0;
+    const VecX reference = weightTorques(dynamics, x, bound);
+    const VecX tau = eval.gravityForce(x);
+    const double error = (tau - reference).cwiseAbs().maxCoeff();
+    worst = std::max(worst, error / bound);
+    EXPECT_LE(error, bound) << "x = " << x.transpose() << "\nMuJoCo " << tau.transpose() << "\nlinks  "
+                            << reference.transpose();
+    ASSERT_GT(reference.norm(), 1.0);  // a load worth comparing
+  }
+}
+
+TEST(MujocoMasses, GravityForceIsTheLinksWeightThroughMujocoJacobians) {
+  std::mt19937_64 rng(27);
+  double worst = 0;  // error / bound
+  for (const auto& v : mass_variants::variants(2701)) expectGravityIsTheLinksWeight(v.path, v.tip, v.base, rng, worst);
+  const std::string chain = mass_variants::scratch().write("chain_g.xml", kChain);
+  expectGravityIsTheLinksWeight(chain, "tool", "stand", rng, worst);
+  std::printf("worst |tau_mujoco - sum J^T m g| / bound: %.3g\n", worst);
+}
+
+}  // namespace
