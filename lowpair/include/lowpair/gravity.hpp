@@ -42,4 +42,8 @@ struct MassModel {
 ///         or a mass is negative or not finite
 VecX gravityTorques(const PoeModel& model, const MassModel& masses, const Eigen::Ref<const VecX>& q);
 
+/// The checks of gravityTorques on `masses` for a `dof`-joint model (link count, masses finite and >= 0, centres
+/// of mass and gravity finite, metres_per_unit positive and finite). @throws std::invalid_argument naming the part
+void checkMassModel(const MassModel& masses, int dof);
+
 }  // namespace lowpair
