@@ -41,8 +41,8 @@ CompliantActual::CompliantActual(const MujocoDynamics& dynamics, const VecX& sti
   for (Eigen::Index i = 0; i < stiffness.size(); ++i) {
     const double k = stiffness[i];
     if (!(k >= 0)) {
-      throw std::invalid_argument("stiffness of joint " + std::to_string(i + 1) + ": expected >= 0 (0 or inf: rigid), got " +
-                                  std::to_string(k));
+      throw std::invalid_argument("stiffness of joint " + std::to_string(i + 1) +
+                                  ": expected >= 0 (0 or inf: rigid), got " + std::to_string(k));
     }
     const MujocoJoint& j = robot.joints()[static_cast<size_t>(i)];
     const bool compliant = k > 0 && std::isfinite(k);
@@ -64,7 +64,9 @@ VecX CompliantActual::residual(const VecX& x) {
   const VecX bias = chainForce(dynamics_->robot(), d->qfrc_bias);
   const VecX passive = chainForce(dynamics_->robot(), d->qfrc_passive);
   VecX r(static_cast<Eigen::Index>(compliant_.size()));
-  for (size_t c = 0; c < compliant_.size(); ++c) r[static_cast<Eigen::Index>(c)] = bias[compliant_[c]] - passive[compliant_[c]];
+  for (size_t c = 0; c < compliant_.size(); ++c) {
+    r[static_cast<Eigen::Index>(c)] = bias[compliant_[c]] - passive[compliant_[c]];
+  }
   return r;
 }
 

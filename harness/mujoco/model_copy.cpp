@@ -359,7 +359,8 @@ class Copier {
     for (XMLElement* link = robot->FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
       // a link's <visual> and <collision> become geoms in MuJoCo: the source of its mass without <inertial>
       const bool has_geoms = link->FirstChildElement("visual") || link->FirstChildElement("collision");
-      const bool from_geoms = inertia_from_geom_ == "true" || (inertia_from_geom_ != "false" && !link->FirstChildElement("inertial"));
+      const bool from_geoms =
+          inertia_from_geom_ == "true" || (inertia_from_geom_ != "false" && !link->FirstChildElement("inertial"));
       if (keep_inertials_ && has_geoms && from_geoms) mass_from_geoms_.push_back("'" + attr(link, "name") + "'");
       for (XMLElement* c = link->FirstChildElement(); c;) {
         XMLElement* next = c->NextSiblingElement();

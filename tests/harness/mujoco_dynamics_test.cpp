@@ -130,6 +130,16 @@ TEST(MujocoMasses, FilesWithoutMassesSayWhy) {
     <child link="tool"/><origin xyz="1 0 0"/></joint></robot>)");
   const MujocoRobot urdf_robot(urdf, "tool");
   EXPECT_EQ(MujocoDynamics(urdf_robot).masses().status, MassStatus::NoInertials);
+  // a URDF link with a collision shape and no <inertial>: MuJoCo would weigh the shape
+  const std::string shaped = s.write("shaped.urdf", R"(<robot name="shaped"><link name="base"/><link name="arm">
+    <collision><geometry><box size="1 0.1 0.1"/></geometry></collision></link>
+    <link name="tool"/><joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint><joint name="t" type="fixed"><parent link="arm"/>
+    <child link="tool"/><origin xyz="1 0 0"/></joint></robot>)");
+  const MujocoRobot shaped_robot(shaped, "tool");
+  const MujocoDynamics shaped_dynamics(shaped_robot);
+  EXPECT_EQ(shaped_dynamics.masses().status, MassStatus::MassFromGeoms);
+  EXPECT_EQ(shaped_dynamics.masses().bodies, std::vector<std::string>{"'arm'"});
 }
 
 // sum_k J_k(x)^T m_k g with J_k MuJoCo's Jacobian of link k's centre of mass carried rigidly by the body of
