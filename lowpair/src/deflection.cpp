@@ -50,6 +50,23 @@ void checkDeflectionSpec(const PoeModel& model, const ErrorModelSpec& spec) {
 
 using namespace detail;
 
+std::optional<VecX> commandFor(const PoeModel& model, const MassModel& masses, const JointDeflection& deflection,
+                               const VecX& q_stand, const VecX& sign) {
+  constexpr int kMaxSteps = 100;
+  const double tolerance = 16.0 * kEps * (1.0 + q_stand.cwiseAbs().maxCoeff());
+  VecX q = q_stand;
+  for (int step = 0; step < kMaxSteps; ++step) {
+    PoseLoad load;
+    if (deflection.compliance.size() > 0) load.torque = gravityTorques(model, masses, q);
+    load.sign = sign;
+    const VecX next = q_stand - (deflectedJoints(deflection, q, load) - q);
+    const double change = (next - q).cwiseAbs().maxCoeff();
+    q = next;
+    if (change <= tolerance) return q;
+  }
+  return std::nullopt;
+}
+
 void checkDeflections(const PoeModel& model, const ErrorModelSpec& spec, const std::vector<PoseLoad>& loads) {
   checkDeflectionSpec(model, spec);
   const std::vector<std::pair<int, bool>> order = deflectionOrder(model.dof(), spec);

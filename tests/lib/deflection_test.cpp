@@ -51,12 +51,9 @@ TEST(PoseLoads, RefuseBadSigns) {
   EXPECT_NO_THROW(poseLoads(model, MassModel{}, q, true, moveSigns(q)));
 }
 
+// 1-20 kg per link and payload, lengths in mm
 MassModel randomMasses(const PoeModel& model, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0), kg(1.0, 20.0);
-  MassModel m;
-  const double L = model.lengthScale();
-  for (int i = 0; i < model.dof(); ++i) m.links.push_back({kg(rng), L * lowpair_test::draw3(u, rng)});
-  m.payload = {kg(rng), L * lowpair_test::draw3(u, rng)};
+  MassModel m = lowpair_test::randomMasses(model, rng, 1.0);
   m.metres_per_unit = 1e-3;
   return m;
 }
@@ -264,6 +261,7 @@ TEST(DeflectionCalibration, NoisyLoopWithinThreeStandardDeviations) {
       ++checked;
     }
   }
+  std::printf("%d of %d within 3 sd\n", within, checked);
   // 3 sd holds with probability 0.997 per parameter: at most one miss in 50 (P(two or more) ~ 1 %)
   EXPECT_GE(within, checked - 1);
 }
@@ -298,6 +296,35 @@ TEST(DeflectionCalibration, RefusesAVerticalFirstAxisAndABacklashThatNeverRevers
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("joint 3: the sign of its last move is 1 at every one"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+
+namespace {
+
+// compensate's inverse: the command whose joints stand at q_stand, checked through the forward rule.
+TEST(CommandFor, StandsWhereAsked) {
+  std::mt19937_64 rng(99);
+  int solved = 0;
+  for (const std::string types : {"RRRRRR", "RRPRRR", "HRPHRR"}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const PoeModel model = jointMix(types, 1000.0, rng);
+      MassModel masses = randomMasses(model, rng);
+      JointDeflection d;
+      d.compliance = 3e-6 * VecX::Random(model.dof()).cwiseAbs();
+      d.backlash = 3e-4 * VecX::Random(model.dof());
+      const VecX q_stand = uniformJoints(model, rng);
+      const VecX s = VecX::Random(model.dof()).array().sign().matrix();
+      const std::optional<VecX> q = commandFor(model, masses, d, q_stand, s);
+      ASSERT_TRUE(q.has_value()) << types;
+      const VecX back = deflectedJoints(d, *q, PoseLoad{gravityTorques(model, masses, *q), s});
+      // the fixed point to its stopping rule, plus one evaluation's rounding
+      EXPECT_LE((back - q_stand).cwiseAbs().maxCoeff(), 32.0 * kEpsilon * (1.0 + q_stand.cwiseAbs().maxCoeff())) << types;
+      EXPECT_GT((*q - q_stand).cwiseAbs().maxCoeff(), 1e-6);  // it did move
+      ++solved;
+    }
+  }
+  EXPECT_EQ(solved, 60);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 /// backlash (half the play, joint-variable unit). The model is first order: tau is evaluated at the commanded
 /// configuration with the model's geometry (gravity.hpp).
 
+#include <optional>
 #include <vector>
 
 #include "lowpair/gravity.hpp"
@@ -45,5 +46,16 @@ std::vector<VecX> moveSigns(const std::vector<VecX>& q);
 /// or a sign not -1, 0 or 1
 std::vector<PoseLoad> poseLoads(const PoeModel& model, const MassModel& masses, const std::vector<VecX>& q,
                                 bool with_torque, const std::vector<VecX>& signs);
+
+/// The command whose joints stand at `q_stand`: the q with `q + c tau(q) + b s = q_stand` (tau = gravityTorques(model,
+/// masses, q)), by the fixed-point iteration `q <- q_stand - c tau(q) - b s` from `q_stand`. It contracts by the
+/// largest `|c_i dtau_i/dq_j|` summed over j, about 1e-3 for real arms (stiffness 1e5-1e6 N m/rad, loads of a
+/// few hundred N m), so a few steps reach rounding; nothing when 100 steps leave a change above
+/// `16 eps (1 + |q_stand|)` (a compliance so large that the load's change with the deflection matters as much as
+/// the deflection).
+/// @param sign the approach signs s (empty: no backlash applied)
+/// @throws std::invalid_argument as gravityTorques and deflectedJoints
+std::optional<VecX> commandFor(const PoeModel& model, const MassModel& masses, const JointDeflection& deflection,
+                               const VecX& q_stand, const VecX& sign = VecX());
 
 }  // namespace lowpair
