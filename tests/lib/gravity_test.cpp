@@ -48,12 +48,9 @@ double potential(const PoeModel& model, const MassModel& masses, const VecX& q) 
   return U;
 }
 
+// random masses under a random gravity direction, in m or mm
 MassModel randomMasses(const PoeModel& model, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0), kg(0.0, 20.0);
-  MassModel m;
-  const double L = model.lengthScale();
-  for (int i = 0; i < model.dof(); ++i) m.links.push_back({kg(rng), L * lowpair_test::draw3(u, rng)});
-  m.payload = {kg(rng), L * lowpair_test::draw3(u, rng)};
+  MassModel m = lowpair_test::randomMasses(model, rng);
   m.gravity = 9.81 * lowpair_test::unitVector(rng);
   m.metres_per_unit = (rng() & 1) ? 1.0 : 1e-3;
   return m;
