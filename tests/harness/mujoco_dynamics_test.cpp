@@ -14,6 +14,8 @@
 //   model MujocoRobot extracts and the mass model here, nothing of MuJoCo's dynamics) equals MuJoCo's
 //   gravity force at the same random configurations, to the same bound.
 // - Files without masses: no inertials, masses from geometry.
+// - models/puma560_masses.xml and .yaml, the compliant loop's PUMA: both hold Corke's published centres of mass
+//   (computed here from Corke's r in the D-H link frames) and give the same gravity load.
 #include <gtest/gtest.h>
 
 #include <mujoco/mujoco.h>
@@ -24,6 +26,7 @@
 #include <memory>
 #include <random>
 
+#include "io/robot_file.hpp"
 #include "lowpair/gravity.hpp"
 #include "mass_variants.hpp"
 #include "mujoco/mujoco_dynamics.hpp"
@@ -224,6 +227,64 @@ void expectGravityIsTheLinksWeight(const std::string& path, const std::string& t
   }
   std::printf("%-28s max |tau_lowpair - tau_mujoco| %.3g (largest load %.3g)\n",
               std::filesystem::path(path).filename().c_str(), max_library, max_load);
+}
+
+// Standard D-H link transform A = Rz(theta) Tz(d) Tx(a) Rx(alpha).
+Pose dhLink(double theta, double d, double a, double alpha) {
+  Pose A;
+  A.R = (Eigen::AngleAxisd(theta, Vec3::UnitZ()) * Eigen::AngleAxisd(alpha, Vec3::UnitX())).toRotationMatrix();
+  A.p = Vec3(a * std::cos(theta), a * std::sin(theta), d);
+  return A;
+}
+
+TEST(MujocoMasses, Puma560MassesFileAndRobotFileHoldCorkesMasses) {
+  // Corke RTB mdl_puma560 (Armstrong, Khatib, Burdick 1986): d, a, alpha per row; m; r in D-H frame j
+  const double d[6] = {0, 0, 0.15005, 0.4318, 0, 0}, a[6] = {0, 0.4318, 0.0203, 0, 0, 0};
+  const double alpha[6] = {M_PI / 2, 0, -M_PI / 2, M_PI / 2, -M_PI / 2, 0};
+  const double m[6] = {0, 17.4, 4.8, 0.82, 0.34, 0.09};
+  const double r[6][3] = {{0, 0, 0}, {-0.3638, 0.006, 0.2275}, {-0.0203, -0.0141, 0.070}, {0, 0.019, 0}, {0, 0, 0}, {0, 0, 0.032}};
+  const std::string models = LOWPAIR_MODELS;
+  const io::RobotFile file = io::readRobotFile(models + "/puma560_masses.yaml");
+  ASSERT_TRUE(file.masses.has_value());
+  const MassModel& stated = *file.masses;
+  ASSERT_EQ(stated.links.size(), 6u);
+  Pose T_0j;  // D-H frame j at q = 0
+  for (size_t j = 0; j < 6; ++j) {
+    T_0j = T_0j * dhLink(0, d[j], a[j], alpha[j]);
+    EXPECT_EQ(stated.links[j].mass, m[j]) << j;
+    const Vec3 com = T_0j * Vec3(r[j][0], r[j][1], r[j][2]);
+    EXPECT_LE((stated.links[j].com - com).norm(), 1e-15) << j << ": " << stated.links[j].com.transpose() << " vs " << com.transpose();
+  }
+  EXPECT_EQ(stated.payload.mass, 2.0);
+  EXPECT_EQ(stated.gravity, Vec3(0, 0, -9.81));
+  // the MJCF: the same links (its tool body lumped into link 6), the same load as the robot file's at any pose
+  const MujocoRobot robot(models + "/puma560_masses.xml", "tool");
+  const MujocoDynamics dynamics(robot);
+  ASSERT_EQ(dynamics.masses().status, MassStatus::Ok);
+  const MassModel& read = dynamics.masses().masses;
+  ASSERT_EQ(read.links.size(), 6u);
+  for (size_t j = 0; j < 5; ++j) {
+    EXPECT_NEAR(read.links[j].mass, m[j], 1e-6) << j;  // the copy's mass bound: link 1 weighs 1e-6 kg there
+    if (m[j] > 0) {
+      EXPECT_LE((read.links[j].com - stated.links[j].com).norm(), 1e-12) << j;
+    }
+  }
+  EXPECT_NEAR(read.links[5].mass, 0.09 + 2.0, 1e-12);
+  EXPECT_EQ(read.gravity, Vec3(0, 0, -9.81));
+  const PoeModel poe = file.poeModel();
+  MujocoDynamics::Evaluator eval(dynamics);
+  std::mt19937_64 rng(560);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0);
+  double total = 0;
+  for (const PointMass& p : stated.links) total += p.mass;
+  const double bound = 64 * kEps * (total + stated.payload.mass) * 9.81 * 2 * poe.lengthScale();
+  for (int sample = 0; sample < 50; ++sample) {
+    VecX q(6);
+    for (int i = 0; i < 6; ++i) q[i] = angle(rng);
+    const VecX tau = eval.gravityForce(q);  // every scale 1, every offset 0: MuJoCo's motion is q
+    EXPECT_LE((gravityTorques(poe, stated, q) - tau).cwiseAbs().maxCoeff(), bound) << q.transpose();
+    ASSERT_GT(tau.cwiseAbs().maxCoeff(), 1.0);
+  }
 }
 
 TEST(MujocoMasses, GravityForceIsTheLinksWeightAndTheLibrarysGravityTorques) {
