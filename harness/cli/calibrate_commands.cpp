@@ -11,6 +11,7 @@
 #include "commands/calibration_inputs.hpp"
 #include "commands/calibration_output.hpp"
 #include "commands/calibration_run.hpp"
+#include "commands/deflection_inputs.hpp"
 #include "commands/simulation.hpp"
 #include "lowpair/tolerances.hpp"
 #include "cli/commands.hpp"
@@ -39,6 +40,7 @@ struct IdentifiabilityOptions {
   int poses = 50;
   long long seed = 1;
   bool as_json = false, free_pitch = false;
+  std::optional<std::string> compliance, backlash;  // joint deflections (deflection_inputs.hpp)
 };
 
 int runIdentifiability(const IdentifiabilityOptions& o) {
@@ -60,7 +62,20 @@ int runIdentifiability(const IdentifiabilityOptions& o) {
     spec.targets = robotFileTargetPoints(file, cliSpelling());
     for (const Target& t : file.targets) spec.target_known.push_back(t.known);  // known points: the tool's columns
   }
-  const Identifiability id = analyzeIdentifiability(model, q, measure, spec);
+  // joint deflections: the loads at the random poses, the signs of their order
+  CalibrationOptions deflection;
+  std::vector<Measurement> poses;
+  for (const VecX& qi : q) poses.push_back(Measurement{qi, Pose{}});
+  const DeflectionChoice choice = chooseDeflections(file, model, o.compliance, o.backlash, poses, {}, {},
+                                                    "the " + std::to_string(o.poses) + " random poses", deflection, cliSpelling());
+  const ErrorModelSpec with = deflectionSpec(deflection);
+  spec.compliance_joints = with.compliance_joints;
+  spec.backlash_joints = with.backlash_joints;
+  spec.deflection = with.deflection;
+  const Identifiability id = analyzeIdentifiability(model, q, measure, spec, measurementLoads(model, poses, deflection));
+  for (const int j : choice.rigid) {
+    std::cerr << "note: --compliance all: joint " << j + 1 << " left out: its gravity load does not vary over the random poses\n";
+  }
   if (o.as_json) {
     json j = identifiabilityJson(file, id);
     j["poses"] = o.poses;
@@ -125,7 +140,8 @@ int runCalibrate(const CalibrateOptions& o) {
     writeFileAtomically(o.out, formatPoeRobotFile(calibratedModel(report, measurement), file, calibratedName(file),
                                                    "calibrated by lowpair calibrate from " + report.fit.path, provenance,
                                                    RobotFileExtras{calibratedTargets(report), recordedMeasurementFrame(report, measurement),
-                                                                   calibratedToolFrame(report.result)}));
+                                                                   calibratedToolFrame(report.result),
+                                                                   calibratedMasses(report, measurement), result.deflection}));
   }
   if (o.as_json) {
     std::cout << jsonText(calibrationJson(report)) << "\n";
@@ -151,6 +167,9 @@ void addIdentifiabilityCommand(CLI::App& app, Commands& commands) {
   ident->add_option("--poses", o->poses, "random poses (default 50)")->check(CLI::Range(1, kMaxIdentifiabilityPoses));
   ident->add_option("--seed", o->seed, "seed of the random poses (default 1)")->check(CLI::Range(0LL, kMaxSeed));
   ident->add_flag("--free-pitch", o->free_pitch, "give revolute joints a pitch parameter");
+  ident->add_option("--compliance", o->compliance,
+                    "joints whose compliance under gravity is a parameter: all, or 1-based indices or names (needs masses)");
+  ident->add_option("--backlash", o->backlash, "joints whose backlash is a parameter (1-based indices or names)");
   ident->add_flag("--json", o->as_json, "print JSON");
   commands.emplace_back(ident, [o] { return runIdentifiability(*o); });
 }
@@ -186,6 +205,12 @@ void addCalibrateCommand(CLI::App& app, Commands& commands) {
                   "partitions of the poses into folds for --select cv, the first in order, the others shuffled "
                   "(default " + std::to_string(kCrossValidationRepeats) + ")")
       ->check(CLI::Range(1, kMaxCrossValidationRepeats));
+  cal->add_option("--compliance", request.compliance,
+                  "fit the compliance under gravity of these joints: all (those whose load varies), or 1-based indices or "
+                  "joint names (the nominal file's masses give the load; docs/calibration.md \"Beyond geometry\")");
+  cal->add_option("--backlash", request.backlash,
+                  "fit the backlash of these joints (1-based indices or names); s from the file's s<i> or s_<name> "
+                  "column, else the measurements' order");
   cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml); only when the fit is accepted");
   cal->add_option("--frame", o->frame,
                   "--out's frame: base (the nominal's base frame, with the measurement frame as measurement_frame:) "

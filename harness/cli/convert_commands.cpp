@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "commands/deflection_inputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_columns.hpp"
 #include "io/joint_table.hpp"
@@ -73,9 +74,12 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
   std::vector<Measurement> measurements;
   measurements.reserve(static_cast<size_t>(Q.rows() * per_row));
   json rows = json::array();
+  const PoeModel model = file.poeModel();  // (the gravity load of a compliance: deflection_inputs.hpp)
+  if (const std::string note = commands::deflectionNote(file); !note.empty()) std::cerr << "note: " << note << "\n";
   for (Eigen::Index k = 0; k < Q.rows(); ++k) {
     const VecX q = Q.row(k).transpose();
-    const Pose T = T_frame_base * (poe ? poeForwardKinematics(*poe, q) : dhForwardKinematics(*dh, q));
+    const VecX q_stand = commands::standingJoints(file, model, q);
+    const Pose T = T_frame_base * (poe ? poeForwardKinematics(*poe, q_stand) : dhForwardKinematics(*dh, q_stand));
     const auto beyond = [](const Vec3& p) { return !(p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
     const std::string where = o.q_file + ":" + std::to_string(lines[static_cast<size_t>(k)]);
     if (measure == Measure::Targets) {
@@ -212,11 +216,14 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     if (q_file_option->count() > 0) return fkFromFile(file, o->robot.path, kind, *fk_file, o->as_json, T_frame_base);
     const VecX q = parseJointVector(o->q_text, file, o->robot.path);
     const bool measurement = o->frame == "measurement";
-    const Pose T = T_frame_base * (kind == "poe" ? poeForwardKinematics(file.poeModel(), q)
-                                                 : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q));
+    if (const std::string note = commands::deflectionNote(file); !note.empty()) std::cerr << "note: " << note << "\n";
+    const VecX q_stand = commands::standingJoints(file, file.poeModel(), q);  // q unless the file holds a compliance
+    const Pose T = T_frame_base * (kind == "poe" ? poeForwardKinematics(file.poeModel(), q_stand)
+                                                 : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q_stand));
     if (o->as_json) {
       json j = {{"name", file.name}, {"source", file.path}, {"model", kind}, {"length_unit", file.length_unit},
                 {"q", toVector(q)}, {"T_base_tool", poseJson(T)}};
+      if (commands::appliesCompliance(file)) j["q_deflected"] = toVector(q_stand);  // where the joints stand
       if (measurement) {  // the same pose under its own name, and the frame it is in
         j["frame"] = "measurement";
         j["T_measurement_tool"] = j["T_base_tool"];

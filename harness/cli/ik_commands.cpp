@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "commands/deflection_inputs.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv_columns.hpp"
 #include "io/joint_table.hpp"
@@ -283,7 +284,24 @@ int runCompensate(const CompensateOptions& o) {
   // the table's rows, row-major, as the matrix of joint vectors the shared loop takes
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> q_nominal(
       table.q.data(), static_cast<Eigen::Index>(table.rows()), n);
-  const std::vector<IkRow> rows = compensateJointRows(nominal, calibrated, q_nominal, table.lines, options);
+  std::vector<IkRow> rows = compensateJointRows(nominal, calibrated, q_nominal, table.lines, options);
+  // a compliance: the commands whose joints, deflected by the load, stand where the solution puts them
+  const bool compliance = commands::appliesCompliance(calibrated_file);
+  const std::string deflection_note = commands::deflectionNote(calibrated_file);
+  if (!deflection_note.empty()) std::cerr << "note: " << deflection_note << "\n";
+  if (compliance) {
+    JointDeflection c;
+    c.compliance = calibrated_file.deflection.compliance;
+    for (IkRow& row : rows) {
+      if (const std::optional<VecX> command = commandFor(calibrated, *calibrated_file.masses, c, row.result.q)) {
+        row.result.q = *command;
+      } else {
+        row.result.status = IkStatus::NotConverged;
+        row.result.converged = false;
+        row.result.reason = "the command under the compliance did not converge (commandFor, docs/calibration.md)";
+      }
+    }
+  }
   const Summary s = summarize(rows);
   const bool pose = options.measure == Measure::Pose;
   const std::string command = "lowpair compensate " + o.calibrated.path +
@@ -297,6 +315,7 @@ int runCompensate(const CompensateOptions& o) {
       "residual: the position error (" + unitName(calibrated_file) +
           "); status: ok, out_of_range, singular, unreachable or not_converged (docs/ik.md)"};
   for (const std::string& line : summaryComments(s, rows, calibrated_file, pose)) comments.push_back(line);
+  if (!deflection_note.empty()) comments.push_back("note: " + deflection_note);
   const std::string tool_note = undeterminedToolNote(calibrated_file, pose);
   if (!tool_note.empty()) {
     comments.push_back("note: " + tool_note);
@@ -316,12 +335,17 @@ int runCompensate(const CompensateOptions& o) {
                 {"counts", ikCountsJson(rows)},
                 {"rows", ikRowsJson(rows, false)}};
   };
+  auto json_out = [&] {
+    json out = j();
+    if (compliance) out["compliance_applied"] = true;  // (only then: other outputs unchanged)
+    return out;
+  };
   auto text = [&](std::ostream& out) {
     printSummary(out, "compensate: " + std::to_string(rows.size()) + " joint vectors of " + o.q_file + " (" + o.measure +
                           "), " + robotLabel(nominal_file) + " -> " + robotLabel(calibrated_file),
                  s, rows, o.q_file, calibrated_file, pose);
   };
-  return emit(o.out, o.as_json, csv, j, text, s);
+  return emit(o.out, o.as_json, csv, json_out, text, s);
 }
 
 }  // namespace

@@ -1,11 +1,12 @@
 // lowpair simulate ROBOT (--poses N | --q-file Q.csv) [--seed S] [--measure pose|position|targets]
 //                  [--targets NAME,...] [--frame RX,RY,RZ,X,Y,Z] [--noise-position S] [--noise-rotation S]
-//                  [--blunders COUNT,SIZE] [--joint-variables FILE.yaml] [--out FILE.csv]
+//                  [--blunders COUNT,SIZE] [--joint-variables FILE.yaml] [--stiffness K1,...] [--out FILE.csv]
 // Measurements of the tool frame, its origin or points fixed on it (measurements.hpp) at N random joint
 // vectors, or at the joint vectors of a CSV (`lowpair plan --out`, a measurement file: its q1..qn columns):
 // from the library's FK of a robot file, or from MuJoCo (the ground truth) for a model file's chain; in a
 // measurement frame (a tracker's), with optional Gaussian noise and blunders (commands/sampling.hpp). The
-// noise of row k depends only on (seed, k), whichever way the joint vectors came.
+// noise of row k depends only on (seed, k), whichever way the joint vectors came. With --stiffness (a model
+// file), MuJoCo's robot is compliant: each pose is measured where it rests under gravity (compliant_truth.hpp).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -26,6 +27,7 @@
 #include "io/measurements.hpp"
 #include "mujoco/mujoco_robot.hpp"
 #include "io/output.hpp"
+#include "commands/compliant_truth.hpp"
 #include "commands/simulation.hpp"
 #include "validation/validate.hpp"
 
@@ -50,7 +52,7 @@ struct SimulateOptions {
   std::string measure = "pose";
   double noise_position = 0.0, noise_rotation = 0.0;
   std::string joint_variables, out;
-  std::optional<std::string> targets, frame, blunders;  // as given
+  std::optional<std::string> targets, frame, blunders, stiffness;  // as given
 };
 
 // What is measured: the tool pose at the sampled joint variable q, the ranges q is drawn from, the points
@@ -66,7 +68,10 @@ struct Truth {
   std::vector<bool> prismatic;                        // per joint: q is a length (a --q-file's unit converts it)
   std::vector<Target> file_targets;                    // a robot file's `targets:` (the default of --targets)
   std::function<Vec3(const std::string&)> sitePoint;  // a model file: a site's point in the tip frame
+  std::string compliance;                              // --stiffness: what the poses are (a comment line)
 };
+
+std::vector<double> numbers(const std::string& option, const std::string& text, size_t count, const std::string& what);
 
 Truth robotFileTruth(const SimulateOptions& o) {
   const RobotFile file = loadRobot(o.robot, cliSpelling());
@@ -111,10 +116,20 @@ Truth modelTruth(const SimulateOptions& o) {
     for (const mujoco::MujocoJoint& j : robot->joints()) truth.prismatic.push_back(j.type == JointType::Prismatic);
   }
   std::vector<JointMotion> variables = std::move(sampled.motions);
-  auto evaluator = std::make_shared<MujocoRobot::Evaluator>(*robot);
-  truth.tipPose = [robot, evaluator, variables, x = VecX(n)](const VecX& q) mutable {
+  std::function<Pose(const VecX& x)> pose_at;  // MuJoCo's tip at motion x: rigid, or at rest (--stiffness)
+  if (o.stiffness) {
+    const std::vector<double> k = numbers("--stiffness", *o.stiffness, static_cast<size_t>(n),
+                                          "K1,...,K" + std::to_string(n) + " (one stiffness per joint)");
+    CompliantTruth compliant = compliantTruth(robot, k, cliSpelling());
+    pose_at = std::move(compliant.tipPose);
+    truth.compliance = std::move(compliant.description);
+  } else {
+    auto evaluator = std::make_shared<MujocoRobot::Evaluator>(*robot);
+    pose_at = [robot, evaluator](const VecX& x) { return evaluator->tipPose(x); };
+  }
+  truth.tipPose = [pose_at, variables, x = VecX(n)](const VecX& q) mutable {
     for (Eigen::Index i = 0; i < q.size(); ++i) x[i] = variables[static_cast<size_t>(i)].motion(q[i]);
-    return evaluator->tipPose(x);
+    return pose_at(x);
   };
   truth.sitePoint = [robot](const std::string& site) { return robot->siteInTip(site); };
   truth.source = "MuJoCo's pose of '" + o.robot.tip + "'" +
@@ -212,6 +227,7 @@ std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth, 
   if (o.frame) command << " --frame " << *o.frame;
   command << " --noise-position " << shortest(o.noise_position) << " --noise-rotation " << shortest(o.noise_rotation);
   if (o.blunders) command << " --blunders " << *o.blunders;
+  if (o.stiffness) command << " --stiffness " << *o.stiffness;
   const std::string unit = truth.length_unit.empty() ? "length" : truth.length_unit;
   const std::string frame = o.frame ? "the measurement frame F" : "the base frame";
   noise << "noise: position sd " << shortest(o.noise_position) << " " << unit << " per coordinate";
@@ -227,7 +243,8 @@ std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth, 
     ranges << "q: the joint variable of " << truth.variable << ", the q1..q" << truth.ranges.size() << " of the "
            << o.poses << " rows of " << o.q_file << ", in order (not drawn)";
   }
-  std::vector<std::string> comments{command.str(), "tool frame: " + truth.source,
+  std::vector<std::string> comments{command.str(), "tool frame: " + truth.source +
+                                                   (truth.compliance.empty() ? "" : " (compliant: see below)"),
           o.measure == "targets" ? std::to_string(rows) + " target measurements (" + std::to_string(o.poses) +
                                        " poses x " + std::to_string(targets.names.size()) + " targets), seed " +
                                        std::to_string(o.seed)
@@ -248,6 +265,7 @@ std::vector<std::string> describe(const SimulateOptions& o, const Truth& truth, 
                        "[X, Y, Z]) with --frame RX,RY,RZ,X,Y,Z = " + *o.frame + " (rad, " + unit +
                        "); a measurement is T_F_base times the tool frame, origin or target point in the base frame");
   }
+  if (!truth.compliance.empty()) comments.push_back(truth.compliance);
   comments.push_back(noise.str());
   comments.push_back(ranges.str());
   const std::string what = o.measure == "targets" ? "x,y,z: the target's point in " + frame + " (" + unit + ")"
@@ -291,6 +309,10 @@ int simulate(const SimulateOptions& given) {
   const bool model_file = ext == ".xml" || ext == ".urdf";
   if (!model_file && !o.joint_variables.empty()) {
     throw UsageError(o.robot.path, "--joint-variables goes with a model file (.xml or .urdf), not a robot file");
+  }
+  if (!model_file && o.stiffness) {
+    throw UsageError("--stiffness", "goes with a model file (.xml or .urdf, MuJoCo's masses), not the robot file " +
+                                        o.robot.path);
   }
   const Truth truth = model_file ? modelTruth(o) : robotFileTruth(o);
   MeasurementSetup setup;
@@ -384,6 +406,9 @@ void addSimulateCommand(CLI::App& app, Commands& commands) {
                   "in the file's comments");
   sub->add_option("--joint-variables", o->joint_variables,
                   "model file: a robot file of the same chain whose joint variable (scale, offset, ranges) is sampled");
+  sub->add_option("--stiffness", o->stiffness,
+                  "model file: K1,...,Kn joint stiffness (N m/rad, N/m for a prismatic joint; 0 rigid): measure "
+                  "each pose where the robot rests under gravity (MuJoCo's masses; docs/validation.md)");
   sub->add_option("--out", o->out, "write the CSV here (all or nothing) instead of standard output");
   commands.emplace_back(sub, [o, poses, q_file] {
     if (poses->count() == 0 && q_file->count() == 0) {

@@ -120,6 +120,16 @@ const PoeModel& calibratedModel(const CalibrationReport& r, bool measurement_fra
   return r.base_frame && !measurement_frame ? r.base_frame->gauge.model : r.result.model;
 }
 
+std::optional<MassModel> calibratedMasses(const CalibrationReport& r, bool measurement_frame) {
+  if (!r.nominal.masses) return std::nullopt;
+  MassModel m = *r.nominal.masses;
+  if (!measurement_frame && r.base_frame) return m;
+  const Pose& T = r.result.registration.T_meas_base;  // the written model's base frame is the measurement frame
+  for (PointMass& link : m.links) link.com = T * link.com;
+  m.gravity = T.R * m.gravity;
+  return m;
+}
+
 std::optional<Pose> recordedMeasurementFrame(const CalibrationReport& r, bool measurement_frame) {
   if (!r.base_frame || measurement_frame) return std::nullopt;
   return r.base_frame->gauge.T_measurement_base;
@@ -127,7 +137,8 @@ std::optional<Pose> recordedMeasurementFrame(const CalibrationReport& r, bool me
 
 CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, std::optional<MeasurementFile> validation,
                                         CalibrationResult result, DhUncertainty dh, double seconds,
-                                        std::optional<CalibratedBaseFrame> base_frame) {
+                                        std::optional<CalibratedBaseFrame> base_frame,
+                                        const std::vector<PoseLoad>& validation_loads) {
   CalibrationReport r{std::move(nominal), std::move(fit), std::move(validation), std::move(result), std::move(dh),
                       seconds, std::nullopt, false, std::nullopt, {}, {}, std::nullopt, {}, {}, std::move(base_frame)};
   const CalibrationResult& c = r.result;
@@ -135,10 +146,13 @@ CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, 
   r.target_names = r.fit.target_names;
   for (size_t t = 0; t < c.registration.estimated.size(); ++t) r.target_from_file.push_back(!c.registration.estimated[t]);
   if (r.validation) {
-    const std::vector<Measurement>& ms = r.validation->measurements;
+    // at the joints as they stand: deflected by the nominal's deflections (before) and the fit's (after)
+    const std::vector<Measurement> ms = deflectedMeasurements(r.validation->measurements, c.deflection, validation_loads);
     const Measure measure = r.validation->measure;
     ValidationResiduals v;
-    v.before = residualStatistics(*r.registered_nominal, ms, measure, c.registration.targets);
+    v.before = residualStatistics(*r.registered_nominal,
+                                  deflectedMeasurements(r.validation->measurements, r.nominal.deflection, validation_loads),
+                                  measure, c.registration.targets);
     v.after = residualStatistics(c.model, ms, measure, c.targets);
     // extrapolation: a joint value outside what the fitting measurements cover
     const int n = c.model.dof();
@@ -407,6 +421,22 @@ json calibrationJson(const CalibrationReport& r) {
                              {"repeats", r.cross_validation->repeats},
                              {"candidates", candidates},
                              {"chosen", parameterSetName(r.cross_validation->chosen)}};
+  }
+  json deflections = json::array();
+  for (const DeflectionRow& d : deflectionRows(r)) {
+    json row = {{"joint", d.joint + 1}, {"kind", d.compliance ? "compliance" : "backlash"}, {"value", d.value},
+                {"sd", finiteOrNull(d.sd)}, {"unit", d.unit}};
+    if (d.compliance) {
+      row["load"] = {{"min", d.input_min}, {"max", d.input_max}};
+    } else {
+      row["signs"] = d.sign_source;
+    }
+    deflections.push_back(row);
+  }
+  if (!deflections.empty() || !r.deflections.rigid.empty()) {  // (only with deflections: other outputs unchanged)
+    o["deflections"] = deflections;
+    o["rigid"] = json::array();
+    for (const int j : r.deflections.rigid) o["rigid"].push_back(j + 1);
   }
   o["notes"] = r.notes;
   o["iterations"] = c.iterations;

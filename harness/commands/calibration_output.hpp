@@ -12,6 +12,7 @@
 #include "lowpair/calibration.hpp"
 #include "io/measurements.hpp"
 #include "io/robot_file.hpp"
+#include "commands/deflection_inputs.hpp"
 #include "commands/limits.hpp"
 
 namespace lowpair::commands {
@@ -81,15 +82,20 @@ struct CalibrationReport {
   /// `calibrate`: the calibrated robot in the nominal's base frame; `dh` is then its table (the change per joint
   /// and the D-H table compare in the base frame). Unset (a scenario's report): all in the measurement frame.
   std::optional<CalibratedBaseFrame> base_frame;
+  /// The joints whose compliance and backlash were fitted and where their inputs came from (none: no deflection).
+  DeflectionChoice deflections{};
 };
 
 /// Moves the inputs in and computes the validation residuals and the warnings; rejects an accepted fit whose
 /// validation set contradicts it (kMaxValidationRatio).
 /// @param base_frame the calibrated robot in the nominal's base frame, `dh` its table (calibrate), or none
+/// @param validation_loads the validation set's deflection inputs (measurementLoads) when the fit has deflections:
+/// its residuals are then taken at the deflected joints (before: the nominal file's deflections, after: the fit's)
 CalibrationReport makeCalibrationReport(io::RobotFile nominal, io::MeasurementFile fit,
                                         std::optional<io::MeasurementFile> validation, CalibrationResult result,
                                         DhUncertainty dh, double seconds,
-                                        std::optional<CalibratedBaseFrame> base_frame = std::nullopt);
+                                        std::optional<CalibratedBaseFrame> base_frame = std::nullopt,
+                                        const std::vector<PoseLoad>& validation_loads = {});
 
 nlohmann::json identifiabilityJson(const io::RobotFile& file, const Identifiability& id);
 void printIdentifiability(std::ostream& out, const Identifiability& id);
@@ -114,6 +120,9 @@ std::vector<std::string> calibrationProvenance(const CalibrationReport& report);
 /// frame), and the `measurement_frame:` key it records (none in the measurement frame).
 const PoeModel& calibratedModel(const CalibrationReport& report, bool measurement_frame);
 std::optional<Pose> recordedMeasurementFrame(const CalibrationReport& report, bool measurement_frame);
+/// The masses `calibrate --out` records: the nominal file's (none without), moved into the measurement frame when
+/// the model is written there (centres of mass and gravity turned and moved by T_measurement_base).
+std::optional<MassModel> calibratedMasses(const CalibrationReport& report, bool measurement_frame);
 /// The calibrated targets as a robot file lists them (tool frame of the calibrated model).
 std::vector<Target> calibratedTargets(const CalibrationReport& report);
 /// What the calibration determined of the tool frame (CalibrationResult::tool_rank), as `calibrate --out` records it.

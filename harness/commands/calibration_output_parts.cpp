@@ -2,6 +2,9 @@
 // (calibration_output_parts.hpp).
 #include "commands/calibration_output_parts.hpp"
 
+#include <algorithm>
+#include <limits>
+
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -55,8 +58,10 @@ json countJson(const ParameterCount& c) {
 
 std::string countFormula(const ParameterCount& c) {
   std::ostringstream s;
-  s << "5h + 4r + 2t + n + " << c.tool << " = 5x" << c.helical << " + 4x" << c.revolute << " + 2x" << c.prismatic
-    << " + " << c.scales << " + " << c.tool << " = " << c.total();
+  s << "5h + 4r + 2t + n + " << c.tool << (c.deflections ? " + d" : "") << " = 5x" << c.helical << " + 4x" << c.revolute
+    << " + 2x" << c.prismatic << " + " << c.scales << " + " << c.tool;
+  if (c.deflections) s << " + " << c.deflections;
+  s << " = " << c.total();
   return s.str();
 }
 
@@ -112,6 +117,40 @@ std::string noVarianceFactorCause(const CalibrationResult& c) {
 // A measurement's file line; "measurement K" (1-based) for measurements that came from no file (a scenario's).
 std::string measurementLabel(const CalibrationReport& r, size_t k) {
   return k < r.fit.lines.size() ? std::to_string(r.fit.lines[k]) : "measurement " + std::to_string(k + 1);
+}
+
+std::vector<DeflectionRow> deflectionRows(const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  std::vector<DeflectionRow> rows;
+  const auto& parameters = c.error_model.parameters();
+  const std::string u = lengthUnit(r.nominal);
+  size_t backlash = 0;
+  for (size_t k = 0; k < parameters.size(); ++k) {
+    const Parameter& p = parameters[k];
+    if (p.kind != ParameterKind::Compliance && p.kind != ParameterKind::Backlash) continue;
+    DeflectionRow row;
+    row.joint = p.joint;
+    row.compliance = p.kind == ParameterKind::Compliance;
+    const VecX& values = row.compliance ? c.deflection.compliance : c.deflection.backlash;
+    row.value = values[p.joint];
+    row.sd = c.standard_deviation[static_cast<Eigen::Index>(k)];
+    row.unit = p.unit == "length/N" ? u + "/N" : p.unit == "length" ? u : p.unit;
+    row.input_min = std::numeric_limits<double>::infinity();
+    row.input_max = -row.input_min;
+    for (const PoseLoad& load : c.loads) {
+      const double x = (row.compliance ? load.torque : load.sign)[p.joint];
+      row.input_min = std::min(row.input_min, x);
+      row.input_max = std::max(row.input_max, x);
+    }
+    if (!row.compliance) {
+      const std::vector<bool>& from = r.deflections.sign_from_column;
+      const bool column = backlash < from.size() && from[backlash];
+      row.sign_source = column ? "its sign column in " + r.fit.path : "the measurements' order";
+      ++backlash;
+    }
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 }  // namespace lowpair::commands::detail

@@ -39,6 +39,18 @@ std::string toolFrameText(const CalibrationResult& c);
 double redundancy(const CalibrationResult& c);
 /// Why a calibration has no variance factor, in words.
 std::string noVarianceFactorCause(const CalibrationResult& c);
+/// One fitted joint deflection of a calibration, as the text and JSON give it.
+struct DeflectionRow {
+  int joint = 0;             ///< 0-based
+  bool compliance = true;    ///< else backlash
+  double value = 0.0, sd = 0.0;  ///< the calibrated total (rad or length units) and the parameter's sd
+  std::string unit;          ///< "rad/(N m)", "mm/N", "rad", "mm"
+  double input_min = 0.0, input_max = 0.0;  ///< the load (N m or N) or sign range over the measurements
+  std::string sign_source;   ///< backlash: "column s3" / "the measurements' order"; "" for a compliance
+};
+/// The fitted deflections of `r`, in parameter order.
+std::vector<DeflectionRow> deflectionRows(const CalibrationReport& r);
+
 /// A measurement's file line; "measurement K" (1-based) for measurements that came from no file.
 std::string measurementLabel(const CalibrationReport& r, size_t k);
 

@@ -11,6 +11,7 @@
 
 #include "io/output.hpp"
 #include "commands/calibration_inputs.hpp"
+#include "commands/deflection_inputs.hpp"
 
 namespace lowpair::commands {
 
@@ -73,6 +74,13 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   }
   // targets: the fit's names; a point from the nominal's targets: list of the same name, else estimated
   options.targets = nominalTargets(nominal_file, fit.target_names);
+  DeflectionChoice deflections = chooseDeflections(nominal_file, nominal, a.compliance, a.backlash, fit.measurements,
+                                                   fit.sign_columns, fit.signs, fit.path, options, spelling);
+  if (options.deflects() && a.select) {
+    throw UsageError(spelling.name("select"), "cross-validation does not fit joint deflections (compliance, backlash: "
+                                             "given or in " + nominal_file.path + "): choose the parameters by " +
+                                                 spelling.name("parameters"));
+  }
   options.validate();
   const auto start = std::chrono::steady_clock::now();
   std::optional<CrossValidation> cv;
@@ -107,13 +115,21 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
     options.parameters = cv->chosen;
   }
   CalibrationResult result = calibrate(nominal, fit.measurements, options);
+  std::vector<PoseLoad> validation_loads;  // the validation set's deflection inputs, as the fit's
+  if (validation && options.deflects()) {
+    CalibrationOptions held_out = options;
+    held_out.move_signs = measurementMoveSigns(validation->measurements, options.backlash_joints, validation->sign_columns,
+                                               validation->signs);
+    validation_loads = measurementLoads(nominal, validation->measurements, held_out);
+  }
   // the calibrated robot in the nominal's base frame (the gauge) and its D-H table there
   CalibratedBaseFrame base_frame = calibratedBaseFrame(result, nominal);
   DhUncertainty dh = dhUncertainty(result, nominal);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CalibrationReport report = makeCalibrationReport(nominal_file, std::move(fit), std::move(validation), std::move(result),
-                                                   std::move(dh), seconds, std::move(base_frame));
+                                                   std::move(dh), seconds, std::move(base_frame), validation_loads);
   report.cross_validation = std::move(cv);
+  report.deflections = std::move(deflections);
   return report;
 }
 

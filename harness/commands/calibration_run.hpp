@@ -25,6 +25,8 @@ struct CalibrationRequest {
   std::optional<std::string> parameters, select;  ///< parseParameters' text; select: "cv"
   int folds = 5;                                  ///< in [2, kMaxCrossValidationFolds]
   int repeats = kCrossValidationRepeats;          ///< in [1, kMaxCrossValidationRepeats]
+  /// Joint deflections to fit (deflection_inputs.hpp parseJointList): compliance `all` or joints, backlash joints.
+  std::optional<std::string> compliance, backlash;
 };
 
 /// What is wrong with fitting `fit`'s measurements of a `dof`-joint robot at once (more than

@@ -207,6 +207,33 @@ void printJointChanges(std::ostream& out, const CalibrationReport& r) {
   }
 }
 
+// The fitted compliance and backlash, with their inputs (docs/calibration.md "Beyond geometry").
+void printDeflections(std::ostream& out, const CalibrationReport& r) {
+  auto six = [](double x) {  // 6 significant digits: the JSON has all 17
+    std::ostringstream s;
+    s.precision(6);
+    s << x;
+    return s.str();
+  };
+  const std::vector<DeflectionRow> rows = deflectionRows(r);
+  if (rows.empty() && r.deflections.rigid.empty()) return;
+  out << "\njoint deflections (the joint stands at q + c tau(q) + b s; tau: the gravity load at the commanded q):\n";
+  for (const DeflectionRow& d : rows) {
+    const std::string tag = "j" + std::to_string(d.joint + 1);
+    if (d.compliance) {
+      const std::string load = r.result.model.joint(d.joint).type == JointType::Prismatic ? " N" : " N m";
+      out << "  " << tag << ".compliance " << six(d.value) << " +- " << deviation(d.sd) << " " << d.unit << " (load "
+          << residual(d.input_min) << " to " << residual(d.input_max) << load << ")\n";
+    } else {
+      out << "  " << tag << ".backlash " << six(d.value) << " +- " << deviation(d.sd) << " " << d.unit
+          << " (s, the sign of the joint's last move, from " << d.sign_source << ")\n";
+    }
+  }
+  for (const int j : r.deflections.rigid) {
+    out << "  j" << j + 1 << ": no compliance fitted (--compliance all: its gravity load does not vary over the measurements)\n";
+  }
+}
+
 }  // namespace
 
 void printCalibration(std::ostream& out, const CalibrationReport& r) {
@@ -214,6 +241,7 @@ void printCalibration(std::ostream& out, const CalibrationReport& r) {
   printCalibrationSetup(out, r);
   printResidualTable(out, r);
   printJointChanges(out, r);
+  printDeflections(out, r);
   out << "\ncalibrated D-H table (standard D-H, Wu et al. eq. 10; as poe2dh prints it):\n";
   printDhWithDeviations(out, r.nominal, r.dh, "standard deviations of the calibrated D-H table");
   out << "(standard deviations: the parameter covariance "

@@ -40,6 +40,27 @@ CsvColumns measurementColumns(const std::vector<std::string>& fields, const std:
   return columns;
 }
 
+// The sign columns of a header (`s1..sn`, `s_<joint name>`): per joint its field index, taken out of the ignored names.
+std::vector<std::optional<size_t>> signColumns(const std::vector<std::string>& fields, const std::vector<std::string>& joint_names,
+                                               CsvColumns& columns, const std::function<void(const std::string&)>& fail) {
+  const int n = columns.dof();
+  std::vector<std::optional<size_t>> signs(static_cast<size_t>(n));
+  for (size_t f = 0; f < fields.size(); ++f) {
+    const std::string& name = fields[f];
+    int joint = -1;
+    for (int i = 0; i < n && joint < 0; ++i) {
+      const bool by_index = name == "s" + std::to_string(i + 1);
+      const bool by_name = static_cast<size_t>(i) < joint_names.size() && name == "s_" + joint_names[static_cast<size_t>(i)];
+      if (by_index || by_name) joint = i;
+    }
+    if (joint < 0) continue;
+    if (signs[static_cast<size_t>(joint)]) fail("two sign columns for joint " + std::to_string(joint + 1) + " (" + quotedFileText(name) + ")");
+    signs[static_cast<size_t>(joint)] = f;
+    columns.ignored.erase(std::remove(columns.ignored.begin(), columns.ignored.end(), name), columns.ignored.end());
+  }
+  return signs;
+}
+
 Measure measureOf(const CsvColumns& columns) {
   return columns.target ? Measure::Targets : columns.quaternion ? Measure::Pose : Measure::Position;
 }
@@ -128,6 +149,7 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
   std::vector<std::string> fields;
   bool have_header = false;
   CsvColumns columns;
+  std::vector<std::optional<size_t>> sign_columns;  // per joint
   TargetNumbering targets;  // the target column's names, numbered
   while (lines.next(line)) {
     if (lines.number() > kMaxMeasurementLines) {
@@ -140,7 +162,12 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
     splitCsvFields(line, fields);
     if (!have_header) {
       columns = measurementColumns(fields, joint_names, fail);
+      sign_columns = signColumns(fields, joint_names, columns, fail);
       file.dof = columns.dof();
+      for (const auto& c : sign_columns) {
+        if (c) file.sign_columns.assign(sign_columns.size(), false);
+      }
+      for (size_t i = 0; i < file.sign_columns.size(); ++i) file.sign_columns[i] = sign_columns[i].has_value();
       file.measure = measureOf(columns);
       if (const std::string note = columns.ignoredNote(path, lines.number()); !note.empty()) file.notes.push_back(note);
       have_header = true;
@@ -198,6 +225,18 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
         fail(std::string("qw..qz is not a unit quaternion (norm ") + text + ")");
       }
       m.T_base_tool.R = *R;
+    }
+    if (!file.sign_columns.empty()) {
+      VecX s = VecX::Zero(n);
+      for (int i = 0; i < n; ++i) {
+        if (!sign_columns[static_cast<size_t>(i)]) continue;
+        const std::string& token = fields[*sign_columns[static_cast<size_t>(i)]];
+        s[i] = parseNumber(token, fail);
+        if (s[i] != -1.0 && s[i] != 0.0 && s[i] != 1.0) {
+          fail("joint " + std::to_string(i + 1) + "'s sign " + quoted(token) + " is not -1, 0 or 1 (the sign of its last move)");
+        }
+      }
+      file.signs.push_back(std::move(s));
     }
     file.measurements.push_back(std::move(m));
     file.lines.push_back(lines.number());

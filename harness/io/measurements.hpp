@@ -30,6 +30,8 @@
 ///   (the `target` column: a name, trimmed of spaces and tabs), anything in an ignored one. A number is a whole token
 ///   (trimmed of spaces and tabs) read by strtod in the C locale (e.g. `-1.5`, `2e-3`, `0x1p-3`) and must
 ///   be finite.
+/// - `s1..sn` or `s_<joint name>` (optional, any of the joints): the sign of the joint's last move, -1, 0 or 1
+///   (MeasurementFile::signs; calibrate --backlash reads them).
 /// - Limits: at least one and at most 1,000,000 measurements, lines of at most 65,536 bytes (without the
 ///   line end), at most 100,000,000 joint values in all (measurements times joints: 800 MB in memory).
 ///
@@ -68,6 +70,11 @@ struct MeasurementFile {
   std::vector<std::string> target_names;
   /// What the reader did that the user should know, one line each without "note: ": the ignored columns.
   std::vector<std::string> notes;
+  /// Columns `s1..sn` or `s_<joint name>`: the sign of each joint's last move (-1, 0 or 1; deflection.hpp), read
+  /// for backlash. Per joint whether the file has its column (empty: none), and per measurement the values (0 for
+  /// a joint without a column; empty when the file has no sign column).
+  std::vector<bool> sign_columns;
+  std::vector<VecX> signs;
 };
 
 /// Limits of the reader (see the file comment).

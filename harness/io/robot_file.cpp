@@ -13,6 +13,7 @@
 #include "lowpair/convert.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
+#include "io/robot_file_loads.hpp"
 #include "io/yaml_reader.hpp"
 
 namespace lowpair::io {
@@ -96,6 +97,7 @@ RobotFile inUnit(const RobotFile& file, const std::string& unit) {
     }
   }
   if (out.measurement_frame) out.measurement_frame->p *= f;
+  scaleLoads(out, f);
   out.length_unit = unit;
   out.dh.reset();
   out.poe = PoeModel(std::move(joints), tool, model.name());
@@ -182,7 +184,8 @@ std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list) {
 namespace {
 
 // The `dh:` section: base, joints (a row with `beta` is a Hayati row) and tool; angles times k (deg -> rad).
-DhModel readDhSection(YamlReader& in, const std::string& path, const YAML::Node& dh, double k, const std::string& name) {
+DhModel readDhSection(YamlReader& in, const std::string& path, const YAML::Node& dh, double k, const std::string& name,
+                      std::vector<JointLoadKeys>& load_keys) {
   in.allowOnly(dh, "dh", {"base", "joints", "tool"});
   auto params = [&](const YAML::Node& node, const std::string& where) {
     DhParams r;
@@ -210,7 +213,9 @@ DhModel readDhSection(YamlReader& in, const std::string& path, const YAML::Node&
   for (size_t i = 0; i < joints.size(); ++i) {
     const YAML::Node j = joints[i];
     const std::string where = "dh.joints[" + std::to_string(i) + "]";
-    in.allowOnly(j, where, {"name", "type", "theta", "d", "alpha", "a", "beta", "pitch", "scale", "range"});
+    std::set<std::string> keys = {"name", "type", "theta", "d", "alpha", "a", "beta", "pitch", "scale", "range"};
+    keys.insert(kJointLoadKeys.begin(), kJointLoadKeys.end());
+    in.allowOnly(j, where, keys);
     DhJoint dj;
     if (j["name"]) dj.name = in.string(j["name"], where + ".name");
     const auto type = in.type(j["type"], where + ".type");
@@ -227,6 +232,7 @@ DhModel readDhSection(YamlReader& in, const std::string& path, const YAML::Node&
     dj.scale = in.numberOr(j, "scale", 1.0, where);
     if (!(dj.scale > 0.0)) yamlError(path, j["scale"], where + ".scale must be positive");
     dj.range = in.range(j["range"], where + ".range", dj.type == JointType::Prismatic ? 1.0 : k);
+    load_keys.push_back(readJointLoadKeys(in, j, where, dj.type == JointType::Prismatic ? 1.0 : k));
     list.push_back(dj);
   }
   double tool_theta = 0.0, tool_d = 0.0;
@@ -258,7 +264,7 @@ RobotFile readRobotFile(const std::string& path) {
     return Pose::fromMatrix(T);
   };
   in.allowOnly(root, "the robot file", {"name", "length_unit", "angle_unit", "description", "poe", "dh", "targets",
-                                       "measurement_frame", "tool_frame"});
+                                       "measurement_frame", "tool_frame", "payload", "gravity"});
 
   RobotFile file;
   file.path = path;
@@ -275,6 +281,7 @@ RobotFile readRobotFile(const std::string& path) {
   const bool has_poe = root["poe"].IsDefined(), has_dh = root["dh"].IsDefined();
   if (has_poe == has_dh) yamlError(path, root, "a robot file needs exactly one of 'poe:' and 'dh:'");
 
+  std::vector<JointLoadKeys> load_keys;
   try {
     if (has_poe) {
       const YAML::Node poe = root["poe"];
@@ -284,10 +291,12 @@ RobotFile readRobotFile(const std::string& path) {
         yamlError(path, joints.IsDefined() ? joints : poe, "poe.joints must be a non-empty list");
       }
       std::vector<JointSpec> specs;
-      for (size_t i = 0; i < joints.size(); ++i) {
+      for (size_t i = 0; i < joints.size(); ++i) {  // (load_keys: the masses' and deflections' keys, per joint)
         const YAML::Node j = joints[i];
         const std::string where = "poe.joints[" + std::to_string(i) + "]";
-        in.allowOnly(j, where, {"name", "type", "twist", "offset", "range"});
+        std::set<std::string> keys = {"name", "type", "twist", "offset", "range"};
+        keys.insert(kJointLoadKeys.begin(), kJointLoadKeys.end());
+        in.allowOnly(j, where, keys);
         if (!j["twist"]) yamlError(path, j, where + ": missing 'twist'");
         JointSpec spec;
         if (j["name"]) spec.name = in.string(j["name"], where + ".name");
@@ -298,6 +307,7 @@ RobotFile readRobotFile(const std::string& path) {
         const double unit = prismatic ? 1.0 : k;
         spec.offset = in.numberOr(j, "offset", 0.0, where) * unit;
         spec.range = in.range(j["range"], where + ".range", unit);
+        load_keys.push_back(readJointLoadKeys(in, j, where, unit));
         specs.push_back(spec);
       }
       if (poe["tool"] && poe["tool_pose"]) yamlError(path, poe, "give either poe.tool (a twist) or poe.tool_pose, not both");
@@ -311,8 +321,9 @@ RobotFile readRobotFile(const std::string& path) {
       }
       file.poe.emplace(specs, tool, file.name);
     } else {
-      file.dh = readDhSection(in, path, root["dh"], k, file.name);
+      file.dh = readDhSection(in, path, root["dh"], k, file.name, load_keys);
     }
+    readLoads(in, root, load_keys, file);
     if (root["targets"]) file.targets = readTargets(in, root["targets"]);
     if (root["measurement_frame"]) {
       const Pose T = readPoseRows(root["measurement_frame"], "measurement_frame");
@@ -391,6 +402,7 @@ void writeTargets(YAML::Emitter& out, const std::vector<Target>& targets) {
 // targets:, measurement_frame: and tool_frame: (RobotFileExtras), each only when there is one
 void writeExtras(YAML::Emitter& out, const RobotFileExtras& extras) {
   writeTargets(out, extras.targets);
+  writeLoads(out, extras);
   if (extras.measurement_frame) {
     out << YAML::Key << "measurement_frame" << YAML::Value << YAML::BeginSeq;
     const Mat4 F = extras.measurement_frame->matrix();
@@ -408,6 +420,7 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
                                const std::string& description, const std::vector<std::string>& comments,
                                const RobotFileExtras& extras) {
   const double k = like.angleFactor();
+  checkLoadExtras(extras, model.dof());
   YAML::Emitter out;
   beginRobotFile(out, like, name, description, comments);
   out << YAML::Key << "poe" << YAML::Value << YAML::BeginMap << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
@@ -424,6 +437,7 @@ std::string formatPoeRobotFile(const PoeModel& model, const RobotFile& like, con
       out << YAML::Key << "range" << YAML::Value << YAML::Flow
           << std::vector<double>{(*j.range)[0] / unit, (*j.range)[1] / unit};
     }
+    writeJointLoadKeys(out, extras, static_cast<int>(&j - model.joints().data()), unit);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
@@ -440,6 +454,7 @@ std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const
                               const std::string& description, const std::vector<std::string>& comments,
                               const RobotFileExtras& extras) {
   const double k = like.angleFactor();
+  checkLoadExtras(extras, model.dof());
   YAML::Emitter out;
   beginRobotFile(out, like, name, description, comments);
   auto row = [&](const DhParams& r) {
@@ -466,6 +481,7 @@ std::string formatDhRobotFile(const DhModel& model, const RobotFile& like, const
       out << YAML::Key << "range" << YAML::Value << YAML::Flow
           << std::vector<double>{(*j.range)[0] / unit, (*j.range)[1] / unit};
     }
+    writeJointLoadKeys(out, extras, static_cast<int>(&j - model.joints().data()), unit);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;

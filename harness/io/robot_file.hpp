@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "lowpair/calibration.hpp"
+#include "lowpair/deflection.hpp"
+#include "lowpair/gravity.hpp"
 #include "lowpair/model.hpp"
 
 namespace lowpair::io {
@@ -71,6 +73,12 @@ struct RobotFile {
   /// `T_measurement_base T_base_tool(q)` (`fk --frame measurement`).
   std::optional<Pose> measurement_frame;
   ToolFrame tool_frame = ToolFrame::Defined;  ///< `tool_frame:`
+  /// The masses gravity loads come from (per joint `mass`/`com`, `payload:`, `gravity:`; docs/file_formats.md):
+  /// set when any of those keys is given (links empty when no joint states a mass; metres_per_unit from
+  /// length_unit).
+  std::optional<MassModel> masses;
+  /// Per joint `compliance` and `backlash` (radians for turning joints; empty when no joint states one).
+  JointDeflection deflection;
 
   double angleFactor() const;  ///< radians per angle_unit
   int dof() const { return poe ? poe->dof() : dh->dof(); }
@@ -105,6 +113,10 @@ struct RobotFileExtras {
   std::vector<Target> targets{};
   std::optional<Pose> measurement_frame{};  ///< `measurement_frame:` (4 rows, 17 significant digits)
   ToolFrame tool_frame = ToolFrame::Defined;  ///< `tool_frame:` (Defined: no key)
+  /// Per joint `mass`/`com` (when links are given) and `payload:`/`gravity:` (17 significant digits).
+  std::optional<MassModel> masses{};
+  /// Per joint `compliance` and `backlash` where non-zero (17 significant digits, in the file's angle unit).
+  JointDeflection deflection{};
 };
 
 /// A POE robot file holding `model` (readRobotFile reads it back to rounding: twists `scale * unit twist`

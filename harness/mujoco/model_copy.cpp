@@ -39,7 +39,7 @@ constexpr int kMaxIncludeDepth = 16;
 constexpr int kMaxTrialLoads = 1000;
 
 // Mass bounds that let MuJoCo load bodies with no inertial (geometry dropped, URDF links without
-// <inertial>); masses never enter kinematics.
+// <inertial>); masses never enter kinematics. kBoundMass spells kCopyBoundMass (model_copy.hpp).
 constexpr const char* kBoundMass = "1e-6";
 constexpr const char* kBoundInertia = "1e-9";
 
@@ -92,7 +92,11 @@ const std::set<std::string> kNonKinematicElements = {"option", "flag", "size", "
 
 class Copier {
  public:
-  Copier(const std::string& path, std::vector<std::string>* notes) : path_(path), notes_(notes) {}
+  Copier(const std::string& path, std::vector<std::string>* notes, CopyContent content)
+      : path_(path), notes_(notes), keep_inertials_(content == CopyContent::Inertials) {}
+
+  // the bodies whose mass MuJoCo would take from their (dropped) geoms; only for an inertials copy
+  const std::vector<std::string>& massFromGeoms() const { return mass_from_geoms_; }
 
   // Builds the copy in doc_ and returns the root's name ("mujoco" or "robot").
   std::string build() {
@@ -259,6 +263,7 @@ class Copier {
                                                           "statistic", "custom", "size",  "extension", "deformable"};
     for (const XMLElement* c = root->FirstChildElement("compiler"); c; c = c->NextSiblingElement("compiler")) {
       if (c->Attribute("coordinate")) global_coordinates_ = attr(c, "coordinate") == "global";
+      if (c->Attribute("inertiafromgeom")) inertia_from_geom_ = attr(c, "inertiafromgeom");
     }
     bool tendon_equality = false;
     for (XMLElement* eq = root->FirstChildElement("equality"); eq; eq = eq->NextSiblingElement("equality")) {
@@ -305,11 +310,12 @@ class Copier {
 
   void pruneBodies(XMLElement* e) {
     static const std::set<std::string> kDropped = {"geom", "camera", "light"};
+    if (keep_inertials_ && named(e, "body")) noteMassFromGeoms(e);
     for (XMLElement* c = e->FirstChildElement(); c;) {
       XMLElement* next = c->NextSiblingElement();
       if (kDropped.count(c->Name())) {
         drop(c);
-      } else if (named(c, "inertial") && (!global_coordinates_ || e->Attribute("pos"))) {
+      } else if (named(c, "inertial") && !keep_inertials_ && (!global_coordinates_ || e->Attribute("pos"))) {
         // masses never enter kinematics, but MuJoCo's Jacobian is taken about the subtree's centre of
         // mass: a non-finite or huge inertial pos made every Jacobian NaN. (With coordinate='global' a
         // body without pos takes its frame from it: kept there.)
@@ -320,6 +326,15 @@ class Copier {
       }
       c = next;
     }
+  }
+
+  // A body whose mass MuJoCo computes from its geoms (compiler inertiafromgeom: "true" always, "auto", the
+  // default, when the body has no <inertial>): the copy drops the geoms, so that mass is lost.
+  void noteMassFromGeoms(const XMLElement* body) {
+    if (inertia_from_geom_ == "false" || !body->FirstChildElement("geom")) return;
+    if (inertia_from_geom_ != "true" && body->FirstChildElement("inertial")) return;
+    const std::string name = attr(body, "name");
+    mass_from_geoms_.push_back(name.empty() ? where(body) : "'" + name + "'");
   }
 
   // Spatial tendons lose their wrapping geoms (dropped with all geometry); sites and joints stay.
@@ -336,14 +351,24 @@ class Copier {
 
   // The URDF without <visual> and <collision> (so no mesh is ever opened).
   void pruneUrdf(XMLElement* robot) {
+    if (const XMLElement* block = robot->FirstChildElement("mujoco")) {
+      for (const XMLElement* c = block->FirstChildElement("compiler"); c; c = c->NextSiblingElement("compiler")) {
+        if (c->Attribute("inertiafromgeom")) inertia_from_geom_ = attr(c, "inertiafromgeom");
+      }
+    }
     for (XMLElement* link = robot->FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
+      // a link's <visual> and <collision> become geoms in MuJoCo: the source of its mass without <inertial>
+      const bool has_geoms = link->FirstChildElement("visual") || link->FirstChildElement("collision");
+      const bool from_geoms =
+          inertia_from_geom_ == "true" || (inertia_from_geom_ != "false" && !link->FirstChildElement("inertial"));
+      if (keep_inertials_ && has_geoms && from_geoms) mass_from_geoms_.push_back("'" + attr(link, "name") + "'");
       for (XMLElement* c = link->FirstChildElement(); c;) {
         XMLElement* next = c->NextSiblingElement();
         // masses never enter kinematics, but MuJoCo's Jacobian is taken about the subtree's centre of
         // mass: a non-finite inertial origin (urdfdom accepts one) made every Jacobian NaN
         if (named(c, "visual") || named(c, "collision")) {
           drop(c);
-        } else if (named(c, "inertial")) {
+        } else if (named(c, "inertial") && !keep_inertials_) {
           drop(c, /*count=*/false);
         }
         c = next;
@@ -502,6 +527,9 @@ class Copier {
   std::string path_;
   bool global_coordinates_ = false;  // <compiler coordinate="global"> (MuJoCo 2.2.2 still reads it)
   std::vector<std::string>* notes_;
+  bool keep_inertials_ = false;       // CopyContent::Inertials
+  std::string inertia_from_geom_ = "auto";  // <compiler inertiafromgeom>, MuJoCo's default "auto"
+  std::vector<std::string> mass_from_geoms_;
   XMLDocument doc_;
   fs::path folder_;
   std::set<std::string> included_;
@@ -511,9 +539,9 @@ class Copier {
 
 }  // namespace
 
-ModelCopy::ModelCopy(const std::string& path, std::vector<std::string>* notes) {
+ModelCopy::ModelCopy(const std::string& path, std::vector<std::string>* notes, CopyContent content) {
   std::vector<std::string> local;
-  Copier copier(path, &local);
+  Copier copier(path, &local, content);
   const bool mjcf = copier.build() == "mujoco";
   // mkstemps replaces the six Xs with a unique suffix and keeps the extension
   const std::string ext = mjcf ? ".xml" : ".urdf";
@@ -528,6 +556,7 @@ ModelCopy::ModelCopy(const std::string& path, std::vector<std::string>* notes) {
     throw;
   }
   copy_ = copy;
+  mass_from_geoms_ = copier.massFromGeoms();
   if (notes) notes->insert(notes->end(), local.begin(), local.end());
 }
 

@@ -32,11 +32,27 @@
 /// attribute on body, joint, site, inertial, equality, compiler..., an unknown element such as `<frame>`)
 /// and any other load error is an io::RobotFileError naming it with the original file and line, never dropped.
 /// Comments survive (they are XML nodes); text outside the root element is kept by tinyxml2 too.
+///
+/// A copy with CopyContent::Inertials (MujocoDynamics, mujoco_dynamics.hpp: the masses) is the same copy
+/// except that every `<inertial>` stays (MJCF and URDF), so the bodies' masses and centres of mass are the
+/// file's. Geometry is still dropped: a body whose mass MuJoCo would compute from its geoms (no `<inertial>`
+/// and `inertiafromgeom` not "false", or any body with geoms under `inertiafromgeom="true"`) weighs only
+/// the mass bound in the copy; massFromGeoms() names those bodies.
 
 #include <string>
 #include <vector>
 
 namespace lowpair::mujoco {
+
+/// The mass (kg) a copy gives a body with none where the file sets no positive `boundmass`: a body of at
+/// most this mass has no inertial of its own (MujocoDynamics).
+inline constexpr double kCopyBoundMass = 1e-6;
+
+/// What a model copy keeps besides the kinematics.
+enum class CopyContent {
+  Kinematics,  ///< no `<inertial>` (MujocoRobot)
+  Inertials,   ///< every `<inertial>` kept: the masses are the file's
+};
 
 /// A temporary kinematics-only copy (a unique file in the temp folder, made with mkstemps); the file is
 /// removed when the object is destroyed. It has been loaded by MuJoCo once when the constructor returns.
@@ -49,15 +65,21 @@ class ModelCopy {
   ///        the elements kinematics did not need ("FILE: not needed for kinematics, dropped: 25 <geom>,
   ///        1 <asset>, ..."); nothing when the file needed no change
   /// @throws io::RobotFileError ("FILE: what"); no temporary file is left behind
-  ModelCopy(const std::string& path, std::vector<std::string>* notes = nullptr);
+  /// @param content CopyContent::Inertials keeps the `<inertial>` elements
+  ModelCopy(const std::string& path, std::vector<std::string>* notes = nullptr,
+            CopyContent content = CopyContent::Kinematics);
   ~ModelCopy();
   ModelCopy(const ModelCopy&) = delete;
   ModelCopy& operator=(const ModelCopy&) = delete;
   /// The copy to hand to mj_loadXML.
   const std::string& path() const { return copy_; }
+  /// CopyContent::Inertials: the bodies whose mass the file leaves to their geoms (which the copy drops), as
+  /// "'name'" or, unnamed, "FILE: line N"; empty for a kinematics copy.
+  const std::vector<std::string>& massFromGeoms() const { return mass_from_geoms_; }
 
  private:
   std::string copy_;
+  std::vector<std::string> mass_from_geoms_;
 };
 
 }  // namespace lowpair::mujoco

@@ -439,6 +439,8 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
 
 MujocoRobot::~MujocoRobot() = default;
 
+int MujocoRobot::tipBody() const { return tip_site_ >= 0 ? model_->site_bodyid[tip_site_] : tip_body_; }
+
 Vec3 MujocoRobot::siteInTip(const std::string& site) const {
   const mjModel* m = model_.get();
   const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;

@@ -56,6 +56,16 @@ class MujocoRobot {
   MujocoRobot& operator=(const MujocoRobot&) = delete;
 
   int dof() const { return static_cast<int>(joints_.size()); }
+  /// The model file as given (MujocoDynamics loads it again, keeping the masses).
+  const std::string& path() const { return path_; }
+  /// MuJoCo ids in the loaded model (the same in any ModelCopy of the file: copies drop no body, joint or
+  /// site): the body the tip is on (the tip body, or the tip site's body), the tip site (-1 for a body
+  /// tip), the base body (0: the world).
+  int tipBody() const;
+  int tipSite() const { return tip_site_; }
+  int baseBody() const { return base_body_; }
+  /// The base frame seen from MuJoCo's world (inverse of the base body's pose at qpos0; fixed).
+  const Pose& T_base_world() const { return T_base_world_; }
   const std::vector<MujocoJoint>& joints() const { return joints_; }
   /// The POE model extracted at qpos0 (scale 1), in the base frame.
   const PoeModel& poeModel() const { return *poe_; }

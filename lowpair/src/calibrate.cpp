@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "check.hpp"
+#include "lowpair/deflection.hpp"
 #include "lowpair/interrupt.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
@@ -36,13 +37,27 @@ Eigen::Index residualRows(const std::vector<Measurement>& measurements, Measure 
   return rows;
 }
 
-double residual(const PoeModel& model, const std::vector<Vec3>& targets, const std::vector<Measurement>& measurements,
+// The model's state at an iterate: its geometry, targets' points and joint deflections.
+struct State {
+  const PoeModel& model;
+  const std::vector<Vec3>& targets;
+  const JointDeflection& deflection;
+};
+
+double residual(const State& s, const std::vector<Measurement>& measurements, const std::vector<PoseLoad>& loads,
                 Measure measure, const Weights& w, const VecX& robust, VecX& r) {
   r.resize(residualRows(measurements, measure));
-  Data data(model);
+  Data data(s.model);
   Eigen::Index at = 0;
+  Measurement deflected;
   for (size_t m = 0; m < measurements.size(); ++m) {
-    const Pose T = predict(model, data, measurements[m], measure, targets);
+    const Measurement* x = &measurements[m];
+    if (!loads.empty()) {
+      deflected = measurements[m];
+      deflected.q = deflectedJoints(s.deflection, measurements[m].q, loads[m]);
+      x = &deflected;
+    }
+    const Pose T = predict(s.model, data, *x, measure, s.targets);
     const Pose& M = measurements[m].T_base_tool;
     const int per = rowsOf(measurements[m], measure);
     auto rows = r.segment(at, per);
@@ -58,15 +73,16 @@ double residual(const PoeModel& model, const std::vector<Vec3>& targets, const s
   return r.squaredNorm();
 }
 
-MatX weightedJacobian(const ErrorModel& em, const std::vector<Measurement>& measurements, Measure measure,
-                      const Weights& w, const VecX& robust) {
+MatX weightedJacobian(const ErrorModel& em, const std::vector<Measurement>& measurements, const std::vector<PoseLoad>& loads,
+                      Measure measure, const Weights& w, const VecX& robust) {
   MatX J(residualRows(measurements, measure), em.size());
   Eigen::Index at = 0;
   for (size_t m = 0; m < measurements.size(); ++m) {
     const int per = rowsOf(measurements[m], measure);
     auto rows = J.middleRows(at, per);
     // a pose among target measurements: the tool frame's rows (mixed data)
-    em.jacobian(measurements[m].q, per == 6 ? Measure::Pose : measure, rows, measurements[m].target);
+    em.jacobian(measurements[m].q, loads.empty() ? PoseLoad{} : loads[m], per == 6 ? Measure::Pose : measure, rows,
+                measurements[m].target);
     if (per == 6) {
       rows.topRows<3>() /= w.rotation;
       rows.bottomRows<3>() /= w.position;
@@ -118,6 +134,9 @@ ErrorModelSpec fitSpec(const CalibrationOptions& options, const Registration& re
   spec.set = options.parameters;
   spec.names = options.parameter_names;
   spec.targets = reg.targets;
+  spec.compliance_joints = options.compliance_joints;
+  spec.backlash_joints = options.backlash_joints;
+  spec.deflection = options.deflection;
   for (const Target& t : options.targets) {
     spec.target_names.push_back(t.name);
     spec.target_known.push_back(t.known);
@@ -132,6 +151,7 @@ ErrorModelSpec fitSpec(const CalibrationOptions& options, const Registration& re
 // the robust loss' weight) over the determined subspace of the nominal, whose steps are `basis * y`.
 struct Problem {
   const std::vector<Measurement>* measurements = nullptr;
+  const std::vector<PoseLoad>* loads = nullptr;  // per measurement, or empty
   Measure measure = Measure::Pose;
   Weights w;
   double L = 1.0;
@@ -158,9 +178,11 @@ std::invalid_argument overflowError(const Problem& p) {
   return std::invalid_argument(text.str());
 }
 
-double residualAt(const Problem& p, const PoeModel& model, const std::vector<Vec3>& targets, VecX& r) {
-  return residual(model, targets, *p.measurements, p.measure, p.w, p.robust, r);
+double residualAt(const Problem& p, const State& s, VecX& r) {
+  return residual(s, *p.measurements, *p.loads, p.measure, p.w, p.robust, r);
 }
+
+State stateOf(const ErrorModel& em) { return State{em.model(), em.targets(), em.deflection()}; }
 
 // The determined subspace, fixed at the (registered) nominal: the rank analysis of its weighted Jacobian,
 // the column scale D0 and the right singular vectors V0 of the scaled matrix.
@@ -173,7 +195,7 @@ struct Subspace {
 Subspace nominalSubspace(const Problem& p, const ErrorModel& em, double cost) {
   // (the column norms square the entries: a stated noise small enough to leave the residuals finite may
   // still overflow them, and a column left unscaled would take the whole rank)
-  const MatX J_nominal = weightedJacobian(em, *p.measurements, p.measure, p.w, p.robust);
+  const MatX J_nominal = weightedJacobian(em, *p.measurements, *p.loads, p.measure, p.w, p.robust);
   if (!std::isfinite(cost) || !J_nominal.colwise().squaredNorm().allFinite()) throw overflowError(p);
   Subspace s;
   s.rank = analyzeDimensionless(J_nominal, static_cast<int>(p.measurements->size()), &s.D0, &s.V0);
@@ -193,7 +215,7 @@ struct LmOptions {
 
 // the reduced problem at an iterate: A = J basis (rows x rank) and its SVD
 Eigen::JacobiSVD<MatX> reducedSvd(const Problem& p, const ErrorModel& at) {
-  return Eigen::JacobiSVD<MatX>(weightedJacobian(at, *p.measurements, p.measure, p.w, p.robust) * p.basis,
+  return Eigen::JacobiSVD<MatX>(weightedJacobian(at, *p.measurements, *p.loads, p.measure, p.w, p.robust) * p.basis,
                                 Eigen::ComputeThinU | Eigen::ComputeThinV);
 }
 
@@ -216,6 +238,7 @@ VecX dampedStep(const Problem& p, const Eigen::JacobiSVD<MatX>& svd, const VecX&
 struct Trial {
   PoeModel model;
   std::vector<Vec3> targets{};
+  JointDeflection deflection{};
   VecX r{};
   double cost = 0.0;
 };
@@ -226,7 +249,8 @@ std::optional<Trial> tryStep(const Problem& p, const ErrorModel& em, const VecX&
   if (!moved) return std::nullopt;
   Trial trial{std::move(*moved)};
   trial.targets = em.applyTargets(step);
-  trial.cost = residualAt(p, trial.model, trial.targets, trial.r);
+  trial.deflection = em.applyDeflection(step);
+  trial.cost = residualAt(p, State{trial.model, trial.targets, trial.deflection}, trial.r);
   return trial;
 }
 
@@ -254,7 +278,7 @@ bool levenbergMarquardt(const Problem& p, const LmOptions& lm, Iterate& it) {
       converged = it.cost - trial->cost <= lm.relative_decrease * it.cost && mu <= lm.mu_start;
       it.cost = trial->cost;
       it.r = std::move(trial->r);
-      it.em = it.em.rebased(trial->model, trial->targets);
+      it.em = it.em.rebased(trial->model, trial->targets, trial->deflection);
       it.estimate += step;
       mu /= lm.mu_step * lm.mu_step;  // the loop's increment follows: net one step down
     }
@@ -268,7 +292,7 @@ bool levenbergMarquardt(const Problem& p, const LmOptions& lm, Iterate& it) {
 // Per measurement the normalized residual u of the fit at `em` without the robust weights.
 std::vector<double> unweightedNormalized(const Problem& p, const ErrorModel& em) {
   VecX plain;
-  residual(em.model(), em.targets(), *p.measurements, p.measure, p.w, VecX::Ones(p.robust.size()), plain);
+  residual(stateOf(em), *p.measurements, *p.loads, p.measure, p.w, VecX::Ones(p.robust.size()), plain);
   std::vector<double> u(p.measurements->size());
   Eigen::Index at = 0;
   for (size_t m = 0; m < u.size(); ++m) {
@@ -308,7 +332,7 @@ int reweight(Problem& p, const LmOptions& lm, Loss chosen, bool stated, Iterate&
       const double change = (next - p.robust).cwiseAbs().maxCoeff();
       p.robust = next;
       ++reweightings;
-      it.cost = residualAt(p, it.em.model(), it.em.targets(), it.r);
+      it.cost = residualAt(p, stateOf(it.em), it.r);
       converged = levenbergMarquardt(p, lm, it);
       if (change <= kWeightsSettled) break;
     }
@@ -325,8 +349,9 @@ std::vector<MeasurementResidual> measurementResiduals(const Problem& p, const Er
                                                       double outlier_threshold) {
   std::vector<MeasurementResidual> residuals(p.measurements->size());
   Data data(em.model());
+  const std::vector<Measurement> deflected = deflectedMeasurements(*p.measurements, em.deflection(), *p.loads);
   for (size_t m = 0; m < residuals.size(); ++m) {
-    const Measurement& x_m = (*p.measurements)[m];
+    const Measurement& x_m = deflected[m];
     const MeasurementErrors e = measurementErrors(predict(em.model(), data, x_m, p.measure, em.targets()), x_m, p.measure);
     MeasurementResidual& x = residuals[m];
     x.rows = rowsOf(x_m, p.measure);
@@ -435,6 +460,29 @@ void CalibrationOptions::validate() const {
   }
 }
 
+std::vector<PoseLoad> measurementLoads(const PoeModel& nominal, const std::vector<Measurement>& measurements,
+                                       const CalibrationOptions& options) {
+  if (!options.deflects()) return {};
+  std::vector<VecX> q;
+  q.reserve(measurements.size());
+  for (const Measurement& m : measurements) q.push_back(m.q);
+  const bool torque = !options.compliance_joints.empty() || options.deflection.compliance.size() > 0;
+  const bool signs = !options.backlash_joints.empty() || options.deflection.backlash.size() > 0;
+  LP_CHECK(options.move_signs.empty() || options.move_signs.size() == measurements.size(),
+           "calibrate: " << options.move_signs.size() << " move-sign vectors for " << measurements.size() << " measurements");
+  return poseLoads(nominal, options.masses, q, torque,
+                   !signs ? std::vector<VecX>{} : options.move_signs.empty() ? moveSigns(q) : options.move_signs);
+}
+
+std::vector<Measurement> deflectedMeasurements(const std::vector<Measurement>& measurements,
+                                               const JointDeflection& deflection, const std::vector<PoseLoad>& loads) {
+  std::vector<Measurement> out = measurements;
+  if (loads.empty()) return out;
+  LP_CHECK(loads.size() == measurements.size(), "deflectedMeasurements: " << loads.size() << " loads for " << measurements.size() << " measurements");
+  for (size_t k = 0; k < out.size(); ++k) out[k].q = deflectedJoints(deflection, measurements[k].q, loads[k]);
+  return out;
+}
+
 CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                             const CalibrationOptions& options) {
   const Measure measure = options.measure;
@@ -442,18 +490,22 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   options.validate();
   const double L = nominal.lengthScale();
   const bool stated = options.sigma_position || options.sigma_rotation;
+  const std::vector<PoseLoad> loads = measurementLoads(nominal, measurements, options);
   Problem problem;
   problem.measurements = &measurements;
+  problem.loads = &loads;
   problem.measure = measure;
   problem.w = noiseWeights(options, L);
   problem.L = L;
   problem.robust = VecX::Ones(static_cast<Eigen::Index>(measurements.size()));
 
   // the measurement frame (and the unknown targets' points), then the fit from there
-  const Registration reg = registration(nominal, measurements, measure, options.targets, options.register_frame);
+  const std::vector<Measurement> at_start = deflectedMeasurements(measurements, options.deflection, loads);
+  const Registration reg = registration(nominal, at_start, measure, options.targets, options.register_frame);
   const PoeModel start = movedModel(nominal, reg.T_meas_base);
   Iterate it{ErrorModel(start, fitSpec(options, reg, measurements))};
-  it.cost = residualAt(problem, start, reg.targets, it.r);
+  checkDeflections(nominal, it.em.spec(), loads);
+  it.cost = residualAt(problem, stateOf(it.em), it.r);
   Subspace sub = nominalSubspace(problem, it.em, it.cost);
   problem.rank = sub.rank.rank;
   problem.n = it.em.size();
@@ -480,8 +532,9 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
                   : measure == Measure::Position ? 3
                                                  : knownPointsToolRank(it.em.spec().knownPoints(), L);
   out.rank = std::move(sub.rank);
-  out.before = residualStatistics(start, measurements, measure, reg.targets);
-  out.after = residualStatistics(it.em.model(), measurements, measure, it.em.targets());
+  out.before = residualStatistics(start, at_start, measure, reg.targets);
+  out.after = residualStatistics(it.em.model(), deflectedMeasurements(measurements, it.em.deflection(), loads), measure,
+                                 it.em.targets());
   out.iterations = it.iterations;
   out.converged = converged;
   out.sigma_position = problem.w.position;
@@ -506,6 +559,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   out.outliers = outliers;
   out.outlier_threshold = options.outlier_threshold;
   out.estimate = it.estimate;
+  out.deflection = it.em.deflection();
+  out.loads = loads;
   out.reason = verdict(out, L);
   out.accepted = out.reason.empty();
   return out;

@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lowpair/calibration.hpp"
@@ -48,5 +49,12 @@ Registration registration(const PoeModel& model, const std::vector<Measurement>&
 // its row scaling). `column_scale` receives the column factors (1 / norm, 1 for a zero column) and `V` the
 // full right singular vectors of the scaled matrix.
 RankAnalysis analyzeDimensionless(const MatX& A, int poses, VecX* column_scale = nullptr, MatX* V = nullptr);
+
+// deflection.cpp: the deflection parameters of a spec in column order, per joint its compliance then its backlash
+// (true: compliance); a parameter's input at a pose (0 when not given); the spec's deflection joints (in range, each
+// once per kind) and values (empty or one per joint)
+std::vector<std::pair<int, bool>> deflectionOrder(int dof, const ErrorModelSpec& spec);
+double deflectionInput(const PoseLoad& load, int joint, bool compliance);
+void checkDeflectionSpec(const PoeModel& model, const ErrorModelSpec& spec);
 
 }  // namespace lowpair::detail

@@ -151,6 +151,7 @@ ParameterCount identifiableCount(const PoeModel& model, Measure measure, const E
     }
   }
   count.scales = model.dof();
+  count.deflections = static_cast<int>(spec.compliance_joints.size() + spec.backlash_joints.size());
   if (measure != Measure::Targets) {
     count.tool = measure == Measure::Pose ? 6 : 3;
     return count;
@@ -190,10 +191,20 @@ bool inSet(ParameterKind kind, ParameterSet set) {
     case ParameterKind::ToolRotation:
     case ParameterKind::ToolTranslation:
     case ParameterKind::TargetPoint:
+    case ParameterKind::Compliance:
+    case ParameterKind::Backlash:
       return true;
   }
   return false;
 }
+
+// The pose's load (none when `loads` is empty), checked against the poses.
+PoseLoad loadAt(const std::vector<PoseLoad>& loads, size_t pose, size_t poses) {
+  LP_CHECK(loads.empty() || loads.size() == poses, "error model: " << loads.size() << " loads for " << poses << " poses");
+  return loads.empty() ? PoseLoad{} : loads[pose];
+}
+
+
 
 // The point about which the base parameters turn the model: the first joint's line point nearest the
 // frame origin (the robot's foot, wherever the measurement frame is), or the origin for a prismatic joint.
@@ -239,6 +250,7 @@ ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : mode
       if (hasPitch(j, spec.free_pitch)) add(ParameterKind::Pitch, i, 0, tag + ".pitch", "length/rad");
     }
     add(ParameterKind::Scale, i, 0, tag + ".scale", "1");
+    offset_columns_.push_back(static_cast<int>(all_.size()));
     add(ParameterKind::Offset, i, 0, tag + ".offset", j.type == JointType::Prismatic ? "length" : "rad");
     basis_.push_back(basis);
   }
@@ -258,6 +270,16 @@ ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : mode
     target_columns_[t] = static_cast<int>(all_.size());
     for (int k = 0; k < 3; ++k) add(ParameterKind::TargetPoint, static_cast<int>(t), k, "target." + name + "." + axes[k], "length");
   }
+  checkDeflectionSpec(model, spec);
+  for (const auto& [i, compliance] : deflectionOrder(model.dof(), spec)) {
+    const bool slides = model.joint(i).type == JointType::Prismatic;
+    deflection_columns_.push_back({static_cast<int>(all_.size()), i, compliance});
+    if (compliance) {
+      add(ParameterKind::Compliance, i, 0, jointTag(i) + ".compliance", slides ? "length/N" : "rad/(N m)");
+    } else {
+      add(ParameterKind::Backlash, i, 0, jointTag(i) + ".backlash", slides ? "length" : "rad");
+    }
+  }
   if (spec.set == ParameterSet::Named) {
     LP_CHECK(!spec.names.empty(), "error model: no parameter named");
     for (const std::string& name : spec.names) {
@@ -272,6 +294,9 @@ ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : mode
       LP_CHECK(std::find(selected_.begin(), selected_.end(), index) == selected_.end(),
                "error model: parameter '" << cut(name) << "' named twice");
       selected_.push_back(index);
+    }
+    for (const DeflectionColumn& d : deflection_columns_) {  // named by the spec's joints
+      if (std::find(selected_.begin(), selected_.end(), d.column) == selected_.end()) selected_.push_back(d.column);
     }
     std::sort(selected_.begin(), selected_.end());
   } else {
@@ -351,19 +376,44 @@ std::vector<Vec3> ErrorModel::applyTargets(const Eigen::Ref<const VecX>& delta) 
   return out;
 }
 
+JointDeflection ErrorModel::applyDeflection(const Eigen::Ref<const VecX>& delta) const {
+  const VecX d = expanded(delta);
+  JointDeflection out = spec_.deflection;
+  const Eigen::Index n = model_.dof();
+  for (const DeflectionColumn& c : deflection_columns_) {
+    VecX& values = c.compliance ? out.compliance : out.backlash;
+    if (values.size() == 0) values = VecX::Zero(n);
+    values[c.joint] += d[c.column];
+  }
+  return out;
+}
+
 ErrorModel ErrorModel::rebased(const PoeModel& model) const { return rebased(model, spec_.targets); }
 
 ErrorModel ErrorModel::rebased(const PoeModel& model, const std::vector<Vec3>& targets) const {
+  return rebased(model, targets, spec_.deflection);
+}
+
+ErrorModel ErrorModel::rebased(const PoeModel& model, const std::vector<Vec3>& targets,
+                               const JointDeflection& deflection) const {
   LP_CHECK(model.dof() == model_.dof(), "error model: rebased onto a model with another joint count");
   LP_CHECK(targets.size() == spec_.targets.size(), "error model: rebased with another number of targets");
   ErrorModel out = *this;
   out.model_ = model;
   out.spec_.targets = targets;
+  out.spec_.deflection = deflection;
+  checkDeflectionSpec(model, out.spec_);
   return out;
 }
 
 Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows, int target) const {
-  checkJointVector(q, model_.dof());
+  return jacobian(q, PoseLoad{}, measure, rows, target);
+}
+
+Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q_commanded, const PoseLoad& load, Measure measure,
+                          Eigen::Ref<MatX> rows, int target) const {
+  checkJointVector(q_commanded, model_.dof());
+  const VecX q = deflectedJoints(spec_.deflection, q_commanded, load);
   LP_CHECK(rows.rows() == rowsPerMeasurement(measure) && rows.cols() == size(), "error model: rows must be "
                                                                            << rowsPerMeasurement(measure) << " x " << size());
   // Measure::Targets: one target's point; a pose (mixed data) or a position with targets: the tool's
@@ -371,7 +421,8 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
   LP_CHECK(!targets || !spec_.targets.empty(), "error model: Measure::Targets needs targets");
   LP_CHECK(!targets || (target >= 0 && target < static_cast<int>(spec_.targets.size())),
            "error model: target " << target << " of " << spec_.targets.size());
-  const auto twists = static_cast<Eigen::Index>(all_.size()) - 3 * static_cast<Eigen::Index>(unknownTargets(spec_));
+  const auto twists = static_cast<Eigen::Index>(all_.size()) - 3 * static_cast<Eigen::Index>(unknownTargets(spec_)) -
+                      static_cast<Eigen::Index>(deflection_columns_.size());
   Mat6X S(6, twists);
   Eigen::Index c = 0;
   for (int k = 0; k < 3; ++k) S.col(c++) = twist(Vec3::Unit(k), center_.cross(Vec3::Unit(k)));
@@ -404,48 +455,66 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eige
   const Vec3 point = targets ? Vec3(T.R * spec_.targets[static_cast<size_t>(target)] + T.p) : T.p;
   measurementRows(S, point, measure == Measure::Targets ? Measure::Position : measure, model_.dof(), all.leftCols(twists));
   if (targets && target_columns_[static_cast<size_t>(target)] >= 0) all.middleCols<3>(target_columns_[static_cast<size_t>(target)]) = T.R;
+  for (const DeflectionColumn& d : deflection_columns_) {  // joint i's offset column times its input
+    all.col(d.column) = all.col(offset_columns_[static_cast<size_t>(d.joint)]) * deflectionInput(load, d.joint, d.compliance);
+  }
   for (int k = 0; k < size(); ++k) rows.col(k) = all.col(selected_[static_cast<size_t>(k)]);
   if (targets) return Pose{T.R, point};
   return T;
 }
 
+
 MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
-                            const ErrorModelSpec& spec) {
+                            const ErrorModelSpec& spec, const std::vector<PoseLoad>& loads) {
   const bool free_pitch = spec.free_pitch;
   const std::vector<Vec3>& targets = spec.targets;
   checkPoses(q, model.dof());
   checkSpecTargets(measure, spec);
+  checkDeflectionSpec(model, spec);
+  const std::vector<std::pair<int, bool>> order = deflectionOrder(model.dof(), spec);
   int cols = 6;
   for (const Joint& j : model.joints()) cols += 6 + (hasPitch(j, free_pitch) ? 1 : 0) + 2;
   const int per = rowsPerPose(measure, static_cast<int>(targets.size()));
-  MatX J(per * static_cast<Eigen::Index>(q.size()), cols + 3 * static_cast<Eigen::Index>(unknownTargets(spec)));
+  const Eigen::Index first = cols + 3 * static_cast<Eigen::Index>(unknownTargets(spec));
+  MatX J(per * static_cast<Eigen::Index>(q.size()), first + static_cast<Eigen::Index>(order.size()));
   Mat6X S(6, cols);
+  std::vector<Eigen::Index> offset(static_cast<size_t>(model.dof()));
   for (size_t m = 0; m < q.size(); ++m) {
+    const PoseLoad load = loadAt(loads, m, q.size());
+    const VecX qm = deflectedJoints(spec.deflection, q[m], load);
     Pose P, E;
     Eigen::Index c = 0;
     for (int i = 0; i < model.dof(); ++i) {
       const Joint& j = model.joint(i);
-      const double qi = q[m][i];
+      const double qi = qm[i];
       jointExp(j, qi, E);
       const Pose next = P * E;
       for (int k = 0; k < 6; ++k) S.col(c++) = twistDifference(adjointApply(P, Vec6::Unit(k)), adjointApply(next, Vec6::Unit(k)), model.dof());
       if (hasPitch(j, free_pitch)) S.col(c++) = adjointApply(P, twist(Vec3::Zero(), j.axis())) * j.motion(qi);
       S.col(c++) = adjointApply(P, j.twist) * (qi + j.offset);  // scale
+      offset[static_cast<size_t>(i)] = c;
       S.col(c++) = adjointApply(P, j.twist) * j.scale;           // offset
       P = next;
     }
     for (int k = 0; k < 6; ++k) S.col(c++) = adjointApply(P, Vec6::Unit(k));
-    poseRows(S, P * model.toolPose(), measure, spec, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
+    auto rows = J.middleRows(per * static_cast<Eigen::Index>(m), per);
+    poseRows(S, P * model.toolPose(), measure, spec, model.dof(), rows.leftCols(first));
+    for (size_t k = 0; k < order.size(); ++k) {  // joint i's offset column times its input
+      const auto [joint, compliance] = order[k];
+      rows.col(first + static_cast<Eigen::Index>(k)) = rows.col(offset[static_cast<size_t>(joint)]) * deflectionInput(load, joint, compliance);
+    }
   }
   return J;
 }
 
 MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure,
-                              const ErrorModelSpec& spec, std::vector<std::string>* names) {
+                              const ErrorModelSpec& spec, std::vector<std::string>* names,
+                              const std::vector<PoseLoad>& loads) {
   const bool free_pitch = spec.free_pitch;
   const std::vector<Vec3>& targets = spec.targets;
   checkPoses(q, model.dof());
   checkSpecTargets(measure, spec);
+  const std::vector<std::pair<int, bool>> order = deflectionOrder(model.dof(), spec);
   // a Hayati row's parameters are theta, alpha, a, beta (its d is fixed to 0; docs/conventions.md)
   auto rowColumns = [](const DhParams& r) {
     return r.hayati() ? std::vector<const char*>{".theta", ".alpha", ".a", ".beta"}
@@ -467,10 +536,13 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
     const std::string name = t < spec.target_names.size() ? spec.target_names[t] : std::to_string(t + 1);
     for (const char* axis : {".x", ".y", ".z"}) columns.push_back("target." + name + axis);
   }
+  const auto first = static_cast<Eigen::Index>(columns.size());
+  for (const auto& [joint, compliance] : order) columns.push_back(jointTag(joint) + (compliance ? ".compliance" : ".backlash"));
   const int per = rowsPerPose(measure, static_cast<int>(targets.size()));
   MatX J(per * static_cast<Eigen::Index>(q.size()), static_cast<Eigen::Index>(columns.size()));
-  Mat6X S(6, cols);
+  Mat6X S(6, cols + static_cast<Eigen::Index>(model.dof()));  // the joints' motion columns after the parameters'
   for (size_t m = 0; m < q.size(); ++m) {
+    const PoseLoad load = loadAt(loads, m, q.size());
     Eigen::Index c = 0;
     Pose F;  // the frame before the current row
     // theta, d, alpha, a (Hayati: theta, alpha, a, beta) of one row at F; returns the frame after it and the
@@ -495,17 +567,29 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
     };
     Vec6 theta_col, d_col;
     row(model.base(), theta_col, d_col);
+    const VecX qm = deflectedJoints(spec.deflection, q[m], load);
     for (int i = 0; i < model.dof(); ++i) {
       const DhJoint& j = model.joint(i);
-      const double qi = q[m][i], x = j.motion(qi);
+      const double qi = qm[i], x = j.motion(qi);
       row(movedRow(j.link, j, x), theta_col, d_col);
       if (hasPitch(j, free_pitch)) S.col(c++) = d_col * x;
-      S.col(c++) = (j.turnRate() * theta_col + j.slideRate() * d_col) * (qi + j.offset);
+      const Vec6 turn_slide = j.turnRate() * theta_col + j.slideRate() * d_col;
+      S.col(c++) = turn_slide * (qi + j.offset);
+      S.col(cols + i) = turn_slide * j.scale;  // the motion per unit of q_i (not a parameter of its own)
     }
     S.col(c++) = twist(F.R.col(2), F.p.cross(F.R.col(2)));
     S.col(c++) = twist(Vec3::Zero(), F.R.col(2));
     const Pose T = F * dhToolTransform(model.toolTheta(), model.toolD());
-    poseRows(S, T, measure, spec, model.dof(), J.middleRows(per * static_cast<Eigen::Index>(m), per));
+    // the parameters' twist columns and the motion columns, then the unknown targets' (poseRows)
+    MatX pose_rows(per, S.cols() + (first - cols));
+    poseRows(S, T, measure, spec, model.dof(), pose_rows);
+    auto rows = J.middleRows(per * static_cast<Eigen::Index>(m), per);
+    rows.leftCols(cols) = pose_rows.leftCols(cols);
+    rows.middleCols(cols, first - cols) = pose_rows.rightCols(first - cols);
+    for (size_t k = 0; k < order.size(); ++k) {
+      const auto [joint, compliance] = order[k];
+      rows.col(first + static_cast<Eigen::Index>(k)) = pose_rows.col(cols + joint) * deflectionInput(load, joint, compliance);
+    }
   }
   if (names) *names = std::move(columns);
   return J;

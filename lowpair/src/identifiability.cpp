@@ -96,7 +96,7 @@ RankAnalysis analyzeRank(const MatX& jacobian, Measure measure, double L, int po
 }
 
 Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
-                                       const ErrorModelSpec& options) {
+                                       const ErrorModelSpec& options, const std::vector<PoseLoad>& loads) {
   const std::vector<Vec3>& targets = options.targets;
   checkPoses(q, model.dof());
   checkTargets(measure, targets);
@@ -108,6 +108,10 @@ Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<
   spec.targets = targets;
   spec.target_names = options.target_names;
   spec.target_known = options.target_known;
+  spec.compliance_joints = options.compliance_joints;
+  spec.backlash_joints = options.backlash_joints;
+  spec.deflection = options.deflection;
+  LP_CHECK(loads.empty() || loads.size() == q.size(), "analyzeIdentifiability: " << loads.size() << " loads for " << q.size() << " poses");
   out.expected = identifiableCount(model, measure, spec);
   const ErrorModel em(model, spec);
   out.parameters = em.parameters();
@@ -116,16 +120,17 @@ Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<
   MatX J(per * static_cast<Eigen::Index>(poses) * k, em.size());
   for (int m = 0; m < poses; ++m) {
     for (int t = 0; t < k; ++t) {
-      em.jacobian(q[static_cast<size_t>(m)], measure, J.middleRows(per * (m * k + t), per), measure == Measure::Targets ? t : -1);
+      em.jacobian(q[static_cast<size_t>(m)], loads.empty() ? PoseLoad{} : loads[static_cast<size_t>(m)], measure,
+                  J.middleRows(per * (m * k + t), per), measure == Measure::Targets ? t : -1);
     }
   }
   const double L = model.lengthScale();
   out.poe = analyzeRank(J, measure, L, poses);
-  const MatX full = fullErrorModelJacobian(model, q, measure, spec);
+  const MatX full = fullErrorModelJacobian(model, q, measure, spec, loads);
   out.full_model_rank = analyzeRank(full, measure, L, poses).rank;
   out.full_model_columns = static_cast<int>(full.cols());
   const DhConversion dh = poeToDh(model);
-  out.dh = analyzeRank(dhIdentificationJacobian(dh.model, q, measure, spec, &out.dh_parameters), measure,
+  out.dh = analyzeRank(dhIdentificationJacobian(dh.model, q, measure, spec, &out.dh_parameters, loads), measure,
                        L, poses);
   return out;
 }

@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "lowpair/gravity.hpp"
 #include "lowpair/model.hpp"
 #include "lowpair/se3.hpp"
 
@@ -136,6 +137,17 @@ inline VecX randomConfiguration(const PoeModel& model, std::mt19937_64& rng) {
     q[i] = j.range ? (*j.range)[0] + unit(rng) * ((*j.range)[1] - (*j.range)[0]) : angle(rng);
   }
   return q;
+}
+
+// Point masses of kg_min to 20 kg on every link and the payload, centres within L of the origin in each coordinate
+// (links: base frame at the reference configuration; payload: tool frame); gravity and length unit the defaults.
+inline MassModel randomMasses(const PoeModel& model, std::mt19937_64& rng, double kg_min = 0.0) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), kg(kg_min, 20.0);
+  MassModel m;
+  const double L = model.lengthScale();
+  for (int i = 0; i < model.dof(); ++i) m.links.push_back({kg(rng), L * lowpair_test::draw3(u, rng)});
+  m.payload = {kg(rng), L * lowpair_test::draw3(u, rng)};
+  return m;
 }
 
 }  // namespace lowpair_test

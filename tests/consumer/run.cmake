@@ -65,7 +65,7 @@ endforeach()
 # lowpair/src and not installed;
 # tests/consumer/CMakeLists.txt compiles each installed header alone)
 # (version.hpp is generated into the build tree from cmake/version.hpp.in)
-set(supported base_frame.hpp calibrate.hpp calibration.hpp convert.hpp cross_validation.hpp dh_uncertainty.hpp error_model.hpp
+set(supported base_frame.hpp calibrate.hpp calibration.hpp convert.hpp cross_validation.hpp deflection.hpp dh_uncertainty.hpp error_model.hpp gravity.hpp
               identifiability.hpp ik.hpp interrupt.hpp jacobian.hpp joint.hpp kinematics.hpp measure.hpp model.hpp plan.hpp
               registration.hpp robust_loss.hpp se3.hpp singularity.hpp
               tolerances.hpp types.hpp version.hpp)

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "robot_file_helpers.hpp"
 #include "scratch_folder.hpp"
 #include "io/export.hpp"
 #include "lowpair/convert.hpp"
@@ -27,17 +28,9 @@ using export_helpers::scratch;
 // Robot files' `targets:` (docs/file_formats.md): named points on the tool (laser-tracker SMRs), tool frame,
 // length_unit.
 
-bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+using robot_file_helpers::robotFileError;
+using robot_file_helpers::sameBits;
 
-// The RobotFileError message reading `path`, or "" when it reads.
-std::string robotFileError(const std::string& path) {
-  try {
-    readRobotFile(path);
-  } catch (const RobotFileError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // A two-joint POE robot in mm, its `targets:` key on line 8 and its first entry on line 9.
 const std::string kTwoJoints =

@@ -42,6 +42,17 @@ struct CalibrationOptions {
   double outlier_threshold = 5.0;  ///< normalized residual above which a measurement is flagged
   ParameterSet parameters = ParameterSet::Full;
   std::vector<std::string> parameter_names;  ///< ParameterSet::Named
+  /// Joint deflections (deflection.hpp; docs/calibration.md "Beyond geometry"): the 0-based joints whose
+  /// compliance and backlash are fitted (with any parameter set), the masses their gravity loads come from
+  /// (gravityTorques at each measurement's commanded q, with the nominal's geometry in its own base frame), each
+  /// measurement's move signs (empty: moveSigns of the measurements' joint vectors in their order), and the
+  /// deflections the nominal already has (applied; fitted from there where named). A fitted joint whose load (or
+  /// sign) does not vary over the measurements is refused (checkDeflections).
+  std::vector<int> compliance_joints{}, backlash_joints{};
+  MassModel masses{};
+  std::vector<VecX> move_signs{};
+  JointDeflection deflection{};
+  bool deflects() const { return !compliance_joints.empty() || !backlash_joints.empty() || !deflection.empty(); }
 
   /// The rules calibrate() applies to its options (the CLI and the Python module call it too).
   /// @throws std::invalid_argument for a noise level not positive and finite, max_iterations < 0, or an
@@ -116,7 +127,22 @@ struct CalibrationResult {
   /// to first order for the twists and the tool (the model moves by one `exp` per step, and composed
   /// exponentials add only to first order). With `standard_deviation` it is the parameter table of a fit.
   VecX estimate{};
+  /// The calibrated joint deflections (CalibrationOptions::deflection moved by the fitted compliance and backlash
+  /// parameters), and per measurement the inputs they were fitted with (empty without deflections).
+  JointDeflection deflection{};
+  std::vector<PoseLoad> loads{};
 };
+
+/// The deflection inputs of `measurements` for `options` (calibrate's): empty when options.deflects() is false;
+/// else per measurement its gravity load (when a compliance is fitted or given) at the nominal and its move signs
+/// (options.move_signs, else moveSigns of the joint vectors in order, when a backlash is fitted or given).
+/// @throws std::invalid_argument as poseLoads
+std::vector<PoseLoad> measurementLoads(const PoeModel& nominal, const std::vector<Measurement>& measurements,
+                                       const CalibrationOptions& options);
+
+/// `measurements` with each joint vector deflected: `deflectedJoints(deflection, q, loads[k])` (loads empty: a copy).
+std::vector<Measurement> deflectedMeasurements(const std::vector<Measurement>& measurements,
+                                               const JointDeflection& deflection, const std::vector<PoseLoad>& loads);
 
 /// Levenberg–Marquardt in the error model's coordinates (directions fixed at the nominal, re-centred at
 /// every iterate) on the determined subspace of the nominal: the weighted, column-scaled Jacobian at the

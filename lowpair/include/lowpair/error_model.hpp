@@ -17,6 +17,10 @@
 /// - every joint: `scale` (dimensionless, absolute increment of `scale`);
 /// - tool: `rx, ry, rz` (rad) turn it about base-parallel axes through the tool point, `x, y, z` (length)
 ///   translate it (`eta_T = [r; p_T x r + t]`).
+/// - joint deflections (deflection.hpp; docs/calibration.md "Beyond geometry"): `compliance` (joint-variable unit per
+///   N m, per N for a prismatic joint) and `backlash` (joint-variable unit) of the joints the spec names: joint i
+///   stands at `q_i + c_i tau_i + b_i s_i`, so their columns are joint i's offset column times `tau_i` or `s_i`,
+///   the pose's inputs (PoseLoad); the model's rows are evaluated at the deflected joint values.
 /// Measurement rows per pose: `[dtheta (3, rad, base frame); dp (3, length)]` for full poses, `dp` for
 /// position-only measurements, where a model change moving the tool by the spatial twist `[dw; dv]` gives
 
@@ -26,6 +30,7 @@
 #include <vector>
 
 #include "lowpair/convert.hpp"
+#include "lowpair/deflection.hpp"
 #include "lowpair/measure.hpp"
 #include "lowpair/model.hpp"
 
@@ -39,14 +44,16 @@ struct ParameterCount {
   /// frame's directions the known points fix (knownPointsToolRank: 0 without, 3 for one point, 5 for
   /// collinear points, 6 for three or more non-collinear ones), or 6 with pose measurements among them
   int tool = 6;
-  int total() const { return 5 * helical + 4 * revolute + 2 * prismatic + scales + tool; }
+  int deflections = 0;  ///< one per compliant joint and one per joint with backlash (deflection.hpp)
+  int total() const { return 5 * helical + 4 * revolute + 2 * prismatic + scales + tool + deflections; }
 };
 
 enum class ParameterKind {
   Tilt, Shift, Pitch, Scale, ToolRotation, ToolTranslation,
   Offset,                         ///< a joint offset (level `offsets`: not part of the minimal set, §V)
   BaseRotation, BaseTranslation,  ///< the whole model moved in the measurement frame (level `offsets`)
-  TargetPoint                     ///< a target's point on the tool, tool-frame x, y, z
+  TargetPoint,                    ///< a target's point on the tool, tool-frame x, y, z
+  Compliance, Backlash            ///< a joint's deflection (deflection.hpp), in every set when the spec names the joint
 };
 
 /// Which parameters a calibration fits (docs/calibration.md "Which parameters"):
@@ -78,6 +85,11 @@ struct ErrorModelSpec {
   /// Targets: some measurements are of the whole tool frame (mixed data, kPoseMeasurement): the tool's 6
   /// parameters are kept, and the pose measurements determine them.
   bool pose_measurements = false;
+  /// Joint deflections (deflection.hpp): the 0-based joints whose compliance (`jK.compliance`) and backlash
+  /// (`jK.backlash`) are parameters (in every set, Named included), and the current values of every joint's
+  /// (applied whether they are parameters or not; empty: none).
+  std::vector<int> compliance_joints{}, backlash_joints{};
+  JointDeflection deflection{};
   bool knownTarget(size_t t) const { return t < target_known.size() && target_known[t]; }
   std::vector<Vec3> knownPoints() const;  ///< the known targets' points, in order
   /// The tool frame has parameters: no targets, at least one known, or pose measurements among them.
@@ -99,8 +111,8 @@ struct Parameter {
   int joint = -1;      ///< 0-based joint, -1 for the tool
   int component = 0;   ///< 0/1 for tilt and shift, 0..2 (x, y, z) for the tool
   std::string name;    ///< "j3.tilt1", "j3.shift2", "j3.pitch", "j3.scale", "j3.offset", "tool.rx", "tool.z",
-                       ///< "base.rx", "base.z", "target.smr_a.x" (1-based joints)
-  std::string unit;    ///< "rad", "length", "length/rad", "1"
+                       ///< "base.rx", "base.z", "target.smr_a.x", "j2.compliance", "j5.backlash" (1-based joints)
+  std::string unit;    ///< "rad", "length", "length/rad", "1", "rad/(N m)", "length/N"
 };
 
 /// The error model's local coordinates at one model (see the file comment).
@@ -126,14 +138,25 @@ class ErrorModel {
   std::optional<PoeModel> tryApply(const Eigen::Ref<const VecX>& delta) const;
   /// The targets' points moved by `delta` (tool frame).
   std::vector<Vec3> applyTargets(const Eigen::Ref<const VecX>& delta) const;
+  /// The joint deflections moved by `delta` (every joint's; entries sized to the model's joints when a
+  /// deflection parameter exists).
+  JointDeflection applyDeflection(const Eigen::Ref<const VecX>& delta) const;
+  /// The current joint deflections (ErrorModelSpec::deflection).
+  const JointDeflection& deflection() const { return spec_.deflection; }
   /// The same parameters, their directions (the eta twists) kept from this model, at another model of the
   /// same robot (a calibration iterate): the coordinates of every iterate then mean the same thing.
   ErrorModel rebased(const PoeModel& model) const;
   ErrorModel rebased(const PoeModel& model, const std::vector<Vec3>& targets) const;
+  ErrorModel rebased(const PoeModel& model, const std::vector<Vec3>& targets, const JointDeflection& deflection) const;
   /// Identification Jacobian at `q`: d(measured quantity)/d(parameters), 6 rows `[dtheta; dp]` (Pose) or
   /// 3 rows `dp` (Position; Targets: of target `target`'s point), `size()` columns; units: rad and length
   /// per parameter unit. Also returns the model's `T_base_tool(q)`.
   Pose jacobian(const Eigen::Ref<const VecX>& q, Measure measure, Eigen::Ref<MatX> rows, int target = -1) const;
+  /// The same at the commanded `q` with the pose's deflection inputs: rows and pose at the deflected joint values
+  /// `deflectedJoints(deflection(), q, load)`, a compliance column times `load.torque`, a backlash column times
+  /// `load.sign` (empty: 0).
+  Pose jacobian(const Eigen::Ref<const VecX>& q, const PoseLoad& load, Measure measure, Eigen::Ref<MatX> rows,
+                int target = -1) const;
 
  private:
   PoeModel model_;
@@ -141,6 +164,12 @@ class ErrorModel {
   std::vector<Parameter> all_;       // every candidate parameter, in column order of the full computation
   std::vector<int> selected_;        // indices into all_ of the parameters
   std::vector<int> target_columns_;  // per target: index into all_ of its x parameter, -1 when known
+  std::vector<int> offset_columns_;  // per joint: index into all_ of its offset parameter
+  struct DeflectionColumn {
+    int column = 0, joint = 0;  // index into all_ (after the targets'), 0-based joint
+    bool compliance = true;     // else backlash
+  };
+  std::vector<DeflectionColumn> deflection_columns_;
   std::vector<Parameter> parameters_;
   std::vector<std::array<Vec6, 4>> basis_;  // per joint: eta of tilt1, tilt2, shift1, shift2 (prismatic: 2)
   Vec3 center_ = Vec3::Zero();              // the base parameters turn the model about this point
@@ -153,16 +182,27 @@ class ErrorModel {
 /// is the number of identifiable parameters (what identifiability compares with the count).
 /// @return `6n + pitches + 2n + 6` columns, rows as ErrorModel::jacobian
 /// Measure::Targets: rows per pose and target (3 each), and 3 more columns per target (its point, tool frame).
-/// @param spec its `free_pitch` and `targets`
+/// @param spec its `free_pitch`, `targets` and deflections (one more column per deflection parameter, after the
+/// tool's; rows at the deflected joint values)
+/// @param loads per pose the deflection inputs (empty: none)
 MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
-                            const ErrorModelSpec& spec = {});
+                            const ErrorModelSpec& spec = {}, const std::vector<PoseLoad>& loads = {});
 
 /// The D-H parameterization of the same robot (poeToDh of the model): base `theta, d, alpha, a`, per
 /// joint `theta, d, alpha, a` (+ `pitch` when helical or freed) + `scale`, tool `theta, d`; analytic
-/// columns. @param spec its `free_pitch` and `targets`
-/// @param names receives the column names ("base.theta", "j2.a", "tool.d", ...)
+/// columns. @param spec its `free_pitch`, `targets` and deflections (as fullErrorModelJacobian; D-H joint i's
+/// motion column times its input)
+/// @param names receives the column names ("base.theta", "j2.a", "tool.d", "j2.compliance", ...)
 MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, Measure measure,
-                              const ErrorModelSpec& spec = {}, std::vector<std::string>* names = nullptr);
+                              const ErrorModelSpec& spec = {}, std::vector<std::string>* names = nullptr,
+                              const std::vector<PoseLoad>& loads = {});
+
+/// The spec's deflections against the poses' inputs: joint indices in range and unrepeated, value vectors empty or
+/// one per joint, one load per pose; and every deflection parameter's input varies over the poses (a torque
+/// whose spread over the poses is at most kRankFactor n eps of the largest torque, a sign the same at every pose,
+/// cannot be told from the joint's offset: a vertical first axis carries no gravity torque).
+/// @throws std::invalid_argument naming the joint and what does not vary
+void checkDeflections(const PoeModel& model, const ErrorModelSpec& spec, const std::vector<PoseLoad>& loads);
 
 
 }  // namespace lowpair

@@ -52,8 +52,10 @@ struct Identifiability {
 /// @throws std::invalid_argument for poses of the wrong size or non-finite, and as poeToDh when the model's
 /// D-H table is beyond the magnitude limits (its `dh` rank cannot be computed)
 /// @param spec `free_pitch`, and for Measure::Targets the targets' points (tool frame; every pose measures
-/// each) and their names; the parameter set is always the full one
+/// each) and their names, the deflections (compliance and backlash joints, values); the parameter set is always
+/// the full one
+/// @param loads per pose the deflection inputs (deflection.hpp; empty without deflections)
 Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
-                                       const ErrorModelSpec& spec = {});
+                                       const ErrorModelSpec& spec = {}, const std::vector<PoseLoad>& loads = {});
 
 }  // namespace lowpair
