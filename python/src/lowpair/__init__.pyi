@@ -309,7 +309,8 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, rotations: Optio
               validation_q: Optional[ArrayLike] = None, validation_positions: Optional[ArrayLike] = None,
               validation_rotations: Optional[ArrayLike] = None, targets: Optional[Sequence[str]] = None,
               validation_targets: Optional[Sequence[str]] = None, select: Optional[Literal["cv"]] = None,
-              folds: int = 5, repeats: int = 10) -> Calibration: ...
+              folds: int = 5, repeats: int = 10, compliance: Optional[str] = None,
+              backlash: Optional[str] = None) -> Calibration: ...
 def ik(robot: Robot, targets: ArrayLike, rotations: Optional[ArrayLike] = None, q0: Optional[ArrayLike] = None,
        seeds: int = 8, seed: int = 1) -> IkSolutions: ...
 def compensate(calibrated: Robot, nominal: Robot, q: ArrayLike,
