@@ -161,6 +161,9 @@ struct Problem {
   Eigen::Index n = 0;  // the parameters: the rank rule's n
   int rank = 0;
   VecX prior;  // per parameter 1/width (calibration_prior.hpp), empty without a prior
+  // with a prior, the error model at the registered nominal: an iterate is start->apply(estimate), so that the MAP
+  // cost is a function of the estimate (composed steps would make it depend on the path: no convergence)
+  const ErrorModel* start = nullptr;
 };
 
 // the prior's part of the cost at an estimate (0 without a prior)
@@ -258,13 +261,16 @@ struct Trial {
   double cost = 0.0;
 };
 
-// Nothing when the step leaves the valid models (a scale through 0, beyond the magnitude limits).
-std::optional<Trial> tryStep(const Problem& p, const ErrorModel& em, const VecX& step) {
-  std::optional<PoeModel> moved = em.tryApply(step);
+// Nothing when the step leaves the valid models (a scale through 0, beyond the magnitude limits). With a prior the
+// trial is the registered nominal moved by estimate + step.
+std::optional<Trial> tryStep(const Problem& p, const ErrorModel& em, const VecX& step, const VecX& estimate) {
+  const ErrorModel& from = p.start ? *p.start : em;
+  const VecX delta = p.start ? VecX(estimate + step) : step;
+  std::optional<PoeModel> moved = from.tryApply(delta);
   if (!moved) return std::nullopt;
   Trial trial{std::move(*moved)};
-  trial.targets = em.applyTargets(step);
-  trial.deflection = em.applyDeflection(step);
+  trial.targets = from.applyTargets(delta);
+  trial.deflection = from.applyDeflection(delta);
   trial.cost = residualAt(p, State{trial.model, trial.targets, trial.deflection}, trial.r);
   return trial;
 }
@@ -289,7 +295,7 @@ bool levenbergMarquardt(const Problem& p, const LmOptions& lm, Iterate& it) {
       const VecX y = dampedStep(p, svd, g, mu);
       if (!y.allFinite()) continue;
       const VecX step = p.basis * y;
-      std::optional<Trial> trial = tryStep(p, it.em, step);
+      std::optional<Trial> trial = tryStep(p, it.em, step, it.estimate);
       if (!trial) continue;
       const double trial_total = trial->cost + priorCost(p, it.estimate + step);
       if (!(trial_total < total)) continue;
@@ -448,18 +454,6 @@ double effectiveCount(const Problem& p, const ErrorModel& em) {
   return effectiveParameters(svd.matrixU(), use, svd.matrixU().rows() - p.n);
 }
 
-// The parameters along a direction the data leave undetermined (`data`) whose standard deviation is finite.
-std::vector<int> heldByPrior(const Subspace& data, const VecX& sd) {
-  std::vector<int> held;
-  const Eigen::Index n = data.V0.rows();
-  for (Eigen::Index k = 0; k < n; ++k) {
-    bool undetermined = false;
-    for (Eigen::Index c = data.rank.rank; c < n; ++c) undetermined = undetermined || std::abs(data.V0(k, c)) > 1e-8;
-    if (undetermined && std::isfinite(sd[k])) held.push_back(static_cast<int>(k));
-  }
-  return held;
-}
-
 // The verdict's reason (empty: accepted); L the nominal's size.
 std::string verdict(const CalibrationResult& r, double L) {
   const auto count = static_cast<Eigen::Index>(r.residuals.size());
@@ -535,6 +529,8 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   problem.rank = fit.rank.rank;
   problem.n = it.em.size();
   problem.basis = fit.D0.asDiagonal() * fit.V0.leftCols(problem.rank);
+  const ErrorModel registered = it.em;
+  if (problem.prior.size() > 0) problem.start = &registered;
   it.estimate = VecX::Zero(problem.n);
 
   LmOptions lm;
@@ -559,7 +555,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
                                                  : knownPointsToolRank(it.em.spec().knownPoints(), L);
   out.prior = options.prior;
   out.effective_parameters = effective;
-  if (problem.prior.size() > 0) out.held_by_prior = heldByPrior(sub, cov.sd);
+  if (problem.prior.size() > 0) out.held_by_prior = heldByPrior(sub.V0, sub.rank.rank, cov.sd);
   out.rank = std::move(sub.rank);
   out.before = residualStatistics(start, at_start, measure, reg.targets);
   out.after = residualStatistics(it.em.model(), deflectedMeasurements(measurements, it.em.deflection(), loads), measure,

@@ -58,5 +58,16 @@ double effectiveParameters(const MatX& U, const std::vector<bool>& usable, Eigen
   return trace;
 }
 
+std::vector<int> heldByPrior(const MatX& V0, int data_rank, const VecX& sd) {
+  std::vector<int> held;
+  const Eigen::Index n = V0.rows();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    bool undetermined = false;  // calibrate's rule for an infinite standard deviation without a prior
+    for (Eigen::Index c = data_rank; c < n; ++c) undetermined = undetermined || std::abs(V0(k, c)) > 1e-8;
+    if (undetermined && std::isfinite(sd[k])) held.push_back(static_cast<int>(k));
+  }
+  return held;
+}
+
 }  // namespace detail
 }  // namespace lowpair

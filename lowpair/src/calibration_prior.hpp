@@ -22,4 +22,8 @@ VecX withPriorResidual(const VecX& r, const VecX& weights, const VecX& estimate)
 /// marked), `J (J^T J + P)^-1 J^T = U_d U_d^T` on them, U_d the first `data_rows` rows of U: the trace is |U_d|_F^2.
 double effectiveParameters(const MatX& U, const std::vector<bool>& usable, Eigen::Index data_rows);
 
+/// The parameters that move along a direction the data leave undetermined (the right singular vectors `V0` of the
+/// data's scaled Jacobian beyond `data_rank`) and whose standard deviation `sd` (with the prior) is finite.
+std::vector<int> heldByPrior(const MatX& V0, int data_rank, const VecX& sd);
+
 }  // namespace lowpair::detail
