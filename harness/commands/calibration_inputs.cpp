@@ -179,7 +179,7 @@ ParameterPrior parsePrior(const std::string& text, std::optional<double> metres_
   ParameterPrior prior;
   if (text.find('=') == std::string::npos) {
     const std::optional<double> width = positiveNumber(text);
-    if (!width) throw refuse("not a positive width");
+    if (!width || std::isinf(*width)) throw refuse("not a positive finite width");
     prior.tilt = 1e-3 * *width;
     prior.shift = mm * *width;
     prior.scale = 1e-3 * *width;

@@ -111,7 +111,7 @@ std::string priorText(const CalibrationReport& r) {
          (r.prior_unit_assumed ? " (the robot's length unit unknown: 1 mm taken as 1 unit)" : "") + ", scale " +
          width(c.prior.scale, 1e2, "%") + ", offset " + width(c.prior.offset, 1e3, "mrad") +
          "; the measurement frame, targets and deflections free; effective parameters " +
-         sixDigits(c.effective_parameters) + " of " + std::to_string(c.error_model.size());
+         sixDigits(c.effective_parameters) + " of " + std::to_string(c.error_model.size()) + " parameters";
 }
 
 std::string heldByPriorText(const CalibrationResult& c) {
