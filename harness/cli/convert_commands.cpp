@@ -26,6 +26,7 @@ namespace {
 
 struct FkFileOptions {
   std::string q_file, out, measure = "pose";
+  std::string approach;  // --approach: the signs of a file's backlash (deflection_inputs.hpp)
 };
 
 // fk --frame measurement: the robot file's measurement_frame (T_measurement_base), which FK then predicts in
@@ -75,10 +76,13 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
   measurements.reserve(static_cast<size_t>(Q.rows() * per_row));
   json rows = json::array();
   const PoeModel model = file.poeModel();  // (the gravity load of a compliance: deflection_inputs.hpp)
-  if (const std::string note = commands::deflectionNote(file); !note.empty()) std::cerr << "note: " << note << "\n";
+  std::vector<VecX> rows_q;
+  for (Eigen::Index k = 0; k < Q.rows(); ++k) rows_q.push_back(Q.row(k).transpose());
+  const std::vector<VecX> signs = commands::approachSigns(o.approach, rows_q, file.dof(), false, cliSpelling());
+  if (const std::string note = commands::deflectionNote(file, !signs.empty()); !note.empty()) std::cerr << "note: " << note << "\n";
   for (Eigen::Index k = 0; k < Q.rows(); ++k) {
     const VecX q = Q.row(k).transpose();
-    const VecX q_stand = commands::standingJoints(file, model, q);
+    const VecX q_stand = commands::standingJoints(file, model, q, signs.empty() ? VecX() : signs[static_cast<size_t>(k)]);
     const Pose T = T_frame_base * (poe ? poeForwardKinematics(*poe, q_stand) : dhForwardKinematics(*dh, q_stand));
     const auto beyond = [](const Vec3& p) { return !(p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
     const std::string where = o.q_file + ":" + std::to_string(lines[static_cast<size_t>(k)]);
@@ -201,6 +205,8 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
   fk->add_option("--model", o->model_kind, "poe or dh (default: the file's own description)")
       ->check(CLI::IsMember({"poe", "dh", "file"}));
   fk->add_flag("--json", o->as_json, "print JSON");
+  fk->add_option("--approach", fk_file->approach,
+                 "a file's backlash: each joint's approach sign, S1,...,Sn (-1, 0, 1), or order (--q-file: from the rows' order)");
   fk->add_option("--frame", o->frame,
                  "base (default) or measurement: T_measurement_base T_base_tool(q), the robot file's measurement_frame "
                  "(calibrate --out records it)")
@@ -216,14 +222,16 @@ void addConvertCommands(CLI::App& app, Commands& commands) {
     if (q_file_option->count() > 0) return fkFromFile(file, o->robot.path, kind, *fk_file, o->as_json, T_frame_base);
     const VecX q = parseJointVector(o->q_text, file, o->robot.path);
     const bool measurement = o->frame == "measurement";
-    if (const std::string note = commands::deflectionNote(file); !note.empty()) std::cerr << "note: " << note << "\n";
-    const VecX q_stand = commands::standingJoints(file, file.poeModel(), q);  // q unless the file holds a compliance
+    const std::vector<VecX> signs = commands::approachSigns(fk_file->approach, {q}, file.dof(), true, cliSpelling());
+    if (const std::string note = commands::deflectionNote(file, !signs.empty()); !note.empty()) std::cerr << "note: " << note << "\n";
+    // q unless the file holds a compliance (or a backlash and --approach is given)
+    const VecX q_stand = commands::standingJoints(file, file.poeModel(), q, signs.empty() ? VecX() : signs[0]);
     const Pose T = T_frame_base * (kind == "poe" ? poeForwardKinematics(file.poeModel(), q_stand)
                                                  : dhForwardKinematics(file.dh ? *file.dh : poeToDh(*file.poe).model, q_stand));
     if (o->as_json) {
       json j = {{"name", file.name}, {"source", file.path}, {"model", kind}, {"length_unit", file.length_unit},
                 {"q", toVector(q)}, {"T_base_tool", poseJson(T)}};
-      if (commands::appliesCompliance(file)) j["q_deflected"] = toVector(q_stand);  // where the joints stand
+      if (q_stand != q) j["q_deflected"] = toVector(q_stand);  // where the joints stand (only when deflected)
       if (measurement) {  // the same pose under its own name, and the frame it is in
         j["frame"] = "measurement";
         j["T_measurement_tool"] = j["T_base_tool"];

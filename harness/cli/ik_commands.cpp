@@ -245,6 +245,7 @@ int runIk(const IkCommandOptions& o) {
 struct CompensateOptions {
   RobotSource calibrated;
   std::string nominal, q_file, out, measure = "pose";
+  std::string approach;  // --approach: the signs of the calibrated file's backlash
   bool as_json = false;
 };
 
@@ -285,15 +286,19 @@ int runCompensate(const CompensateOptions& o) {
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> q_nominal(
       table.q.data(), static_cast<Eigen::Index>(table.rows()), n);
   std::vector<IkRow> rows = compensateJointRows(nominal, calibrated, q_nominal, table.lines, options);
-  // a compliance: the commands whose joints, deflected by the load, stand where the solution puts them
-  const bool compliance = commands::appliesCompliance(calibrated_file);
-  const std::string deflection_note = commands::deflectionNote(calibrated_file);
+  // a compliance (and a backlash with --approach): the commands whose joints, deflected, stand where the solution puts them
+  std::vector<VecX> rows_q;
+  for (Eigen::Index k = 0; k < q_nominal.rows(); ++k) rows_q.push_back(q_nominal.row(k).transpose());
+  const std::vector<VecX> signs = commands::approachSigns(o.approach, rows_q, n, false, cliSpelling());
+  const JointDeflection applied = commands::appliedDeflection(calibrated_file, !signs.empty());
+  const bool compliance = !applied.empty();
+  const std::string deflection_note = commands::deflectionNote(calibrated_file, !signs.empty());
   if (!deflection_note.empty()) std::cerr << "note: " << deflection_note << "\n";
   if (compliance) {
-    JointDeflection c;
-    c.compliance = calibrated_file.deflection.compliance;
-    for (IkRow& row : rows) {
-      if (const std::optional<VecX> command = commandFor(calibrated, *calibrated_file.masses, c, row.result.q)) {
+    const MassModel masses = calibrated_file.masses.value_or(MassModel{});
+    for (size_t k = 0; k < rows.size(); ++k) {
+      IkRow& row = rows[k];
+      if (const std::optional<VecX> command = commandFor(calibrated, masses, applied, row.result.q, signs.empty() ? VecX() : signs[k])) {
         row.result.q = *command;
       } else {
         row.result.status = IkStatus::NotConverged;
@@ -337,7 +342,8 @@ int runCompensate(const CompensateOptions& o) {
   };
   auto json_out = [&] {
     json out = j();
-    if (compliance) out["compliance_applied"] = true;  // (only then: other outputs unchanged)
+    if (applied.compliance.size() > 0) out["compliance_applied"] = true;  // (only then: other outputs unchanged)
+    if (applied.backlash.size() > 0) out["backlash_applied"] = true;
     return out;
   };
   auto text = [&](std::ostream& out) {
@@ -373,6 +379,9 @@ void addIkCommands(CLI::App& app, Commands& commands) {
       ->required();
   comp->add_option("--out", comp_options->out, "write the compensated joint values (q1..qn,residual,status) here");
   comp->add_flag("--json", comp_options->as_json, "print JSON");
+  comp->add_option("--approach", comp_options->approach,
+                   "the calibrated file's backlash: each joint's approach sign S1,...,Sn (-1, 0, 1) for every row, or order "
+                   "(each joint's last move in the rows' order)");
   comp->add_option("--measure", comp_options->measure, "pose (default: the tool frame) or position (the tool origin)")
       ->check(CLI::IsMember({"pose", "position"}));
   commands.emplace_back(comp, [comp_options] { return runCompensate(*comp_options); });

@@ -130,22 +130,64 @@ bool appliesCompliance(const io::RobotFile& file) {
   return file.masses.has_value() && file.deflection.compliance.size() > 0 && file.deflection.compliance.any();
 }
 
-VecX standingJoints(const io::RobotFile& file, const PoeModel& model, const VecX& q) {
-  if (!appliesCompliance(file)) return q;
-  JointDeflection compliance_only;
-  compliance_only.compliance = file.deflection.compliance;
-  return deflectedJoints(compliance_only, q, PoseLoad{gravityTorques(model, *file.masses, q), VecX()});
+namespace {
+
+bool holdsBacklash(const io::RobotFile& file) { return file.deflection.backlash.size() > 0 && file.deflection.backlash.any(); }
+
+}  // namespace
+
+JointDeflection appliedDeflection(const io::RobotFile& file, bool with_backlash) {
+  JointDeflection d;
+  if (appliesCompliance(file)) d.compliance = file.deflection.compliance;
+  if (with_backlash && holdsBacklash(file)) d.backlash = file.deflection.backlash;
+  return d;
 }
 
-std::string deflectionNote(const io::RobotFile& file) {
-  const bool backlash = file.deflection.backlash.size() > 0 && file.deflection.backlash.any();
+VecX standingJoints(const io::RobotFile& file, const PoeModel& model, const VecX& q, const VecX& sign) {
+  const JointDeflection d = appliedDeflection(file, sign.size() > 0);
+  if (d.empty()) return q;
+  PoseLoad load;
+  if (d.compliance.size() > 0) load.torque = gravityTorques(model, *file.masses, q);
+  load.sign = sign;
+  return deflectedJoints(d, q, load);
+}
+
+std::vector<VecX> approachSigns(const std::string& text, const std::vector<VecX>& rows, int dof, bool one_row,
+                                const ArgumentSpelling& spelling) {
+  const std::string option = spelling.name("approach");
+  if (text.empty()) return {};
+  if (trimmed(text) == "order") {
+    if (one_row) throw UsageError(option, "'order' needs rows of joint values (--q-file): one q has no move before it");
+    return moveSigns(rows);
+  }
+  VecX s(dof);
+  size_t begin = 0;
+  for (int i = 0; i < dof; ++i) {
+    const size_t end = std::min(text.find(',', begin), text.size());
+    const std::string item = trimmed(text.substr(begin, end - begin));
+    if (item != "-1" && item != "0" && item != "1" && item != "+1") {
+      throw UsageError(option, "expected 'order' or " + std::to_string(dof) + " signs -1, 0 or 1 (one per joint), got " +
+                                   io::quotedFileText(text));
+    }
+    s[i] = std::stod(item);
+    if (end == text.size() && i + 1 < dof) {
+      throw UsageError(option, std::to_string(i + 1) + " signs for " + std::to_string(dof) + " joints");
+    }
+    begin = end + 1;
+  }
+  if (begin <= text.size()) throw UsageError(option, "more than " + std::to_string(dof) + " signs for " + std::to_string(dof) + " joints");
+  return std::vector<VecX>(rows.size(), s);
+}
+
+std::string deflectionNote(const io::RobotFile& file, bool approach) {
   std::string note;
   if (appliesCompliance(file)) note = file.path + ": compliance applied (the joints stand at q + c tau(q) under the file's masses)";
   if (file.deflection.compliance.size() > 0 && file.deflection.compliance.any() && !file.masses) {
     note = file.path + ": compliance not applied: the file states no masses";
   }
-  if (backlash) {
-    note += std::string(note.empty() ? file.path + ": " : "; ") + "backlash not applied (it needs the approach direction of each joint)";
+  if (holdsBacklash(file)) {
+    note += std::string(note.empty() ? file.path + ": " : "; ") +
+            (approach ? "backlash applied (b s, s from --approach)" : "backlash not applied (it needs the approach direction of each joint: --approach)");
   }
   return note;
 }

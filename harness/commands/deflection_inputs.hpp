@@ -51,13 +51,25 @@ std::vector<VecX> measurementMoveSigns(const std::vector<Measurement>& measureme
 /// Whether `file` holds a compliance fk and compensate apply (a `compliance` key and masses).
 bool appliesCompliance(const io::RobotFile& file);
 
-/// The joint values `file`'s robot stands at when commanded `q`: `q + c tau(q)` (its compliance under its masses'
-/// gravity load, `model` its POE model); `q` when it holds none. Backlash needs the approach direction and is not
-/// applied.
-VecX standingJoints(const io::RobotFile& file, const PoeModel& model, const VecX& q);
+/// The deflections fk and compensate apply of `file`: its compliance when it has masses, its backlash when the
+/// approach signs are given (`with_backlash`); empty when neither.
+JointDeflection appliedDeflection(const io::RobotFile& file, bool with_backlash);
 
-/// The note fk and compensate print about a file's deflections ("" when it holds none): what is applied.
-std::string deflectionNote(const io::RobotFile& file);
+/// The joint values `file`'s robot stands at when commanded `q` (`model` its POE model): `q + c tau(q) + b s` with
+/// appliedDeflection (its compliance under its masses' load; its backlash when `sign`, the approach signs, is given);
+/// `q` when nothing applies.
+VecX standingJoints(const io::RobotFile& file, const PoeModel& model, const VecX& q, const VecX& sign = VecX());
+
+/// The approach signs of `--approach` for `rows` joint vectors of `dof` joints: `order` (moveSigns of the rows: each
+/// joint's last move from row to row), or a comma list of `dof` signs (-1, 0 or 1) for every row; none for "".
+/// @param one_row the command has a single joint vector (`order` is then refused)
+/// @throws UsageError naming approach
+std::vector<VecX> approachSigns(const std::string& text, const std::vector<VecX>& rows, int dof, bool one_row,
+                                const ArgumentSpelling& spelling);
+
+/// The note fk and compensate print about a file's deflections ("" when it holds none): what is applied
+/// (`approach`: the approach signs are given).
+std::string deflectionNote(const io::RobotFile& file, bool approach = false);
 
 /// The spec an identifiability analysis of the deflections uses (the options' joints and values).
 ErrorModelSpec deflectionSpec(const CalibrationOptions& options);

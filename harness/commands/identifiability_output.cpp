@@ -79,7 +79,8 @@ void printIdentifiability(std::ostream& out, const Identifiability& id) {
   out << "POE, minimal parameters:  rank " << id.poe.rank << " of " << id.poe.columns << ", condition "
       << cond(id.poe.condition) << "\n";
   out << "POE, full error model:    rank " << id.full_model_rank << " of " << id.full_model_columns
-      << " columns (6 per joint + pitch + scale + offset, 6 tool: redundant by construction)\n";
+      << " columns (6 per joint + pitch + scale + offset, 6 tool" << (id.expected.deflections ? " + one per deflection" : "")
+      << ": redundant by construction)\n";
   out << "D-H parameterization:     rank " << id.dh.rank << " of " << id.dh.columns << ", condition "
       << cond(id.dh.condition) << "\n";
   out << "observability (POE):      O1 " << deviation(id.poe.observability[0]) << "  O2 "

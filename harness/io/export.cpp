@@ -411,14 +411,14 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
   ExportedRobot result;
   if (format == ExportFormat::Poe) {
     result.text = formatPoeRobotFile(model, file, name, file.description, comments,
-                                     RobotFileExtras{file.targets, file.measurement_frame, file.tool_frame});
+                                     RobotFileExtras{file.targets, file.measurement_frame, file.tool_frame, file.masses, file.deflection});
     return result;
   }
   if (format == ExportFormat::Dh) {
     const DhConversion conversion = poeToDh(model);
     result.notes = conversionWarnings(conversion, checkDhConversion(model, conversion.model));
     result.text = formatDhRobotFile(conversion.model, file, name, file.description, comments,
-                                    RobotFileExtras{file.targets, file.measurement_frame, file.tool_frame});
+                                    RobotFileExtras{file.targets, file.measurement_frame, file.tool_frame, file.masses, file.deflection});
     return result;
   }
   // URDF lengths are metres (the spec; ROS and every URDF reader assume them): a robot file in another unit

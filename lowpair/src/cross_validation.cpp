@@ -53,6 +53,8 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
            "crossValidate: " << folds << " folds (2 to " << kMaxCrossValidationFolds << ")");
   LP_CHECK(repeats >= 1 && repeats <= kMaxCrossValidationRepeats,
            "crossValidate: " << repeats << " repeats (1 to " << kMaxCrossValidationRepeats << ")");
+  // (a held-out prediction would need the fold's deflections and each pose's load and sign: not done)
+  LP_CHECK(!options.deflects(), "crossValidate: joint deflections (compliance, backlash) are not cross-validated");
   // folds over poses: consecutive measurements with the same joint vector (a pose's targets) stay together
   std::vector<int> pose(measurements.size(), 0);
   for (size_t m = 1; m < measurements.size(); ++m) {

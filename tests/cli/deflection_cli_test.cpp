@@ -282,3 +282,73 @@ TEST(DeflectionCli, CompensateCommandsTheDeflectedJoints) {
 }
 
 }  // namespace
+
+namespace {
+
+std::string pumaFileWithBacklash(const std::vector<double>& compliance, const std::vector<double>& backlash) {
+  std::string text = pumaFile(true, compliance);
+  // backlash keys on the joints that have one: appended inside each joint's flow map
+  for (int i = 0; i < 6; ++i) {
+    if (backlash[static_cast<size_t>(i)] == 0.0) continue;
+    const std::string head = "{name: j" + std::to_string(i + 1) + ",";
+    const size_t at = text.find(head);
+    const size_t close = text.find('}', at);
+    text.insert(close, ", backlash: " + numbers(&backlash[static_cast<size_t>(i)], 1));
+  }
+  return text;
+}
+
+// fk and compensate with --approach apply a file's backlash; export keeps the keys.
+TEST(DeflectionCli, ApproachAppliesTheBacklash) {
+  const JointDeflection truth = actualDeflection();
+  const std::vector<double> c(truth.compliance.data(), truth.compliance.data() + 6), b(truth.backlash.data(), truth.backlash.data() + 6);
+  const std::string robot = writeScratchFile("puma_backlash.yaml", pumaFileWithBacklash(c, b));
+  const std::string nominal = writeScratchFile("puma_plain.yaml", pumaFile(false));
+  const PoeModel model = pumaModel();
+  const MassModel masses = pumaMasses();
+  const std::vector<VecX> qs = randomPoses(6, 13);
+  std::ostringstream qcsv;
+  qcsv.precision(17);
+  qcsv << "q1,q2,q3,q4,q5,q6\n";
+  for (const VecX& q : qs) {
+    for (int i = 0; i < 6; ++i) qcsv << (i ? "," : "") << q[i];
+    qcsv << "\n";
+  }
+  const std::string q_file = writeScratchFile("q_backlash.csv", qcsv.str());
+  // fk --q with explicit signs: the library's FK at q + c tau + b s
+  const VecX s = (VecX(6) << 1, -1, 1, 1, -1, 0).finished();
+  std::ostringstream qtext;
+  qtext.precision(17);
+  for (int i = 0; i < 6; ++i) qtext << (i ? "," : "") << qs[0][i];
+  const CliRun f = runCli("fk " + robot + " --q " + qtext.str() + " --approach 1,-1,1,1,-1,0 --json");
+  ASSERT_EQ(f.status, 0) << f.err;
+  EXPECT_NE(f.err.find("backlash applied"), std::string::npos) << f.err;
+  const json jf = json::parse(f.out);
+  const Pose T = poeForwardKinematics(model, deflectedJoints(truth, qs[0], PoseLoad{gravityTorques(model, masses, qs[0]), s}));
+  const json& F = jf["T_base_tool"];
+  EXPECT_LE((Vec3(F[0][3].get<double>(), F[1][3].get<double>(), F[2][3].get<double>()) - T.p).norm(), 1e-9 * 300.0) << jf.dump();
+  // compensate --approach order: the signs of the rows' order
+  const CliRun r = runCli("compensate " + robot + " --nominal " + nominal + " --q-file " + q_file + " --approach order --json");
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["backlash_applied"], true);
+  const std::vector<VecX> signs = moveSigns(qs);
+  for (size_t k = 0; k < qs.size(); ++k) {
+    VecX q_command(6);
+    for (int i = 0; i < 6; ++i) q_command[i] = j["rows"][k]["q"][static_cast<size_t>(i)].get<double>();
+    const VecX q_stand = deflectedJoints(truth, q_command, PoseLoad{gravityTorques(model, masses, q_command), signs[k]});
+    EXPECT_LE((poeForwardKinematics(model, q_stand).p - poeForwardKinematics(model, qs[k]).p).norm(), 1e-6) << k;
+  }
+  // refusals: a wrong count, a value that is no sign, order for one q
+  expectRejected("fk " + robot + " --q " + qtext.str() + " --approach 1,1", "signs for 6 joints", "--approach: ");
+  expectRejected("fk " + robot + " --q " + qtext.str() + " --approach 1,1,1,1,1,2", "expected 'order' or 6 signs", "--approach: ");
+  expectRejected("fk " + robot + " --q " + qtext.str() + " --approach order", "'order' needs rows", "--approach: ");
+  // export keeps masses and deflections
+  const CliRun e = runCli("export " + robot + " --format poe");
+  ASSERT_EQ(e.status, 0) << e.err;
+  for (const char* key : {"compliance: ", "backlash: ", "mass: ", "payload: ", "gravity: "}) {
+    EXPECT_NE(e.out.find(key), std::string::npos) << key << "\n" << e.out;
+  }
+}
+
+}  // namespace

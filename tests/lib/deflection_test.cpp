@@ -328,3 +328,16 @@ TEST(CommandFor, StandsWhereAsked) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(DeflectionCalibration, CrossValidationRefusesDeflections) {
+  std::mt19937_64 rng(8);
+  const PoeModel model = jointMix("RRRRRR", 1000.0, rng);
+  CalibrationOptions options;
+  options.masses = randomMasses(model, rng);
+  options.compliance_joints = {1};
+  EXPECT_THROW(crossValidate(model, measure(model, uniformPoses(model, 20, rng)), options, 2, 1), std::invalid_argument);
+}
+
+}  // namespace

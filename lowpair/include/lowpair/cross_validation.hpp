@@ -48,7 +48,8 @@ struct CrossValidation {
 int crossValidationPoses(const std::vector<Measurement>& measurements);
 
 /// @throws std::invalid_argument for fewer poses than folds (crossValidationPoses), folds outside [2, kMaxCrossValidationFolds],
-/// repeats outside [1, kMaxCrossValidationRepeats], or as calibrate
+/// repeats outside [1, kMaxCrossValidationRepeats], options with joint deflections (CalibrationOptions::deflects), or as
+/// calibrate
 CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
                               const CalibrationOptions& options, int folds = 5,
                               int repeats = kCrossValidationRepeats);
