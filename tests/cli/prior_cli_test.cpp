@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -84,6 +85,35 @@ TEST(CalibratePrior, NamesWhatThePriorHolds) {
   const CliRun text = runCli("calibrate " + shellQuote(kNominal) + " " + args + " --prior 100");
   EXPECT_NE(text.out.find("held by the prior (the measurements alone do not determine them): "), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("left at the nominal or held by the prior"), std::string::npos) << text.out;
+}
+
+// A robot file without length_unit: WIDTH mm is taken as WIDTH of its units, and the output says so.
+TEST(CalibratePrior, UnknownLengthUnitTakesOneMillimetreAsOneUnit) {
+  const std::string robot = scratch() + "/no_unit.yaml";
+  {
+    std::ifstream in(kNominal);
+    std::ofstream out(robot);
+    int dropped = 0;
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("length_unit:", 0) == 0) {
+        ++dropped;
+      } else {
+        out << line << "\n";
+      }
+    }
+    ASSERT_EQ(dropped, 1);
+  }
+  const std::string m = simulateTo("prior_unit.csv", kMujocoActual + " --poses 8 --seed 1 --noise-position 0.01 --noise-rotation 1e-5");
+  const std::string args = "calibrate " + shellQuote(robot) + " --measurements " + shellQuote(m) +
+                           " --noise-position 0.01 --noise-rotation 1e-5 --free-pitch --prior 5";
+  const CliRun j = runCli(args + " --json");
+  ASSERT_EQ(j.status, 0) << j.err;
+  const auto json = nlohmann::json::parse(j.out);
+  EXPECT_TRUE(json["prior"]["length_unit_assumed"].get<bool>());
+  EXPECT_EQ(json["prior"]["shift"].get<double>(), 5.0);
+  const CliRun text = runCli(args);
+  EXPECT_NE(text.out.find("shift 5 length (the robot's length unit unknown: 1 mm taken as 1 unit)"), std::string::npos)
+      << text.out;
 }
 
 TEST(CalibratePriorRejects, MalformedWidths) {
