@@ -211,6 +211,9 @@ void addCalibrateCommand(CLI::App& app, Commands& commands) {
   cal->add_option("--backlash", request.backlash,
                   "fit the backlash of these joints (1-based indices or names); s from the file's s<i> or s_<name> "
                   "column, else the measurements' order");
+  cal->add_option("--prior", request.prior,
+                  "a prior on the nominal (MAP): WIDTH (tilts WIDTH mrad, shifts WIDTH mm, scales WIDTH x 0.1 %, offsets "
+                  "10 WIDTH mrad) or tilt=..,shift=..,scale=..,offset=.. (mrad, mm, %, mrad; docs/calibration.md)");
   cal->add_option("--out", o->out, "write the calibrated POE robot file (.yaml); only when the fit is accepted");
   cal->add_option("--frame", o->frame,
                   "--out's frame: base (the nominal's base frame, with the measurement frame as measurement_frame:) "

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <tuple>
 
@@ -154,6 +155,55 @@ std::vector<Target> nominalTargets(const io::RobotFile& nominal, const std::vect
     targets.push_back(it != nominal.targets.end() ? *it : Target{name, std::nullopt});
   }
   return targets;
+}
+
+namespace {
+
+// A positive width (inf allowed) in the whole of `text`, else nothing.
+std::optional<double> positiveNumber(const std::string& text) {
+  if (text.empty() || text.find_first_of(" \t") != std::string::npos) return std::nullopt;
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !(x > 0.0)) return std::nullopt;
+  return x;
+}
+
+}  // namespace
+
+ParameterPrior parsePrior(const std::string& text, std::optional<double> metres_per_unit, const ArgumentSpelling& spelling) {
+  const double mm = 1e-3 / metres_per_unit.value_or(1e-3);  // one millimetre in the robot's unit
+  auto refuse = [&](const std::string& why) -> UsageError {
+    return UsageError(spelling.name("prior"), why + " in " + io::quotedFileText(text) +
+                                                   " (expected WIDTH or tilt=..,shift=..,scale=..,offset=.., positive numbers)");
+  };
+  ParameterPrior prior;
+  if (text.find('=') == std::string::npos) {
+    const std::optional<double> width = positiveNumber(text);
+    if (!width || std::isinf(*width)) throw refuse("not a positive finite width");
+    prior.tilt = 1e-3 * *width;
+    prior.shift = mm * *width;
+    prior.scale = 1e-3 * *width;
+    prior.offset = 1e-2 * *width;
+    return prior;
+  }
+  std::vector<std::string> seen;
+  std::istringstream items(text);
+  for (std::string item; std::getline(items, item, ',');) {
+    const size_t eq = item.find('=');
+    const std::string key = item.substr(0, eq);
+    if (eq == std::string::npos) throw refuse("no '=' in '" + item + "'");
+    if (std::find(seen.begin(), seen.end(), key) != seen.end()) throw refuse("'" + key + "' given twice");
+    seen.push_back(key);
+    const std::optional<double> value = positiveNumber(item.substr(eq + 1));
+    if (!value) throw refuse("'" + key + "' is not a positive width");
+    if (key == "tilt") prior.tilt = 1e-3 * *value;
+    else if (key == "shift") prior.shift = mm * *value;
+    else if (key == "scale") prior.scale = 1e-2 * *value;
+    else if (key == "offset") prior.offset = 1e-3 * *value;
+    else throw refuse("unknown kind '" + key + "' (tilt, shift, scale or offset)");
+  }
+  if (prior.none()) throw refuse("every width is inf (no prior: leave --prior out)");
+  return prior;
 }
 
 }  // namespace lowpair::commands

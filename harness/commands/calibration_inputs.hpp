@@ -74,6 +74,13 @@ void checkStatedNoise(const std::optional<double>& noise_position, const std::op
 /// each trimmed). @throws UsageError naming parameters as `spelling` spells it
 void parseParameters(const std::string& text, CalibrationOptions& options, const ArgumentSpelling& spelling);
 
+/// The prior of `--prior TEXT` (docs/calibration.md "A prior on the nominal"): one WIDTH (tilt WIDTH mrad, shift WIDTH mm,
+/// scale WIDTH x 0.1 %, offset 10 WIDTH mrad), or `tilt=A,shift=B,scale=C,offset=D` (mrad, mm, %, mrad; a kind left out
+/// is free; `inf` for free). Millimetres become the robot's length unit with `metres_per_unit` (1 mm = 1 unit when
+/// unknown). @throws UsageError naming prior as `spelling` spells it: a malformed, non-positive or NaN width, an
+/// unknown or repeated key
+ParameterPrior parsePrior(const std::string& text, std::optional<double> metres_per_unit, const ArgumentSpelling& spelling);
+
 /// Maps the validation set's target indices to the fit's by name and gives it the fit's names.
 /// @return the first target the fit does not measure (then nothing is to be used), or nothing
 std::optional<std::string> mapValidationTargets(io::MeasurementFile& validation, const std::vector<std::string>& fit_names);

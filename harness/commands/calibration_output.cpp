@@ -58,7 +58,7 @@ std::vector<std::string> calibrationWarnings(const CalibrationReport& r) {
     s << "rank " << c.rank.rank << " < " << c.expected.total() << ": these measurements do not determine "
       << c.rank.undetermined.size() - static_cast<size_t>(tool_rotation) << " parameter direction(s) of the count"
       << (tool_rotation ? " (and the tool rotation, which position measurements never determine)" : "")
-      << ", left at the nominal:";
+      << (c.prior.none() ? ", left at the nominal:" : ", left at the nominal or held by the prior (listed above):");
     for (const auto& d : c.rank.undetermined) s << " [" << directionText(d, names) << "]";
     s << ". The fit is confined to the directions the nominal determines: an error of the robot along the others "
          "stays in the residuals (after: "
@@ -362,6 +362,15 @@ json calibrationJson(const CalibrationReport& r) {
                             : !c.sigma_position_stated                            ? json("position")
                                                                                   : json(nullptr)}};
   o["variance_factor"] = finiteOrNull(c.variance_factor);  // null: no redundancy (rows <= rank)
+  if (!c.prior.none()) {  // (only with --prior: other outputs unchanged)
+    auto width = [](double w) { return std::isinf(w) ? json(nullptr) : json(w); };
+    json held = json::array();
+    for (const int j : c.held_by_prior) held.push_back(c.error_model.parameters()[static_cast<size_t>(j)].name);
+    o["prior"] = {{"tilt", width(c.prior.tilt)},   {"shift", width(c.prior.shift)},
+                  {"scale", width(c.prior.scale)}, {"offset", width(c.prior.offset)},
+                  {"length_unit_assumed", r.prior_unit_assumed}, {"held", held}};
+    o["effective_parameters"] = c.effective_parameters;
+  }
   o["before"] = statisticsJson(c.before, r.fit.measure);
   o["after"] = statisticsJson(c.after, r.fit.measure);
   if (r.validation) {

@@ -84,6 +84,7 @@ struct CalibrationReport {
   std::optional<CalibratedBaseFrame> base_frame;
   /// The joints whose compliance and backlash were fitted and where their inputs came from (none: no deflection).
   DeflectionChoice deflections{};
+  bool prior_unit_assumed = false;  ///< --prior with a robot of unknown length unit: 1 mm taken as 1 unit
 };
 
 /// Moves the inputs in and computes the validation residuals and the warnings; rejects an accepted fit whose

@@ -89,7 +89,37 @@ double redundancy(const CalibrationResult& c) {
   for (const MeasurementResidual& m : c.residuals) {
     if (c.loss == Loss::Squared || !m.outlier) rows += m.rows;
   }
-  return rows - c.rank.rank;
+  return rows - c.effective_parameters;  // the rank without a prior
+}
+
+namespace {
+std::string sixDigits(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", x);
+  return text;
+}
+}  // namespace
+
+std::string priorText(const CalibrationReport& r) {
+  const CalibrationResult& c = r.result;
+  if (c.prior.none()) return "";
+  auto width = [](double w, double factor, const std::string& unit) {
+    return std::isinf(w) ? std::string("free") : sixDigits(w * factor) + " " + unit;
+  };
+  return "prior (MAP, zero-mean Gaussian on the deviations from the nominal): tilt " + width(c.prior.tilt, 1e3, "mrad") +
+         ", shift " + width(c.prior.shift, 1.0, lengthUnit(r.nominal)) +
+         (r.prior_unit_assumed ? " (the robot's length unit unknown: 1 mm taken as 1 unit)" : "") + ", scale " +
+         width(c.prior.scale, 1e2, "%") + ", offset " + width(c.prior.offset, 1e3, "mrad") +
+         "; the measurement frame, targets and deflections free; effective parameters " +
+         sixDigits(c.effective_parameters) + " of " + std::to_string(c.error_model.size()) + " parameters";
+}
+
+std::string heldByPriorText(const CalibrationResult& c) {
+  std::string names;
+  for (const int j : c.held_by_prior) {
+    names += (names.empty() ? "" : " ") + c.error_model.parameters()[static_cast<size_t>(j)].name;
+  }
+  return names;
 }
 
 // Why a fit has no variance factor (CalibrationResult::variance_factor NaN: residual rows <= rank), in a few

@@ -37,6 +37,11 @@ std::string toolFrameText(const CalibrationResult& c);
 /// The residual degrees of freedom behind a variance factor (rows of the measurements not flagged, for a robust
 /// loss, minus the determined parameters).
 double redundancy(const CalibrationResult& c);
+
+/// With a prior (CalibrationResult::prior): the line saying its widths (6 significant digits, the shift in the robot's
+/// unit) and the effective number of parameters; the parameters it holds (names), empty when none. Without: both empty.
+std::string priorText(const CalibrationReport& r);
+std::string heldByPriorText(const CalibrationResult& c);
 /// Why a calibration has no variance factor, in words.
 std::string noVarianceFactorCause(const CalibrationResult& c);
 /// One fitted joint deflection of a calibration, as the text and JSON give it.

@@ -65,6 +65,7 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   options.sigma_rotation = a.noise_rotation;
   options.loss = a.loss == "huber" ? Loss::Huber : a.loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
   options.outlier_threshold = a.outlier_threshold;
+  if (a.prior) options.prior = parsePrior(*a.prior, io::metresPerUnit(nominal_file.length_unit), spelling);
   if (a.parameters) {
     if (a.select) {
       throw UsageError(spelling.name("select"), "choose the parameters by " + spelling.name("parameters") + " or by " +
@@ -130,6 +131,7 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
                                                    std::move(dh), seconds, std::move(base_frame), validation_loads);
   report.cross_validation = std::move(cv);
   report.deflections = std::move(deflections);
+  report.prior_unit_assumed = a.prior && !io::metresPerUnit(nominal_file.length_unit);
   return report;
 }
 

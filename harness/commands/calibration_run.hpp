@@ -27,6 +27,8 @@ struct CalibrationRequest {
   int repeats = kCrossValidationRepeats;          ///< in [1, kMaxCrossValidationRepeats]
   /// Joint deflections to fit (deflection_inputs.hpp parseJointList): compliance `all` or joints, backlash joints.
   std::optional<std::string> compliance, backlash;
+  /// A prior on the nominal (parsePrior's text: WIDTH or tilt=..,shift=..,scale=..,offset=..); none: no prior.
+  std::optional<std::string> prior;
 };
 
 /// What is wrong with fitting `fit`'s measurements of a `dof`-joint robot at once (more than

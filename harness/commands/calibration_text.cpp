@@ -52,6 +52,11 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
   } else {
     out << "parameters: " << parameterRankText(c) << "\n";
   }
+  if (!c.prior.none()) {
+    out << priorText(r) << "\n";
+    const std::string held = heldByPriorText(c);
+    if (!held.empty()) out << "held by the prior (the measurements alone do not determine them): " << held << "\n";
+  }
   if (r.cross_validation) {
     const CrossValidation& cv = *r.cross_validation;
     out << "parameter choice (" << cv.folds << "-fold cross-validation, " << cv.repeats

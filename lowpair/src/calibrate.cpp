@@ -1,5 +1,6 @@
 #include "lowpair/calibrate.hpp"
 #include "calibration_internal.hpp"
+#include "calibration_prior.hpp"
 #include "linalg.hpp"
 
 #include <algorithm>
@@ -159,7 +160,16 @@ struct Problem {
   MatX basis;          // n x rank
   Eigen::Index n = 0;  // the parameters: the rank rule's n
   int rank = 0;
+  VecX prior;  // per parameter 1/width (calibration_prior.hpp), empty without a prior
+  // with a prior, the error model at the registered nominal: an iterate is start->apply(estimate), so that the MAP
+  // cost is a function of the estimate (composed steps would make it depend on the path: no convergence)
+  const ErrorModel* start = nullptr;
 };
+
+// the prior's part of the cost at an estimate (0 without a prior)
+double priorCost(const Problem& p, const VecX& estimate) {
+  return p.prior.size() == 0 ? 0.0 : p.prior.cwiseProduct(estimate).squaredNorm();
+}
 
 // The fit at an iterate: the error model re-centred there, its weighted residual and cost, the sum of the
 // accepted steps, and the iterations so far.
@@ -192,13 +202,20 @@ struct Subspace {
   MatX V0;
 };
 
-Subspace nominalSubspace(const Problem& p, const ErrorModel& em, double cost) {
+// With a prior, `fit` receives the subspace the data and the prior determine together (the fit's).
+Subspace nominalSubspace(const Problem& p, const ErrorModel& em, double cost, Subspace& fit) {
   // (the column norms square the entries: a stated noise small enough to leave the residuals finite may
   // still overflow them, and a column left unscaled would take the whole rank)
   const MatX J_nominal = weightedJacobian(em, *p.measurements, *p.loads, p.measure, p.w, p.robust);
   if (!std::isfinite(cost) || !J_nominal.colwise().squaredNorm().allFinite()) throw overflowError(p);
   Subspace s;
-  s.rank = analyzeDimensionless(J_nominal, static_cast<int>(p.measurements->size()), &s.D0, &s.V0);
+  const int poses = static_cast<int>(p.measurements->size());
+  s.rank = analyzeDimensionless(J_nominal, poses, &s.D0, &s.V0);
+  if (p.prior.size() == 0) {
+    fit = s;
+  } else {
+    fit.rank = analyzeDimensionless(withPriorRows(J_nominal, p.prior), poses, &fit.D0, &fit.V0);
+  }
   return s;
 }
 
@@ -213,10 +230,11 @@ struct LmOptions {
   double relative_decrease = 1e-10;  // converged when an undamped step gains less than this
 };
 
-// the reduced problem at an iterate: A = J basis (rows x rank) and its SVD
+// the reduced problem at an iterate: A = J basis (rows x rank; with a prior [J; diag(prior)] basis) and its SVD
 Eigen::JacobiSVD<MatX> reducedSvd(const Problem& p, const ErrorModel& at) {
-  return Eigen::JacobiSVD<MatX>(weightedJacobian(at, *p.measurements, *p.loads, p.measure, p.w, p.robust) * p.basis,
-                                Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const MatX J = weightedJacobian(at, *p.measurements, *p.loads, p.measure, p.w, p.robust);
+  if (p.prior.size() > 0) return Eigen::JacobiSVD<MatX>(withPriorRows(J, p.prior) * p.basis, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  return Eigen::JacobiSVD<MatX>(J * p.basis, Eigen::ComputeThinU | Eigen::ComputeThinV);
 }
 
 // the nominal's rule (its n: every parameter), not one relaxed to the reduced problem's `rank` columns
@@ -243,13 +261,16 @@ struct Trial {
   double cost = 0.0;
 };
 
-// Nothing when the step leaves the valid models (a scale through 0, beyond the magnitude limits).
-std::optional<Trial> tryStep(const Problem& p, const ErrorModel& em, const VecX& step) {
-  std::optional<PoeModel> moved = em.tryApply(step);
+// Nothing when the step leaves the valid models (a scale through 0, beyond the magnitude limits). With a prior the
+// trial is the registered nominal moved by estimate + step.
+std::optional<Trial> tryStep(const Problem& p, const ErrorModel& em, const VecX& step, const VecX& estimate) {
+  const ErrorModel& from = p.start ? *p.start : em;
+  const VecX delta = p.start ? VecX(estimate + step) : step;
+  std::optional<PoeModel> moved = from.tryApply(delta);
   if (!moved) return std::nullopt;
   Trial trial{std::move(*moved)};
-  trial.targets = em.applyTargets(step);
-  trial.deflection = em.applyDeflection(step);
+  trial.targets = from.applyTargets(delta);
+  trial.deflection = from.applyDeflection(delta);
   trial.cost = residualAt(p, State{trial.model, trial.targets, trial.deflection}, trial.r);
   return trial;
 }
@@ -260,10 +281,13 @@ bool levenbergMarquardt(const Problem& p, const LmOptions& lm, Iterate& it) {
   for (int pass = 0; pass < lm.max_iterations; ++pass) {
     pollInterrupt();
     ++it.iterations;
-    if (p.rank == 0 || it.cost == 0.0) return true;
+    // the objective: the data's cost plus the prior's (MAP)
+    const double total = it.cost + priorCost(p, it.estimate);
+    if (p.rank == 0 || total == 0.0) return true;
     const Eigen::JacobiSVD<MatX> svd = reducedSvd(p, it.em);
     const VecX& s = svd.singularValues();
-    const VecX g = svd.matrixU().transpose() * it.r;
+    const VecX g = p.prior.size() == 0 ? VecX(svd.matrixU().transpose() * it.r)
+                                       : VecX(svd.matrixU().transpose() * withPriorResidual(it.r, p.prior, it.estimate));
     if (!s.allFinite() || !g.allFinite()) throw overflowError(p);
     if (!(s[0] > 0.0)) return true;
     bool accepted = false, converged = false;
@@ -271,11 +295,13 @@ bool levenbergMarquardt(const Problem& p, const LmOptions& lm, Iterate& it) {
       const VecX y = dampedStep(p, svd, g, mu);
       if (!y.allFinite()) continue;
       const VecX step = p.basis * y;
-      std::optional<Trial> trial = tryStep(p, it.em, step);
-      if (!trial || !(trial->cost < it.cost)) continue;
+      std::optional<Trial> trial = tryStep(p, it.em, step, it.estimate);
+      if (!trial) continue;
+      const double trial_total = trial->cost + priorCost(p, it.estimate + step);
+      if (!(trial_total < total)) continue;
       accepted = true;
       // a small gain counts only for an undamped-enough step (a heavily damped one is small anyway)
-      converged = it.cost - trial->cost <= lm.relative_decrease * it.cost && mu <= lm.mu_start;
+      converged = total - trial_total <= lm.relative_decrease * total && mu <= lm.mu_start;
       it.cost = trial->cost;
       it.r = std::move(trial->r);
       it.em = it.em.rebased(trial->model, trial->targets, trial->deflection);
@@ -365,9 +391,10 @@ std::vector<MeasurementResidual> measurementResiduals(const Problem& p, const Er
 }
 
 // the variance factor: least squares over every measurement, a robust loss over those not flagged
-double varianceFactor(const Problem& p, Eigen::Index residual_rows, const std::vector<MeasurementResidual>& residuals,
+// (`parameters`: the effective number, the rank without a prior)
+double varianceFactor(double parameters, Eigen::Index residual_rows, const std::vector<MeasurementResidual>& residuals,
                       const std::vector<double>& u, bool robust) {
-  double redundancy = static_cast<double>(residual_rows) - p.rank, weighted_cost = 0.0;
+  double redundancy = static_cast<double>(residual_rows) - parameters, weighted_cost = 0.0;
   for (size_t m = 0; m < residuals.size(); ++m) {
     const int per = residuals[m].rows;
     if (robust && residuals[m].outlier) {
@@ -417,6 +444,16 @@ Covariance covarianceAt(const Problem& p, const ErrorModel& em, double factor, c
   return c;
 }
 
+// The effective number of parameters at the result: the rank without a prior, else the trace of the data rows' hat
+// matrix on the usable singular values of the reduced problem (calibration_prior.hpp).
+double effectiveCount(const Problem& p, const ErrorModel& em) {
+  if (p.prior.size() == 0 || p.rank == 0) return p.rank;
+  const Eigen::JacobiSVD<MatX> svd = reducedSvd(p, em);
+  std::vector<bool> use(static_cast<size_t>(svd.singularValues().size()));
+  for (int i = 0; i < svd.singularValues().size(); ++i) use[static_cast<size_t>(i)] = usable(svd.singularValues(), i, p.n);
+  return effectiveParameters(svd.matrixU(), use, svd.matrixU().rows() - p.n);
+}
+
 // The verdict's reason (empty: accepted); L the nominal's size.
 std::string verdict(const CalibrationResult& r, double L) {
   const auto count = static_cast<Eigen::Index>(r.residuals.size());
@@ -455,32 +492,12 @@ void CalibrationOptions::validate() const {
   LP_CHECK(max_iterations >= 0, "calibrate: max_iterations must be >= 0");
   LP_CHECK(outlier_threshold > 0.0 && std::isfinite(outlier_threshold),
            "calibrate: the outlier threshold must be positive and finite");
+  for (const double width : {prior.tilt, prior.shift, prior.scale, prior.offset}) {
+    LP_CHECK(width > 0.0, "calibrate: a prior width must be positive (+inf for none), got " << width);
+  }
   for (const Target& t : targets) {
     LP_CHECK(!t.known || t.point_tool, "calibrate: target " << t.name << " is known but has no point");
   }
-}
-
-std::vector<PoseLoad> measurementLoads(const PoeModel& nominal, const std::vector<Measurement>& measurements,
-                                       const CalibrationOptions& options) {
-  if (!options.deflects()) return {};
-  std::vector<VecX> q;
-  q.reserve(measurements.size());
-  for (const Measurement& m : measurements) q.push_back(m.q);
-  const bool torque = !options.compliance_joints.empty() || options.deflection.compliance.size() > 0;
-  const bool signs = !options.backlash_joints.empty() || options.deflection.backlash.size() > 0;
-  LP_CHECK(options.move_signs.empty() || options.move_signs.size() == measurements.size(),
-           "calibrate: " << options.move_signs.size() << " move-sign vectors for " << measurements.size() << " measurements");
-  return poseLoads(nominal, options.masses, q, torque,
-                   !signs ? std::vector<VecX>{} : options.move_signs.empty() ? moveSigns(q) : options.move_signs);
-}
-
-std::vector<Measurement> deflectedMeasurements(const std::vector<Measurement>& measurements,
-                                               const JointDeflection& deflection, const std::vector<PoseLoad>& loads) {
-  std::vector<Measurement> out = measurements;
-  if (loads.empty()) return out;
-  LP_CHECK(loads.size() == measurements.size(), "deflectedMeasurements: " << loads.size() << " loads for " << measurements.size() << " measurements");
-  for (size_t k = 0; k < out.size(); ++k) out[k].q = deflectedJoints(deflection, measurements[k].q, loads[k]);
-  return out;
 }
 
 CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measurement>& measurements,
@@ -505,11 +522,15 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   const PoeModel start = movedModel(nominal, reg.T_meas_base);
   Iterate it{ErrorModel(start, fitSpec(options, reg, measurements))};
   checkDeflections(nominal, it.em.spec(), loads);
+  problem.prior = priorWeights(it.em, options.prior);
   it.cost = residualAt(problem, stateOf(it.em), it.r);
-  Subspace sub = nominalSubspace(problem, it.em, it.cost);
-  problem.rank = sub.rank.rank;
+  Subspace fit;  // the data's (sub) and with the prior the data's and the prior's together (fit)
+  Subspace sub = nominalSubspace(problem, it.em, it.cost, fit);
+  problem.rank = fit.rank.rank;
   problem.n = it.em.size();
-  problem.basis = sub.D0.asDiagonal() * sub.V0.leftCols(problem.rank);
+  problem.basis = fit.D0.asDiagonal() * fit.V0.leftCols(problem.rank);
+  const ErrorModel registered = it.em;
+  if (problem.prior.size() > 0) problem.start = &registered;
   it.estimate = VecX::Zero(problem.n);
 
   LmOptions lm;
@@ -523,14 +544,18 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   std::vector<MeasurementResidual> residuals = measurementResiduals(problem, it.em, u, scale, options.outlier_threshold);
   const int outliers = static_cast<int>(std::count_if(residuals.begin(), residuals.end(),
                                                       [](const MeasurementResidual& x) { return x.outlier; }));
-  const double variance_factor = varianceFactor(problem, it.r.size(), residuals, u, options.loss != Loss::Squared);
-  const Covariance cov = covarianceAt(problem, it.em, stated ? 1.0 : variance_factor, sub);
+  const double effective = effectiveCount(problem, it.em);
+  const double variance_factor = varianceFactor(effective, it.r.size(), residuals, u, options.loss != Loss::Squared);
+  const Covariance cov = covarianceAt(problem, it.em, stated ? 1.0 : variance_factor, fit);
 
   CalibrationResult out{it.em.model(), it.em};
   out.expected = identifiableCount(nominal, measure, it.em.spec());
   out.tool_rank = measure == Measure::Pose || it.em.spec().pose_measurements ? 6
                   : measure == Measure::Position ? 3
                                                  : knownPointsToolRank(it.em.spec().knownPoints(), L);
+  out.prior = options.prior;
+  out.effective_parameters = effective;
+  if (problem.prior.size() > 0) out.held_by_prior = heldByPrior(sub.V0, sub.rank.rank, cov.sd);
   out.rank = std::move(sub.rank);
   out.before = residualStatistics(start, at_start, measure, reg.targets);
   out.after = residualStatistics(it.em.model(), deflectedMeasurements(measurements, it.em.deflection(), loads), measure,

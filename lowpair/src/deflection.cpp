@@ -1,5 +1,6 @@
 #include "lowpair/deflection.hpp"
 #include "calibration_internal.hpp"
+#include "lowpair/calibrate.hpp"
 
 #include <algorithm>
 
@@ -144,6 +145,30 @@ std::vector<PoseLoad> poseLoads(const PoeModel& model, const MassModel& masses, 
     loads[k].sign = s;
   }
   return loads;
+}
+
+// calibrate.hpp: the deflection inputs of a calibration
+std::vector<PoseLoad> measurementLoads(const PoeModel& nominal, const std::vector<Measurement>& measurements,
+                                       const CalibrationOptions& options) {
+  if (!options.deflects()) return {};
+  std::vector<VecX> q;
+  q.reserve(measurements.size());
+  for (const Measurement& m : measurements) q.push_back(m.q);
+  const bool torque = !options.compliance_joints.empty() || options.deflection.compliance.size() > 0;
+  const bool signs = !options.backlash_joints.empty() || options.deflection.backlash.size() > 0;
+  LP_CHECK(options.move_signs.empty() || options.move_signs.size() == measurements.size(),
+           "calibrate: " << options.move_signs.size() << " move-sign vectors for " << measurements.size() << " measurements");
+  return poseLoads(nominal, options.masses, q, torque,
+                   !signs ? std::vector<VecX>{} : options.move_signs.empty() ? moveSigns(q) : options.move_signs);
+}
+
+std::vector<Measurement> deflectedMeasurements(const std::vector<Measurement>& measurements,
+                                               const JointDeflection& deflection, const std::vector<PoseLoad>& loads) {
+  std::vector<Measurement> out = measurements;
+  if (loads.empty()) return out;
+  LP_CHECK(loads.size() == measurements.size(), "deflectedMeasurements: " << loads.size() << " loads for " << measurements.size() << " measurements");
+  for (size_t k = 0; k < out.size(); ++k) out[k].q = deflectedJoints(deflection, measurements[k].q, loads[k]);
+  return out;
 }
 
 }  // namespace lowpair

@@ -169,7 +169,8 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
                                 const std::optional<std::vector<std::string>>& targets,
                                 const std::optional<std::vector<std::string>>& validation_targets,
                                 const std::optional<std::string>& select, int folds, int repeats,
-                                const std::optional<std::string>& compliance, const std::optional<std::string>& backlash) {
+                                const std::optional<std::string>& compliance, const std::optional<std::string>& backlash,
+                                const std::optional<std::string>& prior) {
   io::MeasurementFile fit = measurementArrays(r, q, positions, rotations, targets, "");
   std::optional<io::MeasurementFile> held_out;
   if (validation_q || validation_positions || validation_rotations || validation_targets) {
@@ -190,7 +191,7 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
   }
   const commands::CalibrationRequest request{noise_position, noise_rotation, free_pitch, loss,       outlier_threshold,
                                                parameters,     select,         folds,      repeats,    compliance,
-                                               backlash};
+                                               backlash,       prior};
   return calibrateArrays(r, std::move(fit), std::move(held_out), request);
 }
 
@@ -341,11 +342,12 @@ void exposeCalibration(py::module_& m) {
         py::arg("validation_positions") = py::none(), py::arg("validation_rotations") = py::none(),
         py::arg("targets") = py::none(), py::arg("validation_targets") = py::none(), py::arg("select") = py::none(),
         py::arg("folds") = 5, py::arg("repeats") = kCrossValidationRepeats, py::arg("compliance") = py::none(),
-        py::arg("backlash") = py::none(),
+        py::arg("backlash") = py::none(), py::arg("prior") = py::none(),
         "calibrate(robot, q, positions, rotations=None, noise_position=None, noise_rotation=None, free_pitch=False,\n"
         "          loss='squared', outlier_threshold=5.0, parameters=None, validation_q=None,\n"
         "          validation_positions=None, validation_rotations=None, targets=None, validation_targets=None,\n"
-        "          select=None, folds=5, repeats=10, compliance=None, backlash=None) -> Calibration\n\n"
+        "          select=None, folds=5, repeats=10, compliance=None, backlash=None,\n"
+        "          prior=None) -> Calibration\n\n"
         "`lowpair calibrate` from arrays (the measurement CSV's columns): q (N, n) joint values (rad / length_unit);\n"
         "positions (N, 3) measured tool positions (length_unit, the robot's; any measurement frame: it is\n"
         "registered); rotations (N, 4) unit quaternions qw, qx, qy, qz (scalar first; norm within 1e-6 of 1) for\n"
@@ -361,6 +363,8 @@ void exposeCalibration(py::module_& m) {
         "compliance: 'all' or joints '2,3,5' (1-based indices or names) whose compliance under gravity is fitted\n"
         "(the robot file's masses give the loads); backlash: joints whose backlash is fitted, the approach signs\n"
         "from the order of the rows (`lowpair calibrate --compliance/--backlash`, docs/calibration.md).\n"
+        "prior: 'WIDTH' or 'tilt=..,shift=..,scale=..,offset=..': Gaussian priors on the deviations from the\n"
+        "nominal (`lowpair calibrate --prior`; to_dict() then has prior and effective_parameters).\n"
         "The GIL is released during the fit. A rejected fit is data (accepted, reason), not an exception.");
 }
 

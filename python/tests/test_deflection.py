@@ -51,3 +51,21 @@ def test_a_joint_without_varying_load_is_refused_by_name(compliant_arm):
     q, p = compliant_arm
     with pytest.raises(ValueError, match="joint 1"):
         lowpair.calibrate(lowpair.load(NOMINAL), q, p, noise_position=1e-5, compliance="1")
+
+
+def test_prior_reports_the_effective_parameter_count(compliant_arm):
+    q, p = compliant_arm
+    free = lowpair.calibrate(lowpair.load(NOMINAL), q, p, noise_position=1e-5, compliance="2,3")
+    held = lowpair.calibrate(lowpair.load(NOMINAL), q, p, noise_position=1e-5, compliance="2,3", prior="5")
+    assert "prior" not in free.to_dict() and "effective_parameters" not in free.to_dict()
+    d = held.to_dict()
+    # the trace of the hat matrix: at most the parameters the data and the prior determine, at least the free ones
+    # (the measurement frame's 6 and the 2 compliances stay free)
+    assert 8 <= d["effective_parameters"] <= len(held.parameter_names)
+    assert "prior" in d
+
+
+def test_a_malformed_prior_is_refused(compliant_arm):
+    q, p = compliant_arm
+    with pytest.raises(ValueError, match="prior"):
+        lowpair.calibrate(lowpair.load(NOMINAL), q, p, noise_position=1e-5, prior="tilt=-1")

@@ -3,6 +3,7 @@
 /// The fit: Levenberg-Marquardt in the error model's coordinates, robust reweighting, covariance and the
 /// verdict (Wu, Crawford, Roberts §VI; docs/calibration.md).
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,23 @@ struct MeasurementResidual {
   double weight = 1.0;   ///< the robust loss' weight at the result (1 for Squared)
   int rows = 3;          ///< its residual rows: 6 for a pose, 3 for a point (rowsOf)
   bool outlier = false;  ///< normalized > CalibrationOptions::outlier_threshold
+};
+
+/// Zero-mean Gaussian priors on the deviations from the nominal (docs/calibration.md "A prior on the nominal"):
+/// the standard deviation (width) of each kind of parameter, +inf for none. A parameter with a finite width adds
+/// the residual `delta_j / width_j` to the weighted least squares, delta_j its estimate (the sum of the accepted
+/// steps from the registered nominal, CalibrationResult::estimate), so the normal equations gain `diag(1/width^2)`
+/// (MAP estimation). Which kinds bear one: tilts and the tool's rotations (`tilt`, rad); shifts, the tool's
+/// translations and pitches (`shift`, length, length/rad for a pitch); scales (`scale`, dimensionless); joint
+/// offsets (`offset`, rad; a prismatic joint's offset takes `shift`). The measurement frame (base.*), the
+/// targets' points and the joint deflections stay free. Every width +inf (the default): no prior, the fit of
+/// before bit for bit.
+struct ParameterPrior {
+  static constexpr double kNone = std::numeric_limits<double>::infinity();
+  double tilt = kNone, shift = kNone, scale = kNone, offset = kNone;
+  bool none() const { return tilt == kNone && shift == kNone && scale == kNone && offset == kNone; }
+  /// The width of parameter kind `kind` in unit `unit` (Parameter::unit): +inf where no prior applies.
+  double width(ParameterKind kind, const std::string& unit) const;
 };
 
 struct CalibrationOptions {
@@ -53,10 +71,11 @@ struct CalibrationOptions {
   std::vector<VecX> move_signs{};
   JointDeflection deflection{};
   bool deflects() const { return !compliance_joints.empty() || !backlash_joints.empty() || !deflection.empty(); }
+  ParameterPrior prior{};  ///< none by default (every width +inf)
 
   /// The rules calibrate() applies to its options (the CLI and the Python module call it too).
   /// @throws std::invalid_argument for a noise level not positive and finite, max_iterations < 0, or an
-  /// outlier threshold not positive and finite
+  /// outlier threshold not positive and finite, or a prior width not positive (NaN, 0 or negative)
   void validate() const;
 };
 
@@ -131,6 +150,17 @@ struct CalibrationResult {
   /// parameters), and per measurement the inputs they were fitted with (empty without deflections).
   JointDeflection deflection{};
   std::vector<PoseLoad> loads{};
+  /// The prior (CalibrationOptions::prior), and the effective number of parameters: the trace of the hat matrix
+  /// `J (J^T W J + P)^-1 J^T W` on the fit's determined subspace (P = diag(1/width^2), 0 for free parameters), between
+  /// the free parameters' count and the determined count; exactly `rank.rank` without a prior. The variance factor's
+  /// redundancy is `rows - effective_parameters`. With a prior, `rank` stays the data's (the measurements alone), the
+  /// covariance is `(J^T W J + P)^-1` (scaled as without), and `undetermined_directions` are those neither the data nor
+  /// the prior determine.
+  ParameterPrior prior{};
+  double effective_parameters = 0.0;
+  /// The parameters (indices into `error_model.parameters()`) that move along a direction the data leave undetermined
+  /// and that the prior determines (finite standard deviation from the prior alone); empty without a prior.
+  std::vector<int> held_by_prior{};
 };
 
 /// The deflection inputs of `measurements` for `options` (calibrate's): empty when options.deflects() is false;
