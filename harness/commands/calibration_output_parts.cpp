@@ -18,20 +18,20 @@ std::string lengthUnit(const RobotFile& file) { return file.length_unit.empty() 
 
 std::string pitchUnit(const RobotFile& file) { return lengthUnit(file) + "/" + file.angle_unit; }
 
-// "1.2e-05", or "undetermined" for +inf
-std::string deviation(double sd) {
-  if (!std::isfinite(sd)) return "undetermined";
+namespace {
+// x to `digits` significant digits, printf's %g ("0.00802", "1.2e-15")
+std::string significant(double x, int digits) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2g", sd);
+  std::snprintf(buf, sizeof buf, "%.*g", digits, x);
   return buf;
 }
+}  // namespace
+
+// "1.2e-05", or "undetermined" for +inf
+std::string deviation(double sd) { return std::isfinite(sd) ? significant(sd, 2) : std::string("undetermined"); }
 
 // A residual statistic to 3 significant digits ("0.00802", "1.2e-15" -> "1.2e-15"): comparable at a glance.
-std::string residual(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+std::string residual(double x) { return significant(x, 3); }
 
 std::vector<std::string> parameterNames(const std::vector<Parameter>& parameters) {
   std::vector<std::string> names;
@@ -92,26 +92,18 @@ double redundancy(const CalibrationResult& c) {
   return rows - c.effective_parameters;  // the rank without a prior
 }
 
-namespace {
-std::string sixDigits(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", x);
-  return text;
-}
-}  // namespace
-
 std::string priorText(const CalibrationReport& r) {
   const CalibrationResult& c = r.result;
   if (c.prior.none()) return "";
   auto width = [](double w, double factor, const std::string& unit) {
-    return std::isinf(w) ? std::string("free") : sixDigits(w * factor) + " " + unit;
+    return std::isinf(w) ? std::string("free") : significant(w * factor, 6) + " " + unit;
   };
   return "prior (MAP, zero-mean Gaussian on the deviations from the nominal): tilt " + width(c.prior.tilt, 1e3, "mrad") +
          ", shift " + width(c.prior.shift, 1.0, lengthUnit(r.nominal)) +
          (r.prior_unit_assumed ? " (the robot's length unit unknown: 1 mm taken as 1 unit)" : "") + ", scale " +
          width(c.prior.scale, 1e2, "%") + ", offset " + width(c.prior.offset, 1e3, "mrad") +
          "; the measurement frame, targets and deflections free; effective parameters " +
-         sixDigits(c.effective_parameters) + " of " + std::to_string(c.error_model.size()) + " parameters";
+         significant(c.effective_parameters, 6) + " of " + std::to_string(c.error_model.size()) + " parameters";
 }
 
 std::string heldByPriorText(const CalibrationResult& c) {
