@@ -202,7 +202,7 @@ void addCalibrateCommand(CLI::App& app, Commands& commands) {
       ->check(CLI::IsMember({"cv"}));
   cal->add_option("--prior-grid", request.prior_grid,
                   "--select cv: also compare these prior widths (WIDTH as --prior's, comma list) and no prior; "
-                  "default: 0.3,1,3,10,50");
+                  "'default' is 0.3,1,3,10,50");
   cal->add_option("--cv-score", request.cv_score,
                   "--select cv's held-out score: rms (default), trimmed (the largest 10 % dropped) or median (robust "
                   "to held-out blunders)")
