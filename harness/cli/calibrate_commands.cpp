@@ -196,8 +196,17 @@ void addCalibrateCommand(CLI::App& app, Commands& commands) {
   cal->add_option("--parameters", request.parameters,
                   "full (default: every identifiable parameter), lines (no scales), offsets (joint offsets, base, "
                   "tool), or a comma list of parameter names");
-  cal->add_option("--select", request.select, "cv: choose full, lines or offsets by repeated k-fold cross-validation")
+  cal->add_option("--select", request.select,
+                  "cv: choose full, lines or offsets (x --prior-grid's widths, x --compliance and --backlash on and off) "
+                  "by repeated k-fold cross-validation")
       ->check(CLI::IsMember({"cv"}));
+  cal->add_option("--prior-grid", request.prior_grid,
+                  "--select cv: also compare these prior widths (WIDTH as --prior's, comma list) and no prior; "
+                  "'default' is 0.3,1,3,10,50");
+  cal->add_option("--cv-score", request.cv_score,
+                  "--select cv's held-out score: rms (default), trimmed (the largest 10 % dropped) or median (robust "
+                  "to held-out blunders)")
+      ->check(CLI::IsMember({"rms", "trimmed", "median"}));
   cal->add_option("--folds", request.folds, "folds of --select cv (default 5)")
       ->check(CLI::Range(2, kMaxCrossValidationFolds));
   cal->add_option("--repeats", request.repeats,

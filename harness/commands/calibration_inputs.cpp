@@ -170,6 +170,37 @@ std::optional<double> positiveNumber(const std::string& text) {
 
 }  // namespace
 
+ParameterPrior priorOfWidth(double width, std::optional<double> metres_per_unit) {
+  const double mm = 1e-3 / metres_per_unit.value_or(1e-3);  // one millimetre in the robot's unit
+  ParameterPrior prior;
+  prior.tilt = 1e-3 * width;
+  prior.shift = mm * width;
+  prior.scale = 1e-3 * width;
+  prior.offset = 1e-2 * width;
+  return prior;
+}
+
+std::vector<double> parsePriorGrid(const std::string& text, const ArgumentSpelling& spelling) {
+  if (text == "default") return std::vector<double>(kDefaultPriorGrid.begin(), kDefaultPriorGrid.end());
+  auto refuse = [&](const std::string& why) -> UsageError {
+    return UsageError(spelling.name("prior_grid"), why + " in " + io::quotedFileText(text) +
+                                                        " (expected 'default' or a comma list of prior widths, positive "
+                                                        "finite numbers, each once, at most " +
+                                                        std::to_string(kMaxPriorGrid) + ")");
+  };
+  std::vector<double> widths;
+  std::istringstream items(text);
+  for (std::string item; std::getline(items, item, ',');) {
+    const std::optional<double> width = positiveNumber(item);
+    if (!width || std::isinf(*width)) throw refuse("'" + item + "' is not a positive finite width");
+    if (std::find(widths.begin(), widths.end(), *width) != widths.end()) throw refuse("'" + item + "' given twice");
+    widths.push_back(*width);
+  }
+  if (widths.empty() || text.back() == ',') throw refuse("no width");
+  if (widths.size() > static_cast<size_t>(kMaxPriorGrid)) throw refuse(std::to_string(widths.size()) + " widths");
+  return widths;
+}
+
 ParameterPrior parsePrior(const std::string& text, std::optional<double> metres_per_unit, const ArgumentSpelling& spelling) {
   const double mm = 1e-3 / metres_per_unit.value_or(1e-3);  // one millimetre in the robot's unit
   auto refuse = [&](const std::string& why) -> UsageError {
@@ -180,11 +211,7 @@ ParameterPrior parsePrior(const std::string& text, std::optional<double> metres_
   if (text.find('=') == std::string::npos) {
     const std::optional<double> width = positiveNumber(text);
     if (!width || std::isinf(*width)) throw refuse("not a positive finite width");
-    prior.tilt = 1e-3 * *width;
-    prior.shift = mm * *width;
-    prior.scale = 1e-3 * *width;
-    prior.offset = 1e-2 * *width;
-    return prior;
+    return priorOfWidth(*width, metres_per_unit);
   }
   std::vector<std::string> seen;
   std::istringstream items(text);

@@ -80,6 +80,17 @@ void parseParameters(const std::string& text, CalibrationOptions& options, const
 /// unknown). @throws UsageError naming prior as `spelling` spells it: a malformed, non-positive or NaN width, an
 /// unknown or repeated key
 ParameterPrior parsePrior(const std::string& text, std::optional<double> metres_per_unit, const ArgumentSpelling& spelling);
+/// The prior of `--prior WIDTH` (tilts WIDTH mrad, shifts WIDTH mm in the robot's unit, scales WIDTH x 0.1 %,
+/// offsets 10 WIDTH mrad; 1 mm as one unit when the unit is unknown).
+ParameterPrior priorOfWidth(double width, std::optional<double> metres_per_unit);
+
+/// The prior widths `--prior-grid default` compares (docs/calibration.md "Selection"): from 0.3 (a nominal good to
+/// a fraction of a mrad and mm, a machined arm) to 50 (hardly a prior), about a factor 3 apart.
+constexpr std::array<double, 5> kDefaultPriorGrid{0.3, 1.0, 3.0, 10.0, 50.0};
+constexpr int kMaxPriorGrid = 10;
+/// `--prior-grid`'s text: `default` (kDefaultPriorGrid) or a comma list of distinct positive finite WIDTHs, at most
+/// kMaxPriorGrid. @throws UsageError naming prior_grid
+std::vector<double> parsePriorGrid(const std::string& text, const ArgumentSpelling& spelling);
 
 /// Maps the validation set's target indices to the fit's by name and gives it the fit's names.
 /// @return the first target the fit does not measure (then nothing is to be used), or nothing

@@ -416,21 +416,7 @@ json calibrationJson(const CalibrationReport& r) {
   }
   o["targets"] = targets;
   o["tool_frame"] = {{"determined", c.tool_rank >= 6}, {"rank", c.tool_rank}, {"text", toolFrameText(c)}};
-  if (r.cross_validation) {
-    json candidates = json::array();
-    for (const auto& cand : r.cross_validation->candidates) {
-      candidates.push_back({{"parameters", parameterSetName(cand.set)},
-                            {"count", cand.parameters},
-                            {"rms_position", cand.failed ? json(nullptr) : json(cand.rms_position)},
-                            {"rms_rotation", cand.failed || r.fit.measure != Measure::Pose ? json(nullptr) : json(cand.rms_rotation)},
-                            {"score", cand.failed ? json(nullptr) : json(cand.score)},
-                            {"failed", cand.failed}});
-    }
-    o["cross_validation"] = {{"folds", r.cross_validation->folds},
-                             {"repeats", r.cross_validation->repeats},
-                             {"candidates", candidates},
-                             {"chosen", parameterSetName(r.cross_validation->chosen)}};
-  }
+  if (r.selection) o["cross_validation"] = selectionJson(*r.selection, r.fit.measure);
   json deflections = json::array();
   for (const DeflectionRow& d : deflectionRows(r)) {
     json row = {{"joint", d.joint + 1}, {"kind", d.compliance ? "compliance" : "backlash"}, {"value", d.value},

@@ -14,6 +14,7 @@
 #include "io/robot_file.hpp"
 #include "commands/deflection_inputs.hpp"
 #include "commands/limits.hpp"
+#include "commands/selection.hpp"
 
 namespace lowpair::commands {
 
@@ -74,7 +75,7 @@ struct CalibrationReport {
   /// Each target's name and whether its starting point was the nominal file's (else estimated).
   std::vector<std::string> target_names;
   std::vector<bool> target_from_file;
-  std::optional<CrossValidation> cross_validation;  ///< `--select cv`
+  std::optional<Selection> selection;  ///< `--select cv`: the candidates, their scores, the choice
   std::vector<std::string> notes;  ///< e.g. a unit conversion of the measurements
   /// The warnings in sentences: rank below the count (with the undetermined directions), no convergence,
   /// residuals inconsistent with the stated noise, the D-H conversion's conditioning (its FK check, once).

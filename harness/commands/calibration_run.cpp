@@ -12,6 +12,7 @@
 #include "io/output.hpp"
 #include "commands/calibration_inputs.hpp"
 #include "commands/deflection_inputs.hpp"
+#include "commands/selection.hpp"
 
 namespace lowpair::commands {
 
@@ -66,6 +67,8 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   options.loss = a.loss == "huber" ? Loss::Huber : a.loss == "cauchy" ? Loss::Cauchy : Loss::Squared;
   options.outlier_threshold = a.outlier_threshold;
   if (a.prior) options.prior = parsePrior(*a.prior, io::metresPerUnit(nominal_file.length_unit), spelling);
+  checkSelectionArguments(SelectionRequest{a.folds, a.repeats, a.prior_grid, a.cv_score}, a.select.has_value(),
+                          a.prior.has_value(), spelling);
   if (a.parameters) {
     if (a.select) {
       throw UsageError(spelling.name("select"), "choose the parameters by " + spelling.name("parameters") + " or by " +
@@ -77,43 +80,12 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   options.targets = nominalTargets(nominal_file, fit.target_names);
   DeflectionChoice deflections = chooseDeflections(nominal_file, nominal, a.compliance, a.backlash, fit.measurements,
                                                    fit.sign_columns, fit.signs, fit.path, options, spelling);
-  if (options.deflects() && a.select) {
-    throw UsageError(spelling.name("select"), "cross-validation does not fit joint deflections (compliance, backlash: "
-                                             "given or in " + nominal_file.path + "): choose the parameters by " +
-                                                 spelling.name("parameters"));
-  }
   options.validate();
   const auto start = std::chrono::steady_clock::now();
-  std::optional<CrossValidation> cv;
+  std::optional<Selection> selection;
   if (a.select) {
-    // at least one pose per fold: said with the argument's name, and with the cause when joint vectors repeat
-    const int poses = crossValidationPoses(fit.measurements);
-    if (poses < a.folds) {
-      std::vector<VecX> qs;
-      for (const Measurement& m : fit.measurements) qs.push_back(m.q);
-      std::sort(qs.begin(), qs.end(), [](const VecX& x, const VecX& y) {
-        return std::lexicographical_compare(x.data(), x.data() + x.size(), y.data(), y.data() + y.size());
-      });
-      const auto distinct = static_cast<size_t>(std::unique(qs.begin(), qs.end()) - qs.begin());
-      const size_t n = fit.measurements.size();
-      const bool repeats = (fit.measure != Measure::Targets && static_cast<size_t>(poses) < n) ||
-                           distinct < static_cast<size_t>(poses);
-      std::string text = std::to_string(a.folds) + " folds but " + fit.path + " holds " + std::to_string(poses) +
-                         (poses == 1 ? " pose" : " poses");
-      if (repeats) {
-        text += ": its " + std::to_string(n) + " measurements repeat joint vectors, " + std::to_string(distinct) +
-                " distinct (duplicates: consecutive measurements at one joint vector are one pose)";
-      }
-      text += "; cross-validation deals poses to folds and needs at least as many poses as folds";
-      if (poses >= 2) text += " (at most " + std::to_string(poses) + " folds here, or more poses)";
-      throw UsageError(spelling.name("folds"), text);
-    }
-    if (const auto problem = crossValidationSizeProblem(fit.measurements.size(), nominal.dof(), fit.measure,
-                                                        static_cast<int>(fit.target_names.size()), a.folds, a.repeats)) {
-      throw UsageError(spelling.name("repeats"), *problem);
-    }
-    cv = crossValidate(nominal, fit.measurements, options, a.folds, a.repeats);
-    options.parameters = cv->chosen;
+    selection = selectByCrossValidation(nominal_file, nominal, fit, SelectionRequest{a.folds, a.repeats, a.prior_grid, a.cv_score},
+                                        options, deflections, spelling);
   }
   CalibrationResult result = calibrate(nominal, fit.measurements, options);
   std::vector<PoseLoad> validation_loads;  // the validation set's deflection inputs, as the fit's
@@ -129,9 +101,9 @@ CalibrationReport runCalibration(const io::RobotFile& nominal_file, const PoeMod
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CalibrationReport report = makeCalibrationReport(nominal_file, std::move(fit), std::move(validation), std::move(result),
                                                    std::move(dh), seconds, std::move(base_frame), validation_loads);
-  report.cross_validation = std::move(cv);
+  report.selection = std::move(selection);
   report.deflections = std::move(deflections);
-  report.prior_unit_assumed = a.prior && !io::metresPerUnit(nominal_file.length_unit);
+  report.prior_unit_assumed = !report.result.prior.none() && !io::metresPerUnit(nominal_file.length_unit);
   return report;
 }
 

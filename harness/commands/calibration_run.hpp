@@ -29,6 +29,9 @@ struct CalibrationRequest {
   std::optional<std::string> compliance, backlash;
   /// A prior on the nominal (parsePrior's text: WIDTH or tilt=..,shift=..,scale=..,offset=..); none: no prior.
   std::optional<std::string> prior;
+  /// `--select cv`'s candidates and score (selection.hpp): the prior widths compared (parsePriorGrid's text: `default`
+  /// or WIDTHs; none: no grid), the score (rms, trimmed or median; none: rms).
+  std::optional<std::string> prior_grid, cv_score;
 };
 
 /// What is wrong with fitting `fit`'s measurements of a `dof`-joint robot at once (more than

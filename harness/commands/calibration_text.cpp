@@ -57,18 +57,7 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
     const std::string held = heldByPriorText(c);
     if (!held.empty()) out << "held by the prior (the measurements alone do not determine them): " << held << "\n";
   }
-  if (r.cross_validation) {
-    const CrossValidation& cv = *r.cross_validation;
-    out << "parameter choice (" << cv.folds << "-fold cross-validation, " << cv.repeats
-        << (cv.repeats == 1 ? " partition" : " partitions") << "; held-out score"
-        << (c.noise_stated ? " in noise units" : " in weighted units, 1/L and 1/rad") << ", RMS position):";
-    for (const auto& cand : cv.candidates) {
-      out << " " << parameterSetName(cand.set) << " (" << cand.parameters << ") "
-          << (cand.failed ? std::string("failed") : residual(cand.score) + ", " + residual(cand.rms_position) + " " + u)
-          << ";";
-    }
-    out << " chosen: " << parameterSetName(r.cross_validation->chosen) << "\n";
-  }
+  if (r.selection) printSelection(out, *r.selection, c.noise_stated, u);
   {
     const Pose& F = c.registration.T_meas_base;
     const double angle = rotationAngle(F.R);

@@ -49,14 +49,17 @@ std::optional<SizeProblem> identifiabilitySizeProblem(int poses, int joints, Mea
 }
 
 std::optional<std::string> crossValidationSizeProblem(size_t measurements, int joints, Measure measure, int targets,
-                                                      int folds, int repeats) {
+                                                      int folds, int repeats, int candidates) {
   const IdentificationSize s = identificationSize(static_cast<double>(measurements), joints, 7.0, measure, targets);
-  const double fits = 1.0 + 3.0 * folds * repeats;
+  const double fits = 1.0 + static_cast<double>(candidates) * folds * repeats;
   if (fits * s.work() <= kMaxCrossValidationWork) return std::nullopt;
   return io::shortest(fits) + " fits (" + std::to_string(folds) + " folds x " + std::to_string(repeats) +
-         " repeats x 3 levels, and the full one) of " + sizeText(s) + " exceed the cross-validation work limit (" +
+         " repeats x " + std::to_string(candidates) +
+         (candidates == 3 ? " levels" : " candidates") + ", and the full one) of " + sizeText(s) + " exceed the cross-validation work limit (" +
          io::shortest(kMaxCrossValidationWork) + ", about a minute; here " + io::shortest(fits * s.work()) +
-         "): fewer repeats or folds, or fewer measurements";
+         "): fewer repeats or folds, " +
+         (candidates > 3 ? std::string("fewer candidates (prior widths, deflections on and off), ") : std::string()) +
+         "or fewer measurements";
 }
 
 }  // namespace lowpair::commands

@@ -18,7 +18,8 @@ constexpr double kMaxJacobianEntries = 2e7;
 /// 25 s for a `calibrate` fit (one SVD per iteration) at the limit on a 2019 x86-64 core (measured: 100 targets
 /// on 2 poses, work 2.6e8, 1.5 s; 200 targets, 1.8e9, 11 s).
 constexpr double kMaxIdentificationWork = 1e9;
-/// Upper bound on the work of `--select cv`: its fits (1 + folds x repeats x 3 levels) times one SVD's work;
+/// Upper bound on the work of `--select cv`: its fits (1 + folds x repeats x candidates; 3 levels, times the prior
+/// widths and the deflections on and off compared) times one SVD's work;
 /// about 60 s at the limit (measured: 151 fits of 200 PUMA poses, 3.8e8, 9.5 s).
 constexpr double kMaxCrossValidationWork = 2.4e9;
 
@@ -53,8 +54,8 @@ struct SizeProblem {
 /// identifiability of `poses` random poses (`targets` targets measured at each for Measure::Targets).
 std::optional<SizeProblem> identifiabilitySizeProblem(int poses, int joints, Measure measure, int targets);
 
-/// --select cv over `measurements` measurements: 1 + folds x repeats x 3 fits of about their size.
+/// --select cv over `measurements` measurements: 1 + folds x repeats x candidates fits of about their size.
 std::optional<std::string> crossValidationSizeProblem(size_t measurements, int joints, Measure measure, int targets,
-                                                      int folds, int repeats);
+                                                      int folds, int repeats, int candidates = 3);
 
 }  // namespace lowpair::commands

@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "common.hpp"
@@ -170,7 +171,9 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
                                 const std::optional<std::vector<std::string>>& validation_targets,
                                 const std::optional<std::string>& select, int folds, int repeats,
                                 const std::optional<std::string>& compliance, const std::optional<std::string>& backlash,
-                                const std::optional<std::string>& prior) {
+                                const std::optional<std::string>& prior,
+                                const std::optional<std::variant<std::string, std::vector<double>>>& prior_grid,
+                                const std::optional<std::string>& cv_score) {
   io::MeasurementFile fit = measurementArrays(r, q, positions, rotations, targets, "");
   std::optional<io::MeasurementFile> held_out;
   if (validation_q || validation_positions || validation_rotations || validation_targets) {
@@ -189,9 +192,19 @@ Calibration calibrateFromArrays(const Robot& r, const InArray& q, const InArray&
     held_out = measurementArrays(r, *validation_q, *validation_positions, validation_rotations, validation_targets,
                                  "validation_");
   }
-  const commands::CalibrationRequest request{noise_position, noise_rotation, free_pitch, loss,       outlier_threshold,
-                                               parameters,     select,         folds,      repeats,    compliance,
-                                               backlash,       prior};
+  // prior_grid: 'default', 'WIDTH,WIDTH,..' or a sequence of widths (as the CLI's text)
+  std::optional<std::string> grid;
+  if (prior_grid) {
+    if (const auto* text = std::get_if<std::string>(&*prior_grid)) {
+      grid = *text;
+    } else {
+      grid = std::string();
+      for (const double w : std::get<std::vector<double>>(*prior_grid)) grid = *grid + (grid->empty() ? "" : ",") + io::shortest(w);
+    }
+  }
+  const commands::CalibrationRequest request{noise_position, noise_rotation, free_pitch, loss,     outlier_threshold,
+                                             parameters,     select,         folds,      repeats,  compliance,
+                                             backlash,       prior,          grid,       cv_score};
   return calibrateArrays(r, std::move(fit), std::move(held_out), request);
 }
 
@@ -295,8 +308,10 @@ void exposeCalibrationArrays(py::class_<Calibration>& calibration) {
                                if (!c.j.contains("cross_validation")) return py::none();
                                return toPython(c.j["cross_validation"]);
                              },
-                             "dict folds, repeats, candidates (parameters, count, rms_position, rms_rotation, score, failed), "
-                             "chosen (select='cv'), or None.")
+                             "dict folds, repeats, score ('rms', 'trimmed' or 'median'), candidates (one per "
+                             "candidate: parameters, prior (width, 'given' or None), compliance, backlash, count, "
+                             "rms_position, rms_rotation, score, score_sd (None with one partition), failed, chosen), "
+                             "chosen (the level; select='cv'), or None: to_dict()['cross_validation'].")
       .def_property_readonly("dh", [](const Calibration& c) { return toPython(c.j["dh"]); },
                              "dict: the calibrated D-H table with standard deviations (to_dict()['dh']).")
       .def_property_readonly(
@@ -325,8 +340,11 @@ void exposeCalibrationArrays(py::class_<Calibration>& calibration) {
                              "residuals inconsistent with the noise, the D-H conversion's conditioning).")
       .def("__repr__", [](const Calibration& c) {
         // the CLI's words ("rank 33 of 33 (the complete set would be 39)" for a level)
+        // a selection beyond the levels: its choice as the CLI's last line of the table says it
+        const auto& s = c.report.selection;
         return "<lowpair.Calibration " + commands::parameterRankText(c.report.result) + ", " +
-               (c.report.result.accepted ? "accepted" : "rejected") + ">";
+               (c.report.result.accepted ? "accepted" : "rejected") +
+               (s && !commands::levelsOnly(*s) ? ", chosen: " + commands::chosenText(*s) : std::string()) + ">";
       });
 }
 
@@ -342,12 +360,13 @@ void exposeCalibration(py::module_& m) {
         py::arg("validation_positions") = py::none(), py::arg("validation_rotations") = py::none(),
         py::arg("targets") = py::none(), py::arg("validation_targets") = py::none(), py::arg("select") = py::none(),
         py::arg("folds") = 5, py::arg("repeats") = kCrossValidationRepeats, py::arg("compliance") = py::none(),
-        py::arg("backlash") = py::none(), py::arg("prior") = py::none(),
+        py::arg("backlash") = py::none(), py::arg("prior") = py::none(), py::arg("prior_grid") = py::none(),
+        py::arg("cv_score") = py::none(),
         "calibrate(robot, q, positions, rotations=None, noise_position=None, noise_rotation=None, free_pitch=False,\n"
         "          loss='squared', outlier_threshold=5.0, parameters=None, validation_q=None,\n"
         "          validation_positions=None, validation_rotations=None, targets=None, validation_targets=None,\n"
         "          select=None, folds=5, repeats=10, compliance=None, backlash=None,\n"
-        "          prior=None) -> Calibration\n\n"
+        "          prior=None, prior_grid=None, cv_score=None) -> Calibration\n\n"
         "`lowpair calibrate` from arrays (the measurement CSV's columns): q (N, n) joint values (rad / length_unit);\n"
         "positions (N, 3) measured tool positions (length_unit, the robot's; any measurement frame: it is\n"
         "registered); rotations (N, 4) unit quaternions qw, qx, qy, qz (scalar first; norm within 1e-6 of 1) for\n"
@@ -358,7 +377,10 @@ void exposeCalibration(py::module_& m) {
         "coordinate. loss: 'squared', 'huber' or 'cauchy' (robust: blunders weighed down); outlier_threshold:\n"
         "the normalized residual above which a row is flagged. parameters: None (all), 'full', 'lines',\n"
         "'offsets' or names 'j2.offset,base.rz'; select='cv' chooses among full/lines/offsets by `folds`-fold\n"
-        "cross-validation over `repeats` partitions of the poses (the first in order, the others shuffled).\n"
+        "cross-validation over `repeats` partitions of the poses (the first in order, the others shuffled);\n"
+        "prior_grid ('default' for 0.3,1,3,10,50, 'WIDTH,..' or a sequence of widths) adds those prior widths and no\n"
+        "prior to its candidates, compliance/backlash add their 'off'; cv_score: 'rms' (default), 'trimmed' or\n"
+        "'median' (`lowpair calibrate --select cv --prior-grid --cv-score`; docs/calibration.md \"Selection\").\n"
         "validation_*: held-out measurements of the same kind (residuals before and after).\n"
         "compliance: 'all' or joints '2,3,5' (1-based indices or names) whose compliance under gravity is fitted\n"
         "(the robot file's masses give the loads); backlash: joints whose backlash is fitted, the approach signs\n"

@@ -223,7 +223,6 @@ TEST(DeflectionCli, Refusals) {
   expectRejected("calibrate " + nominal + " --measurements " + m + " --compliance 2,2", "joint 2 is named twice", "--compliance: ");
   expectRejected("calibrate " + nominal + " --measurements " + m + " --backlash 7", "'7' is no joint of the robot", "--backlash: ");
   expectRejected("calibrate " + nominal + " --measurements " + m + " --backlash all", "'all' is no joint of the robot", "--backlash: ");
-  expectRejected("calibrate " + nominal + " --measurements " + m + " --compliance 2 --select cv", "cross-validation does not fit joint deflections", "--select: ");
   // a sign column that never changes
   std::string constant = measurementCsv(randomPoses(30, 1), 0.0, 0.0, 2, true);
   for (size_t at = constant.find(",-1\n"); at != std::string::npos; at = constant.find(",-1\n")) constant.replace(at, 4, ",1\n");

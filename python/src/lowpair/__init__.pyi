@@ -1,7 +1,7 @@
 """Type hints of the lowpair module (docs/python.md). Arrays: numpy float64 unless said; lengths in Robot.length_unit,
 angles rad, joint values q in the robot file's joint variable (rad, or length_unit for prismatic joints)."""
 import os
-from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -310,7 +310,9 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, rotations: Optio
               validation_rotations: Optional[ArrayLike] = None, targets: Optional[Sequence[str]] = None,
               validation_targets: Optional[Sequence[str]] = None, select: Optional[Literal["cv"]] = None,
               folds: int = 5, repeats: int = 10, compliance: Optional[str] = None,
-              backlash: Optional[str] = None, prior: Optional[str] = None) -> Calibration: ...
+              backlash: Optional[str] = None, prior: Optional[str] = None,
+              prior_grid: Optional[Union[str, Sequence[float]]] = None,
+              cv_score: Optional[Literal["rms", "trimmed", "median"]] = None) -> Calibration: ...
 def ik(robot: Robot, targets: ArrayLike, rotations: Optional[ArrayLike] = None, q0: Optional[ArrayLike] = None,
        seeds: int = 8, seed: int = 1) -> IkSolutions: ...
 def compensate(calibrated: Robot, nominal: Robot, q: ArrayLike,
