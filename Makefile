@@ -37,6 +37,7 @@ check: build
 
 .PHONY: study
 study: build
+	cmake --build $(BUILD) --target lowpair_studies -j$(JOBS)
 	ctest --test-dir $(BUILD) --output-on-failure -L study
 
 run: build
