@@ -358,13 +358,15 @@ int simulate(const SimulateOptions& given) {
     const long long before = commentLines(comments) + commentLines(blunderComments(*blunders, s.blunders, 0, unit));
     for (const std::string& line : blunderComments(*blunders, s.blunders, before + 2, unit)) comments.push_back(line);
   }
-  const std::string text =
-      formatMeasurements(setup.measure, measurements, comments, setup.measure == Measure::Targets ? targets.names
-                                                                                                  : std::vector<std::string>{});
+  // written as it is made (10^6 rows: the text is never held whole), every row checked before the first byte
+  const StreamWriter csv = [&](std::ostream& out) {
+    writeMeasurements(out, setup.measure, measurements, comments,
+                      setup.measure == Measure::Targets ? targets.names : std::vector<std::string>{});
+  };
   if (o.out.empty()) {
-    std::cout << text;
+    csv(std::cout);
   } else {
-    writeFileAtomically(o.out, text);  // all or nothing
+    writeFileAtomically(o.out, csv);  // all or nothing
     // ("300 target measurements", "50 pose measurements")
     std::cout << measurements.size() << " " << (o.measure == "targets" ? std::string("target") : o.measure)
               << " measurements written to " << o.out << "\n";

@@ -255,7 +255,10 @@ void exposeFiles(py::module_& m) {
       .def(
           "save",
           [](const Simulation& s, const std::string& path) {
-            io::writeFileAtomically(path, io::formatMeasurements(s.measure, s.measurements, s.comments, s.target_names));
+            // written as it is made: the text of 10^6 rows is never held whole
+            io::writeFileAtomically(path, [&s](std::ostream& out) {
+              io::writeMeasurements(out, s.measure, s.measurements, s.comments, s.target_names);
+            });
           },
           py::arg("path"),
           "save(path) -> None\n\n"
