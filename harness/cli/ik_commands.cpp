@@ -29,6 +29,7 @@
 #include "lowpair/kinematics.hpp"
 #include "lowpair/tolerances.hpp"
 #include "commands/ik_rows.hpp"
+#include "commands/limits.hpp"
 #include "commands/sampling.hpp"
 
 namespace lowpair::cli {
@@ -181,6 +182,10 @@ int runIk(const IkCommandOptions& o) {
   const PoeModel model = file.poeModel();
   const int n = model.dof();
   JointTable table = readJointTable(o.poses, TableKind::Targets, n, o.robot.path, csvJointNames(file));
+  // the solver's work bounded before any row is solved (limits.hpp): --seeds named when the seeds are random
+  if (const auto problem = ikWorkProblem(table.rows(), table.dof > 0 ? 1 : o.seeds, n, table.dof == 0)) {
+    throw UsageError(table.dof > 0 ? o.poses : "--seeds", *problem);
+  }
   std::vector<std::string> notes = table.notes;  // the columns ignored, then a unit conversion
   // positions, and the seeds' prismatic joint values, in the robot's unit
   if (const std::string note = convertTableUnit(table, file.length_unit, file.path, prismaticJoints(model)); !note.empty()) {
@@ -275,6 +280,7 @@ int runCompensate(const CompensateOptions& o) {
   }
   const int n = calibrated.dof();
   JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path, csvJointNames(calibrated_file));
+  if (const auto problem = ikWorkProblem(table.rows(), 1, n, false)) throw UsageError(o.q_file, *problem);
   for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
   // prismatic joint values in the robots' unit (one unit: checked above)
   if (const std::string note = convertTableUnit(table, nominal_file.length_unit, o.nominal, prismaticJoints(nominal));

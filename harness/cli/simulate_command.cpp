@@ -338,7 +338,8 @@ int simulate(const SimulateOptions& given) {
   const std::vector<long long>& q_lines = q_table.lines;
   const MatX Q = q_table.matrix();
   if (!o.q_file.empty()) o.poses = static_cast<int>(Q.rows());
-  const long long rows = simulationRows(o.poses, setup, o.q_file.empty() ? "--poses" : o.q_file);
+  const long long rows = simulationRows(o.poses, static_cast<int>(joints), setup, o.q_file.empty() ? "--poses" : o.q_file,
+                                       o.robot.path);
   if (blunders) checkBlunderCount(*blunders, rows, cliSpelling());
   SimulationPoses poses;
   poses.count = o.poses;

@@ -1,6 +1,8 @@
 // The size limits of an identification (limits.hpp).
 #include "commands/limits.hpp"
 
+#include <cmath>
+
 #include "io/output.hpp"
 
 namespace lowpair::commands {
@@ -57,6 +59,22 @@ std::optional<std::string> crossValidationSizeProblem(size_t measurements, int j
          " repeats x 3 levels, and the full one) of " + sizeText(s) + " exceed the cross-validation work limit (" +
          io::shortest(kMaxCrossValidationWork) + ", about a minute; here " + io::shortest(fits * s.work()) +
          "): fewer repeats or folds, or fewer measurements";
+}
+
+std::optional<std::string> ikWorkProblem(size_t rows, int attempts, int joints, bool seeds_named) {
+  const double per_row = static_cast<double>(attempts) * kIkMaxIterations * joints;
+  const double work = static_cast<double>(rows) * per_row;
+  if (work <= kMaxIkWork) return std::nullopt;
+  const auto most = [](double x) { return std::to_string(static_cast<long long>(std::floor(x))); };
+  std::string text = (attempts > 1 || seeds_named ? std::to_string(attempts) + " seeds x " : std::string()) +
+                     std::to_string(rows) + " rows x " + std::to_string(kIkMaxIterations) + " iterations x " +
+                     std::to_string(joints) + " joints = " + io::shortest(work) +
+                     " exceed the IK work limit (" + io::shortest(kMaxIkWork) +
+                     " joint-iterations: the default 8 seeds at 10^6 rows of a 7-joint robot): at most " +
+                     most(kMaxIkWork / per_row) + " rows at " + std::to_string(attempts) +
+                     (attempts == 1 ? " attempt" : " seeds");
+  if (seeds_named) text += ", or at most " + most(kMaxIkWork / (static_cast<double>(rows) * kIkMaxIterations * joints)) + " seeds for " + std::to_string(rows) + " rows";
+  return text;
 }
 
 }  // namespace lowpair::commands

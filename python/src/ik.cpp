@@ -11,6 +11,7 @@
 #include "lowpair/kinematics.hpp"
 #include "robot.hpp"
 #include "commands/ik_rows.hpp"
+#include "commands/limits.hpp"
 #include "commands/sampling.hpp"
 
 namespace lowpair::python {
@@ -153,6 +154,10 @@ IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optiona
   std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
   if (singlePrecision(targets_obj) || (rotations_obj && singlePrecision(*rotations_obj))) roundFromSinglePrecision(targets);
   const std::optional<MatX> given = seedRows(r, q0, targets.size());
+  // the solver's work bounded before any row is solved (commands/limits.hpp), as the CLI's
+  if (const auto problem = commands::ikWorkProblem(targets.size(), given ? 1 : seeds, r.dof(), !given)) {
+    throw UsageError(given ? "targets" : "seeds", *problem);
+  }
   const PoeModel& model = r.poe;
   IkOptions options;
   options.measure = pose ? Measure::Pose : Measure::Position;
@@ -214,6 +219,9 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
   const MatX Q = q_arg.ndim() == 1
                      ? MatX(jointVector(q_arg, calibrated.dof(), calibrated.subject(), "q", &nominal.poe).transpose())
                      : jointMatrix(q_arg, calibrated.dof(), calibrated.subject(), "q", &nominal.poe);
+  if (const auto problem = commands::ikWorkProblem(static_cast<size_t>(Q.rows()), 1, calibrated.dof(), false)) {
+    throw UsageError("q", *problem);
+  }
   IkOptions options;
   options.measure = measure == "pose" ? Measure::Pose : Measure::Position;
   options.validate("compensate");
