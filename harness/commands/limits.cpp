@@ -2,6 +2,7 @@
 #include "commands/limits.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "io/output.hpp"
 
@@ -22,8 +23,17 @@ std::string sizeText(const IdentificationSize& s) {
   return io::shortest(s.rows) + " rows x " + io::shortest(s.columns) + " parameters";
 }
 
-// "" when within both limits, else which is exceeded
-std::string overLimit(const IdentificationSize& s) {
+std::string whole(double x) { return std::to_string(static_cast<long long>(x)); }
+
+std::string scientific(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+}  // namespace
+
+std::string identificationOverLimit(const IdentificationSize& s) {
   if (s.entries() > kMaxJacobianEntries) {
     return "exceed the identification size limit (" + io::shortest(kMaxJacobianEntries) +
            " numbers: the Jacobian and the SVD's V, columns squared)";
@@ -35,15 +45,43 @@ std::string overLimit(const IdentificationSize& s) {
   return "";
 }
 
-}  // namespace
+std::optional<SizeProblem> planSizeProblem(double candidates, double poses, double rows, double columns,
+                                           double max_exchange_work, bool targets) {
+  const std::string blocks = whole(candidates) + " candidates of " + io::shortest(rows) + " rows and " +
+                             io::shortest(columns) + " parameters exceed the identification ";
+  if (candidates * rows * columns > kMaxPlanEntries) {
+    return SizeProblem{blocks + "size limit (" + io::shortest(kMaxPlanEntries) +
+                           " numbers, held about four times): fewer candidates",
+                       rows * columns > kMaxPlanEntries};
+  }
+  // the rank rule on every candidate's rows stacked: one SVD
+  const IdentificationSize stacked{candidates * rows, columns};
+  if (stacked.work() > kMaxIdentificationWork) {
+    return SizeProblem{blocks + "work limit (" + io::shortest(kMaxIdentificationWork) +
+                           " for the SVD of them stacked, rows columns^2 + 5 columns^3; here " +
+                           io::shortest(stacked.work()) + "): fewer candidates" + (targets ? " or targets" : ""),
+                       IdentificationSize{rows, columns}.work() > kMaxIdentificationWork};
+  }
+  // the greedy steps alone (rank <= columns): each pose added after a trial against every candidate (rows x (rank +
+  // rows)) and every candidate's factor updated (rows x rank^2); the exchange passes stop at the same budget
+  const double greedy = poses * candidates * rows * (columns + rows + columns * columns);
+  if (greedy > max_exchange_work) {
+    return SizeProblem{whole(poses) + " poses from " + whole(candidates) +
+                           " candidates exceed the plan's work limit (" + io::shortest(max_exchange_work) +
+                           " operations, about a minute; the greedy choice alone takes " + scientific(greedy) +
+                           "): fewer candidates or poses",
+                       false};
+  }
+  return std::nullopt;
+}
 
 std::optional<SizeProblem> identifiabilitySizeProblem(int poses, int joints, Measure measure, int targets) {
   // the full error model: 8 columns per joint + pitches; one pose of k targets is k point measurements
   const double per_pose = measure == Measure::Targets ? targets : 1.0;
   const IdentificationSize s = identificationSize(poses * per_pose, joints, 9.0, measure, targets);
-  const std::string over = overLimit(s);
+  const std::string over = identificationOverLimit(s);
   if (over.empty()) return std::nullopt;
-  const bool robot = !overLimit(identificationSize(per_pose, joints, 9.0, measure, targets)).empty();
+  const bool robot = !identificationOverLimit(identificationSize(per_pose, joints, 9.0, measure, targets)).empty();
   return SizeProblem{std::to_string(poses) + " poses of a " + std::to_string(joints) + "-joint robot" +
                          (measure == Measure::Targets ? " with " + std::to_string(targets) + " targets" : std::string()) +
                          " (" + sizeText(s) + ") " + over,

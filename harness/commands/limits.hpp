@@ -38,6 +38,11 @@ constexpr double kMaxIkWork = 5.6e9;
 /// rows at these attempts, or the most seeds for these rows when `seeds_named`), or nothing.
 std::optional<std::string> ikWorkProblem(size_t rows, int attempts, int joints, bool seeds_named);
 
+/// Upper bound on the numbers of a plan's candidate blocks (candidates x rows x parameters): the blocks are held
+/// about four times (scaled, the SVD's copy, in the determined directions, the search's working copy), so 1e7
+/// numbers is about 320 MB.
+constexpr double kMaxPlanEntries = 1e7;
+
 /// An identification's Jacobian: rows and columns.
 struct IdentificationSize {
   double rows = 0.0, columns = 0.0;
@@ -65,6 +70,16 @@ struct SizeProblem {
   std::string text;
   bool robot = false;
 };
+
+/// What of `s` is over the identification limits (kMaxJacobianEntries, kMaxIdentificationWork), as the end of a
+/// sentence ("exceed the identification size limit (...)"), or "" when within both.
+std::string identificationOverLimit(const IdentificationSize& s);
+
+/// A plan of `poses` poses from `candidates` candidates of `rows` rows and `columns` parameters each: their blocks
+/// (kMaxPlanEntries), the SVD of them stacked (kMaxIdentificationWork) and the greedy steps alone
+/// (`max_exchange_work`, PlanOptions); `robot` when one candidate alone is over. `targets`: the hint names them.
+std::optional<SizeProblem> planSizeProblem(double candidates, double poses, double rows, double columns,
+                                           double max_exchange_work, bool targets);
 
 /// identifiability of `poses` random poses (`targets` targets measured at each for Measure::Targets).
 std::optional<SizeProblem> identifiabilitySizeProblem(int poses, int joints, Measure measure, int targets);
