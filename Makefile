@@ -58,8 +58,9 @@ bench: configure
 
 # Sanitizers (CI runs this after `make check`): clang with AddressSanitizer and UndefinedBehaviorSanitizer
 # (float-cast-overflow included, no recovery), the test suite except the tests tests/sanitize_skip.txt lists
-# with their reasons: three that cannot run under them, and the statistical ones whose every code path a
-# lighter test runs under them. LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their
+# with their reasons: three that cannot run under them, the statistical ones whose every code path a
+# lighter test runs under them, and those that repeat another's run. The test programs' own code is not
+# instrumented (tests/CMakeLists.txt); lowpair's code they call is. LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their
 # robots (tests/common/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer

@@ -59,8 +59,7 @@ int runIdentifiability(const IdentifiabilityOptions& o) {
   ErrorModelSpec spec;
   spec.free_pitch = o.free_pitch;
   if (measure == Measure::Targets) {
-    spec.targets = robotFileTargetPoints(file, cliSpelling());
-    for (const Target& t : file.targets) spec.target_known.push_back(t.known);  // known points: the tool's columns
+    spec.targets = numberedRobotFileTargets(file, cliSpelling());  // known points: the tool's columns
   }
   // joint deflections: the loads at the random poses, the signs of their order
   CalibrationOptions deflection;

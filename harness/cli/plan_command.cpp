@@ -43,7 +43,7 @@ std::string significant(double x, int digits) {
   return buf;
 }
 
-void appendNumber(std::string& out, double x) {
+void appendNumber17(std::string& out, double x) {
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);  // %.17g
   out.append(buffer, result.ptr);
@@ -74,7 +74,7 @@ std::string qFileText(const PlanReport& r) {
   for (const VecX& q : r.q) {
     for (int i = 0; i < n; ++i) {
       if (i) s += ",";
-      appendNumber(s, q[i]);
+      appendNumber17(s, q[i]);
     }
     s += "\n";
   }

@@ -152,8 +152,8 @@ CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, 
     ValidationResiduals v;
     v.before = residualStatistics(*r.registered_nominal,
                                   deflectedMeasurements(r.validation->measurements, r.nominal.deflection, validation_loads),
-                                  measure, c.registration.targets);
-    v.after = residualStatistics(c.model, ms, measure, c.targets);
+                                  measure, c.registration.target_points);
+    v.after = residualStatistics(c.model, ms, measure, c.target_points);
     // extrapolation: a joint value outside what the fitting measurements cover
     const int n = c.model.dof();
     VecX lo = VecX::Constant(n, std::numeric_limits<double>::infinity()), hi = -lo;
@@ -167,8 +167,8 @@ CalibrationReport makeCalibrationReport(RobotFile nominal, MeasurementFile fit, 
       (out ? outside : inside).push_back(m);
     }
     v.outside_count = static_cast<int>(outside.size());
-    v.inside_after = residualStatistics(c.model, inside, measure, c.targets);
-    v.outside_after = residualStatistics(c.model, outside, measure, c.targets);
+    v.inside_after = residualStatistics(c.model, inside, measure, c.target_points);
+    v.outside_after = residualStatistics(c.model, outside, measure, c.target_points);
     r.validation_residuals = v;
     // a validation set that contradicts the fit by orders of magnitude (kMaxValidationRatio): not accepted
     const double fit_rms = c.after.rms_position, val_rms = v.after.rms_position;
@@ -225,8 +225,8 @@ std::vector<std::string> calibrationProvenance(const CalibrationReport& r) {
 
 std::vector<Target> calibratedTargets(const CalibrationReport& r) {
   std::vector<Target> out;
-  for (size_t t = 0; t < r.result.targets.size() && t < r.target_names.size(); ++t) {
-    out.push_back(Target{r.target_names[t], r.result.targets[t], r.result.error_model.spec().knownTarget(t)});
+  for (size_t t = 0; t < r.result.target_points.size() && t < r.target_names.size(); ++t) {
+    out.push_back(Target{r.target_names[t], r.result.target_points[t], r.result.error_model.spec().knownTarget(t)});
   }
   return out;
 }
@@ -408,9 +408,9 @@ json calibrationJson(const CalibrationReport& r) {
   o["parameter_set"] = parameterSetName(c.parameter_set);
   o["residuals"] = residualsJson(r);
   json targets = json::array();
-  for (size_t t = 0; t < c.targets.size(); ++t) {
+  for (size_t t = 0; t < c.target_points.size(); ++t) {
     targets.push_back({{"name", r.target_names[t]},
-                       {"point", {c.targets[t].x(), c.targets[t].y(), c.targets[t].z()}},
+                       {"point", {c.target_points[t].x(), c.target_points[t].y(), c.target_points[t].z()}},
                        {"start", r.target_from_file[t] ? "nominal file" : "estimated"},
                        {"known", knownTarget(c, t)}});
   }

@@ -93,9 +93,9 @@ void printCalibrationSetup(std::ostream& out, const CalibrationReport& r) {
         << fixed(axis.y(), 4) << ", " << fixed(axis.z(), 4) << ") +- (" << deviation(sd.rotation.x() * kDeg) << ", "
         << deviation(sd.rotation.y() * kDeg) << ", " << deviation(sd.rotation.z() * kDeg) << ") deg\n";
   }
-  if (!c.targets.empty()) {
+  if (!c.target_points.empty()) {
     out << "targets:";
-    for (size_t t = 0; t < c.targets.size(); ++t) {
+    for (size_t t = 0; t < c.target_points.size(); ++t) {
       out << " " << r.target_names[t] << (knownTarget(c, t) ? " (known)" : r.target_from_file[t] ? " (start: nominal file)" : " (start: estimated)");
     }
     out << "\n" << toolFrameText(c) << "\n";
@@ -195,18 +195,18 @@ void printJointChanges(std::ostream& out, const CalibrationReport& r) {
                   fixed(b.scale - a.scale, 8).c_str());
     out << line;
   }
-  if (c.targets.empty() || c.error_model.spec().toolParameters()) {
+  if (c.target_points.empty() || c.error_model.spec().toolParameters()) {
     const Pose& Ta = nominal.toolPose();
     const Pose& Tb = calibrated.toolPose();
     out << "tool: turned " << fixed(rotationAngle(Ta.R.transpose() * Tb.R), 8) << " rad, moved "
         << fixed((Tb.p - Ta.p).norm(), 6) << " " << u << "\n";
   }
-  if (!c.targets.empty()) {
+  if (!c.target_points.empty()) {
     out << "targets (tool frame, " << u << "):\n";
-    for (size_t t = 0; t < c.targets.size(); ++t) {
-      const Vec3& p = c.targets[t];
+    for (size_t t = 0; t < c.target_points.size(); ++t) {
+      const Vec3& p = c.target_points[t];
       out << "  " << r.target_names[t] << ": " << fixed(p.x(), 6) << " " << fixed(p.y(), 6) << " " << fixed(p.z(), 6)
-          << (knownTarget(c, t) ? std::string(" (known)") : " (moved " + fixed((p - c.registration.targets[t]).norm(), 6) + " from its start)")
+          << (knownTarget(c, t) ? std::string(" (known)") : " (moved " + fixed((p - c.registration.target_points[t]).norm(), 6) + " from its start)")
           << "\n";
     }
   }

@@ -61,10 +61,7 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
   // the candidates' blocks: rows x columns numbers each
   ErrorModelSpec spec;
   spec.free_pitch = request.free_pitch;
-  for (const Target& t : options.targets) {
-    spec.targets.push_back(*t.point_tool);
-    spec.target_known.push_back(t.known);
-  }
+  spec.targets = options.targets;
   const double columns = ErrorModel(model, spec).size();
   const double rows = r.measure == Measure::Pose ? 6.0 : 3.0 * std::max<size_t>(1, options.targets.size());
   if (const auto problem = planSizeProblem(request.candidates, request.poses, rows, columns, options.max_exchange_work,

@@ -49,14 +49,14 @@ void checkTargetList(const std::vector<std::string>& names, const ArgumentSpelli
   }
 }
 
-std::vector<Vec3> robotFileTargetPoints(const io::RobotFile& file, const ArgumentSpelling& spelling) {
+std::vector<Target> numberedRobotFileTargets(const io::RobotFile& file, const ArgumentSpelling& spelling) {
   if (file.targets.empty()) {
     throw UsageError(file.path, spelling.setting("measure", "targets") +
                                     " needs a `targets:` list in the robot file (docs/file_formats.md)");
   }
-  std::vector<Vec3> points;
-  for (const Target& t : file.targets) points.push_back(*t.point_tool);
-  return points;
+  std::vector<Target> targets = file.targets;
+  for (Target& t : targets) t.name.clear();  // the error model numbers unnamed targets
+  return targets;
 }
 
 std::vector<std::string> robotFileTargets(const std::vector<Target>& file_targets,

@@ -22,14 +22,15 @@ constexpr int kMaxSimulatedPoses = 1000000;
 /// io::kMaxTargets. @throws UsageError naming targets as `spelling` spells it
 void checkTargetList(const std::vector<std::string>& names, const ArgumentSpelling& spelling);
 
+/// The robot file's targets in order, for `identifiability` with targets (at least one): each with its point
+/// (tool frame) and known flag, and numbered, not named (the parameters are `target.1.x`, ...).
+/// @throws UsageError (subject: the file) naming the `targets:` list, the measure spelled as the front end does
+std::vector<Target> numberedRobotFileTargets(const io::RobotFile& file, const ArgumentSpelling& spelling);
+
 /// The targets measured of a robot file's `targets:` list: all, in the file's order, or those `names` lists
 /// (checkTargetList), in the order listed; `points` gets each one's point in the tool frame.
 /// @param robot_subject the robot file, named in messages
 /// @throws UsageError: the file lists no targets (subject `robot_subject`), a bad or unknown name (targets)
-/// The robot file's targets' points (tool frame) in order, for `identifiability` with targets; at least one.
-/// @throws UsageError (subject: the file) naming the `targets:` list, the measure spelled as the front end does
-std::vector<Vec3> robotFileTargetPoints(const io::RobotFile& file, const ArgumentSpelling& spelling);
-
 std::vector<std::string> robotFileTargets(const std::vector<Target>& file_targets,
                                           const std::optional<std::vector<std::string>>& names,
                                           const std::string& robot_subject, const ArgumentSpelling& spelling,

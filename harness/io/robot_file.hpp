@@ -21,6 +21,11 @@ class RobotFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Throws RobotFileError("PATH: WHAT"), the line the CLI prints after "error: " (the readers of model files).
+[[noreturn]] inline void failFile(const std::string& path, const std::string& what) {
+  throw RobotFileError(path + ": " + what);
+}
+
 /// Largest model file read, in bytes: a robot file, a URDF, an MJCF, and an MJCF with every file it includes
 /// (2 MiB; the published MJCF and URDF files tried by hand (Menagerie, ros-industrial) are at most 11 KB; meshes,
 /// which a kinematics-only read never opens, do not count). Checked by size before a byte is read. Why 2 MiB:

@@ -30,7 +30,6 @@ namespace {
 // rejects a real offset or tilt.
 constexpr double kMimicLine = 1e-9;
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw RobotFileError(path + ": " + what); }
 
 // Messages stay on one line whatever the file holds (names with newlines, urdfdom's multi-line errors).
 std::string oneLine(const std::string& text) {
@@ -49,7 +48,7 @@ std::string oneLine(const std::string& text) {
 
 std::string quoted(const std::string& name) { return "'" + oneLine(name) + "'"; }
 
-std::string number(double x) {
+std::string streamed(double x) {  // as an ostream prints it (6 significant digits)
   std::ostringstream out;
   out << x;
   return out.str();
@@ -93,18 +92,18 @@ std::string readText(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) fail(path, "cannot open file: no such file");
-  if (fs::is_directory(status)) fail(path, "is a directory, not a file");
-  if (!fs::is_regular_file(status)) fail(path, "not a regular file");
+  if (!fs::exists(status)) failFile(path, "cannot open file: no such file");
+  if (fs::is_directory(status)) failFile(path, "is a directory, not a file");
+  if (!fs::is_regular_file(status)) failFile(path, "not a regular file");
   requireBoundedModelFile(path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open file");
+  if (!in) failFile(path, "cannot open file");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail(path, "cannot read file");
-  if (text.find_first_not_of(" \t\r\n") == std::string::npos) fail(path, "not a valid URDF: empty file");
-  if (text.find('\0') != std::string::npos) fail(path, "not a valid URDF: contains NUL bytes (a binary file?)");
+  if (in.bad()) failFile(path, "cannot read file");
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) failFile(path, "not a valid URDF: empty file");
+  if (text.find('\0') != std::string::npos) failFile(path, "not a valid URDF: contains NUL bytes (a binary file?)");
   if (const auto at = invalidUtf8(text)) {
-    fail(path, "not a valid URDF: not UTF-8 text (byte " + std::to_string(*at) + ")");
+    failFile(path, "not a valid URDF: not UTF-8 text (byte " + std::to_string(*at) + ")");
   }
   return text;
 }
@@ -188,7 +187,7 @@ void requireShallowXml(const std::string& path, const std::string& text) {
       if (closing) {
         depth = std::max(0, depth - 1);
       } else if (!empty && ++depth > TINYXML2_MAX_ELEMENT_DEPTH) {
-        fail(path, "line " + std::to_string(tag_line) + ": not a valid URDF: elements nested deeper than " +
+        failFile(path, "line " + std::to_string(tag_line) + ": not a valid URDF: elements nested deeper than " +
                        std::to_string(TINYXML2_MAX_ELEMENT_DEPTH));
       }
       k = e + 1;
@@ -211,7 +210,7 @@ void requireOneParentPerLink(const std::string& path, const std::string& text) {
     const auto [it, inserted] = parent_joint.emplace(link, name);
     if (!inserted) {
       const std::string& first = it->second;
-      fail(path, "line " + std::to_string(j->GetLineNum()) + ": link " + quoted(link) + " is the child of joints " +
+      failFile(path, "line " + std::to_string(j->GetLineNum()) + ": link " + quoted(link) + " is the child of joints " +
                      quoted(first) + " and " + quoted(name) +
                      ": a closed loop, which a URDF (a tree) cannot describe and lowpair does not open");
     }
@@ -235,7 +234,7 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path, const std::string& 
     }
     if (errors.empty()) errors = collect.errors();
   }
-  if (!model) fail(path, "not a valid URDF: " + (errors.empty() ? std::string("urdfdom rejected it") : errors));
+  if (!model) failFile(path, "not a valid URDF: " + (errors.empty() ? std::string("urdfdom rejected it") : errors));
   return model;
 }
 
@@ -280,14 +279,14 @@ std::vector<urdf::JointConstSharedPtr> chainJoints(const std::string& path, cons
                                                    const std::string& tip, const std::string& base) {
   // a name not found: the links that exist
   auto links = [&model]() { return linkNames(model); };
-  if (!model.getLink(tip)) fail(path, "tip " + quotedFileText(tip) + " is not a link; links: " + links());
-  if (!model.getLink(base)) fail(path, "base " + quotedFileText(base) + " is not a link; links: " + links());
+  if (!model.getLink(tip)) failFile(path, "tip " + quotedFileText(tip) + " is not a link; links: " + links());
+  if (!model.getLink(base)) failFile(path, "base " + quotedFileText(base) + " is not a link; links: " + links());
   std::vector<urdf::JointConstSharedPtr> joints;
   std::string link = tip;
   while (link != base) {
     const urdf::LinkConstSharedPtr l = model.getLink(link);
     if (!l || !l->parent_joint || joints.size() > model.joints_.size()) {
-      fail(path, "base " + quoted(base) + " is not an ancestor of tip " + quoted(tip));
+      failFile(path, "base " + quoted(base) + " is not an ancestor of tip " + quoted(tip));
     }
     joints.push_back(l->parent_joint);
     link = l->parent_joint->parent_link_name;
@@ -313,7 +312,7 @@ std::string urdfTipCandidates(const std::string& path) { return "links: " + link
 
 RobotFile readUrdf(const std::string& path, const std::string& tip, const std::string& base) {
   const urdf::ModelInterfaceSharedPtr model = parse(path, readText(path));
-  if (!model->getRoot()) fail(path, "not a valid URDF: no root link");
+  if (!model->getRoot()) failFile(path, "not a valid URDF: no root link");
   const std::string base_link = base.empty() ? model->getRoot()->name : base;
   const std::vector<urdf::JointConstSharedPtr> chain = chainJoints(path, *model, tip, base_link);
   requireJointCount(path, chain.size());
@@ -326,18 +325,18 @@ RobotFile readUrdf(const std::string& path, const std::string& tip, const std::s
   for (const urdf::JointConstSharedPtr& joint : chain) {
     const std::string label = "joint " + quoted(joint->name);
     const Pose origin = originOf(*joint);
-    if (!origin.R.allFinite() || !origin.p.allFinite()) fail(path, label + ": origin is not finite");
+    if (!origin.R.allFinite() || !origin.p.allFinite()) failFile(path, label + ": origin is not finite");
     T_base_frame = T_base_frame * origin;
     const int type = joint->type;
     if (type == urdf::Joint::FIXED) continue;
     if (type != urdf::Joint::REVOLUTE && type != urdf::Joint::CONTINUOUS && type != urdf::Joint::PRISMATIC) {
-      fail(path, label + ": a " + urdfTypeName(type) +
+      failFile(path, label + ": a " + urdfTypeName(type) +
                      " joint is not supported (revolute, continuous, prismatic and fixed joints only)");
     }
     const Vec3 axis(joint->axis.x, joint->axis.y, joint->axis.z);
     const double norm = safeNorm(axis);
-    if (!std::isfinite(norm)) fail(path, label + ": axis is not finite");
-    if (norm == 0.0) fail(path, label + ": zero axis");
+    if (!std::isfinite(norm)) failFile(path, label + ": axis is not finite");
+    if (norm == 0.0) failFile(path, label + ": zero axis");
     const Line line{T_base_frame.p, T_base_frame.R * (axis / norm)};
 
     if (joint->mimic) {
@@ -346,16 +345,16 @@ RobotFile readUrdf(const std::string& path, const std::string& tip, const std::s
       const std::string helical = " (supported: a prismatic joint mimicking the revolute joint just before it "
                                   "on its axis line with offset 0, read as one helical joint)";
       if (type != urdf::Joint::PRISMATIC) {
-        fail(path, what + ": a " + urdfTypeName(type) + " joint cannot mimic" + helical);
+        failFile(path, what + ": a " + urdfTypeName(type) + " joint cannot mimic" + helical);
       }
       if (specs.empty() || specs.back().name != mimic.joint_name) {
-        fail(path, what + ": that is not the moving joint just before it in the chain" + helical);
+        failFile(path, what + ": that is not the moving joint just before it in the chain" + helical);
       }
-      if (urdf_types.back() == urdf::Joint::PRISMATIC) fail(path, what + ": that is a prismatic joint" + helical);
-      if (merged.back()) fail(path, what + ": that is already mimicked by another prismatic joint" + helical);
-      if (mimic.offset != 0.0) fail(path, what + ": offset " + number(mimic.offset) + " is not 0" + helical);
-      if (!std::isfinite(mimic.multiplier)) fail(path, what + ": multiplier is not finite");
-      if (!sameLine(lines.back(), line)) fail(path, what + ": not on the same axis line" + helical);
+      if (urdf_types.back() == urdf::Joint::PRISMATIC) failFile(path, what + ": that is a prismatic joint" + helical);
+      if (merged.back()) failFile(path, what + ": that is already mimicked by another prismatic joint" + helical);
+      if (mimic.offset != 0.0) failFile(path, what + ": offset " + streamed(mimic.offset) + " is not 0" + helical);
+      if (!std::isfinite(mimic.multiplier)) failFile(path, what + ": multiplier is not finite");
+      if (!sameLine(lines.back(), line)) failFile(path, what + ": not on the same axis line" + helical);
       // the slide runs along +w or -w of the revolute axis: pitch = multiplier * (u . w)
       const Vec3& w = lines.back().direction;
       const double pitch = line.direction.dot(w) > 0.0 ? mimic.multiplier : -mimic.multiplier;
@@ -386,7 +385,7 @@ RobotFile readUrdf(const std::string& path, const std::string& tip, const std::s
     merged.push_back(false);
   }
   if (specs.empty()) {
-    fail(path, "no moving joint between base " + quoted(base_link) + " and tip " + quoted(tip));
+    failFile(path, "no moving joint between base " + quoted(base_link) + " and tip " + quoted(tip));
   }
 
   RobotFile file;
@@ -405,7 +404,7 @@ RobotFile readUrdf(const std::string& path, const std::string& tip, const std::s
     }
     file.poe.emplace(std::move(joints), T_base_frame, model->getName());
   } catch (const std::invalid_argument& e) {
-    fail(path, oneLine(e.what()));
+    failFile(path, oneLine(e.what()));
   }
   return file;
 }

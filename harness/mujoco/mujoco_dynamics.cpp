@@ -13,10 +13,6 @@ namespace lowpair::mujoco {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) {
-  throw io::RobotFileError(path + ": " + what);
-}
-
 // MuJoCo joint id -> the library joint it belongs to (a helical joint's hinge and slide both map to it).
 std::map<int, int> libraryJointOf(const MujocoRobot& robot, const mjModel* m) {
   std::map<int, int> of;
@@ -36,11 +32,11 @@ void requireSameChain(const MujocoRobot& robot, const mjModel* m) {
     for (auto [qpos, dof] : {std::pair{j.qpos, j.dof}, std::pair{j.slide_qpos, j.slide_dof}}) {
       if (dof < 0) continue;
       const bool same = dof < m->nv && qpos < m->nq && m->jnt_qposadr[m->dof_jntid[dof]] == qpos;
-      if (!same) fail(robot.path(), "joint '" + j.name + "' is not at the same place in the copy with masses");
+      if (!same) io::failFile(robot.path(), "joint '" + j.name + "' is not at the same place in the copy with masses");
     }
   }
   if (robot.tipBody() >= m->nbody || robot.baseBody() >= m->nbody) {
-    fail(robot.path(), "the copy with masses lacks the tip's or the base's body");
+    io::failFile(robot.path(), "the copy with masses lacks the tip's or the base's body");
   }
 }
 
@@ -138,7 +134,7 @@ MujocoDynamics::MujocoDynamics(const MujocoRobot& robot) : robot_(&robot) {
   const ModelCopy copy(robot.path(), nullptr, CopyContent::Inertials);  // MujocoRobot printed the notes
   char error[1000] = "";
   model_.reset(mj_loadXML(copy.path().c_str(), nullptr, error, sizeof error));
-  if (!model_) fail(robot.path(), "MuJoCo could not load the model with its masses: " + mujocoLine(error));
+  if (!model_) io::failFile(robot.path(), "MuJoCo could not load the model with its masses: " + mujocoLine(error));
   requireSameChain(robot, model_.get());
   masses_ = readMasses(robot, model_.get(), copy.massFromGeoms());
 }

@@ -26,8 +26,6 @@ using namespace lowpair::io;  // the rooms below
 
 namespace {
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) { throw RobotFileError(path + ": " + what); }
-
 Pose poseFrom(const mjtNum* pos, const mjtNum* mat) {
   Pose T;
   for (int r = 0; r < 3; ++r) {
@@ -167,7 +165,7 @@ Chain findChain(const mjModel* m, const std::string& path, int tip_owner, int ba
   Chain chain;
   chain.m = m;
   for (int b = tip_owner; b != base_body; b = m->body_parentid[b]) {
-    if (b == 0) fail(path, "base " + io::quotedFileText(base) + " is not an ancestor of the tip " + io::quotedFileText(tip));
+    if (b == 0) io::failFile(path, "base " + io::quotedFileText(base) + " is not an ancestor of the tip " + io::quotedFileText(tip));
     chain.bodies.push_back(b);
   }
   std::reverse(chain.bodies.begin(), chain.bodies.end());
@@ -197,36 +195,36 @@ std::map<int, std::pair<int, double>> helicalCouplings(const Chain& chain, const
       case mjEQ_CONNECT:
       case mjEQ_WELD: {
         const int j = chain.jointBetween({o1, o2 > 0 ? o2 : 0});
-        if (j >= 0) fail(path, label + " closes a loop through the chain joint '" + jointName(j) + "'" + unmodelled);
+        if (j >= 0) io::failFile(path, label + " closes a loop through the chain joint '" + jointName(j) + "'" + unmodelled);
         break;
       }
       case mjEQ_TENDON:
         for (int t : {o1, o2}) {
           if (t < 0) continue;
           const int j = chain.jointOfTendon(t);
-          if (j >= 0) fail(path, label + " couples the chain joint '" + jointName(j) + "'" + unmodelled);
+          if (j >= 0) io::failFile(path, label + " couples the chain joint '" + jointName(j) + "'" + unmodelled);
         }
         break;
       case mjEQ_JOINT: {
         if (!chain_joints.count(o1)) break;
-        if (o2 < 0) fail(path, label + " fixes the chain joint '" + jointName(o1) + "'" + unmodelled);
+        if (o2 < 0) io::failFile(path, label + " fixes the chain joint '" + jointName(o1) + "'" + unmodelled);
         if (!chain_joints.count(o2)) {
-          fail(path, label + " couples the chain joint '" + jointName(o1) + "' to '" + jointName(o2) +
+          io::failFile(path, label + " couples the chain joint '" + jointName(o1) + "' to '" + jointName(o2) +
                          "', which is not in the chain" + unmodelled);
         }
         if (m->jnt_type[o1] != mjJNT_SLIDE || m->jnt_type[o2] != mjJNT_HINGE) {
-          fail(path, label + ": only a slide (joint1) driven by a hinge (joint2) is supported (a helical joint)");
+          io::failFile(path, label + ": only a slide (joint1) driven by a hinge (joint2) is supported (a helical joint)");
         }
         const mjtNum* c = m->eq_data + mjNEQDATA * e;
         if (c[0] != 0 || c[2] != 0 || c[3] != 0 || c[4] != 0) {
-          fail(path, label + ": polycoef must be \"0 h 0 0 0\" (a linear coupling slide = h * hinge)");
+          io::failFile(path, label + ": polycoef must be \"0 h 0 0 0\" (a linear coupling slide = h * hinge)");
         }
         if (coupled_slide.count(o1)) {
-          fail(path, label + ": the slide '" + jointName(o1) + "' is already driven by the hinge '" +
+          io::failFile(path, label + ": the slide '" + jointName(o1) + "' is already driven by the hinge '" +
                          jointName(coupled_slide[o1].first) + "'" + unmodelled);
         }
         if (slide_of_hinge.count(o2)) {
-          fail(path, label + ": the hinge '" + jointName(o2) + "' already drives the slide '" +
+          io::failFile(path, label + ": the hinge '" + jointName(o2) + "' already drives the slide '" +
                          jointName(slide_of_hinge[o2]) + "'; one hinge drives at most one slide (a helical joint)");
         }
         coupled_slide[o1] = {o2, c[1]};
@@ -234,7 +232,7 @@ std::map<int, std::pair<int, double>> helicalCouplings(const Chain& chain, const
         break;
       }
       default:
-        fail(path, label + unmodelled);
+        io::failFile(path, label + unmodelled);
     }
   }
   return coupled_slide;
@@ -246,7 +244,7 @@ void rejectMimics(const Chain& chain, const std::string& path) {
   for (int j : chain.joints) {
     auto it = mimics.find(chain.jointName(j));
     if (it != mimics.end()) {
-      fail(path, "joint '" + it->first + "' mimics '" + it->second +
+      io::failFile(path, "joint '" + it->first + "' mimics '" + it->second +
                      "' (URDF <mimic>), which MuJoCo 2.2.2 ignores: MuJoCo would move it independently");
     }
   }
@@ -263,7 +261,7 @@ void requireRotations(const mjModel* m, const mjData* d, const std::vector<int>&
     // then looks like the identity, and every joint motion of the body is lost in the product with it
     const Eigen::Map<const Eigen::Vector4d> quat(m->body_quat + 4 * b);
     if (!(defect <= kRotationOrthonormal) || !(std::abs(quat.norm() - 1.0) <= kRotationOrthonormal)) {
-      fail(path, "body '" + nameOf(m, mjOBJ_BODY, b, "body") +
+      io::failFile(path, "body '" + nameOf(m, mjOBJ_BODY, b, "body") +
                      "': its orientation is not a rotation (a zero quat, or an orientation MuJoCo cannot normalize)");
     }
   }
@@ -291,34 +289,34 @@ std::vector<JointSpec> extractJoints(const Chain& chain, const mjData* d,
       const std::string name = jointName(j);
       const int type = m->jnt_type[j];
       if (type == mjJNT_FREE || type == mjJNT_BALL) {
-        fail(path, "joint '" + name + "' is a " + (type == mjJNT_FREE ? "free" : "ball") +
+        io::failFile(path, "joint '" + name + "' is a " + (type == mjJNT_FREE ? "free" : "ball") +
                        " joint: only hinges, slides and coupled hinge+slide pairs form a serial chain of lower pairs");
       }
       const double ref = m->qpos0[m->jnt_qposadr[j]];
       if (!std::isfinite(ref) || (type == mjJNT_HINGE && std::abs(ref) > kMaxRef)) {
-        fail(path, "joint '" + name + "': qpos0 (its ref) " + number(ref) +
+        io::failFile(path, "joint '" + name + "': qpos0 (its ref) " + number(ref) +
                        " is no usable zero (qpos = qpos0 + x must resolve x; |qpos0| <= 1000 rad)");
       }
       if (type == mjJNT_SLIDE) slide_refs.emplace_back(name, ref);
       const Vec3 axis = T_base_world.R * Vec3(d->xaxis[3 * j], d->xaxis[3 * j + 1], d->xaxis[3 * j + 2]);
       const Vec3 anchor = T_base_world * Vec3(d->xanchor[3 * j], d->xanchor[3 * j + 1], d->xanchor[3 * j + 2]);
-      if (!finite(axis) || !finite(anchor)) fail(path, "joint '" + name + "': its axis or anchor at qpos0 is not finite");
+      if (!finite(axis) || !finite(anchor)) io::failFile(path, "joint '" + name + "': its axis or anchor at qpos0 is not finite");
       length = std::max(length, anchor.norm());
       auto coupled = coupled_slide.find(j);
       if (coupled != coupled_slide.end()) {
         const int hinge = coupled->second.first;
         auto it = hinge_to_joint.find(hinge);
         if (it == hinge_to_joint.end()) {
-          fail(path, "slide '" + name + "' is coupled to a hinge that does not precede it in the same chain");
+          io::failFile(path, "slide '" + name + "' is coupled to a hinge that does not precede it in the same chain");
         }
         MujocoJoint& mj = joints[it->second];
         JointSpec& spec = specs[it->second];
         const Vec3 w = spec.twist.head<3>();
         if (w.cross(axis).norm() > 1e-9 || m->jnt_bodyid[hinge] != b) {
-          fail(path, "slide '" + name + "' must be on the same body and axis as its hinge to form a helical joint");
+          io::failFile(path, "slide '" + name + "' must be on the same body and axis as its hinge to form a helical joint");
         }
         const double h = coupled->second.second * w.dot(axis);  // slide axis may be anti-parallel
-        if (!std::isfinite(h)) fail(path, "slide '" + name + "': its pitch is not finite");
+        if (!std::isfinite(h)) io::failFile(path, "slide '" + name + "': its pitch is not finite");
         mj.type = JointType::Helical;
         mj.slide_qpos = m->jnt_qposadr[j];
         mj.slide_dof = m->jnt_dofadr[j];
@@ -334,7 +332,7 @@ std::vector<JointSpec> extractJoints(const Chain& chain, const mjData* d,
       if (m->jnt_limited[j]) {
         mj.range = std::array<double, 2>{m->jnt_range[2 * j], m->jnt_range[2 * j + 1]};
         if (!std::isfinite((*mj.range)[0]) || !std::isfinite((*mj.range)[1])) {
-          fail(path, "joint '" + name + "': its range is not finite");
+          io::failFile(path, "joint '" + name + "': its range is not finite");
         }
       }
       JointSpec spec;
@@ -357,7 +355,7 @@ std::vector<JointSpec> extractJoints(const Chain& chain, const mjData* d,
   }
   for (const auto& [name, ref] : slide_refs) {
     if (std::abs(ref) > kMaxRef * std::max(1.0, length)) {
-      fail(path, "joint '" + name + "': qpos0 (its ref) " + number(ref) + " is no usable zero (qpos = qpos0 + x must " +
+      io::failFile(path, "joint '" + name + "': qpos0 (its ref) " + number(ref) + " is no usable zero (qpos = qpos0 + x must " +
                      "resolve x; |qpos0| <= 1000 model lengths, here " + number(kMaxRef * std::max(1.0, length)) + ")");
     }
   }
@@ -375,7 +373,7 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
     const ModelCopy copy(path, &notes);  // kinematics only; it loaded once already
     char error[1000] = "";
     model_.reset(mj_loadXML(copy.path().c_str(), nullptr, error, sizeof error));
-    if (!model_) fail(path, "MuJoCo could not load the model: " + mujocoLine(error));
+    if (!model_) io::failFile(path, "MuJoCo could not load the model: " + mujocoLine(error));
     if (error[0]) notes.push_back(path + ": MuJoCo: " + mujocoLine(error));  // a warning
   }
   const mjModel* m = model_.get();
@@ -383,12 +381,12 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
   tip_site_ = mj_name2id(m, mjOBJ_SITE, tip.c_str());
   if (tip_site_ < 0) tip_body_ = mj_name2id(m, mjOBJ_BODY, tip.c_str());
   if (tip_site_ < 0 && tip_body_ < 0) {
-    fail(path, "tip " + io::quotedFileText(tip) + " is neither a site nor a body; sites: " + namesOf(m, mjOBJ_SITE, m->nsite, 0) +
+    io::failFile(path, "tip " + io::quotedFileText(tip) + " is neither a site nor a body; sites: " + namesOf(m, mjOBJ_SITE, m->nsite, 0) +
                    "; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1));
   }
   if (!base.empty()) {
     base_body_ = mj_name2id(m, mjOBJ_BODY, base.c_str());
-    if (base_body_ < 0) fail(path, "base " + io::quotedFileText(base) + " is not a body; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1));
+    if (base_body_ < 0) io::failFile(path, "base " + io::quotedFileText(base) + " is not a body; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1));
   }
   const int tip_owner = tip_site_ >= 0 ? m->site_bodyid[tip_site_] : tip_body_;
   const Chain chain = findChain(m, path, tip_owner, base_body_, tip, base);
@@ -413,7 +411,7 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
   for (int b = 1; b < m->nbody; ++b) {
     const double coordinate = Eigen::Map<const Vec3>(d->xpos + 3 * b).cwiseAbs().maxCoeff();
     if (!(coordinate <= kMaxMagnitude)) {
-      fail(path, "body '" + nameOf(m, mjOBJ_BODY, b, "body") + "' has a coordinate of magnitude " + number(coordinate) +
+      io::failFile(path, "body '" + nameOf(m, mjOBJ_BODY, b, "body") + "' has a coordinate of magnitude " + number(coordinate) +
                      " at qpos0: beyond the 1e100 lowpair evaluates (kMaxMagnitude)");
     }
   }
@@ -427,12 +425,12 @@ MujocoRobot::MujocoRobot(const std::string& path, const std::string& tip, const 
 
   const std::vector<JointSpec> specs =
       extractJoints(chain, d.get(), coupled_slide, T_base_world, T_base_tip, path, joints_);
-  if (joints_.empty()) fail(path, "no joint between the base and the tip " + io::quotedFileText(tip));
-  if (!finite(T_base_tip.p) || !T_base_tip.R.allFinite()) fail(path, "the tip pose at qpos0 is not finite");
+  if (joints_.empty()) io::failFile(path, "no joint between the base and the tip " + io::quotedFileText(tip));
+  if (!finite(T_base_tip.p) || !T_base_tip.R.allFinite()) io::failFile(path, "the tip pose at qpos0 is not finite");
   try {
     poe_ = std::make_unique<PoeModel>(specs, T_base_tip, path);
   } catch (const std::invalid_argument& e) {
-    fail(path, e.what());
+    io::failFile(path, e.what());
   }
   // notes once the model is accepted: a rejected file gets its one error line
   for (const std::string& n : notes) emitNote(n);
@@ -463,11 +461,11 @@ Vec3 MujocoRobot::siteInTip(const std::string& site) const {
   if (usable.empty()) usable = "none";
   const int id = mj_name2id(m, mjOBJ_SITE, site.c_str());
   if (id < 0) {
-    fail(path_, "target '" + mujocoLine(site.c_str()) + "' is not a site; sites fixed to the tip '" + tip_ + "': " + usable);
+    io::failFile(path_, "target '" + mujocoLine(site.c_str()) + "' is not a site; sites fixed to the tip '" + tip_ + "': " + usable);
   }
   const int body = m->site_bodyid[id];
   if (!fixedBelowTip(body)) {
-    fail(path_, "site '" + mujocoLine(site.c_str()) + "' is on body '" + nameOf(m, mjOBJ_BODY, body, "body") +
+    io::failFile(path_, "site '" + mujocoLine(site.c_str()) + "' is on body '" + nameOf(m, mjOBJ_BODY, body, "body") +
                     "', which is not fixed to the tip '" + tip_ + "' (body '" + nameOf(m, mjOBJ_BODY, tip_owner, "body") +
                     "'): a target must move with the tool; sites fixed to the tip: " + usable);
   }
@@ -478,7 +476,7 @@ Vec3 MujocoRobot::siteInTip(const std::string& site) const {
   const Vec3 p_world_site = Eigen::Map<const Vec3>(d->site_xpos + 3 * id);
   const Vec3 p_tip_site = T_world_tip.R.transpose() * (p_world_site - T_world_tip.p);
   if (!(p_tip_site.cwiseAbs().maxCoeff() <= kMaxMagnitude)) {
-    fail(path_, "site '" + mujocoLine(site.c_str()) + "' is not at a finite point of magnitude at most 1e100 from the tip");
+    io::failFile(path_, "site '" + mujocoLine(site.c_str()) + "' is not at a finite point of magnitude at most 1e100 from the tip");
   }
   return p_tip_site;
 }
@@ -572,7 +570,7 @@ std::string tipCandidates(const std::string& path) {
   char error[1000] = "";
   const std::unique_ptr<mjModel, void (*)(mjModel*)> model(mj_loadXML(copy.path().c_str(), nullptr, error, sizeof error),
                                                            mj_deleteModel);
-  if (!model) fail(path, "MuJoCo could not load the model: " + mujocoLine(error));
+  if (!model) io::failFile(path, "MuJoCo could not load the model: " + mujocoLine(error));
   const mjModel* m = model.get();
   return "sites: " + namesOf(m, mjOBJ_SITE, m->nsite, 0) + "; bodies: " + namesOf(m, mjOBJ_BODY, m->nbody, 1);
 }

@@ -24,10 +24,10 @@ namespace {
 
 // The position error of every measurement against a model's prediction (targets: their points).
 std::vector<double> positionErrors(const PoeModel& model, const std::vector<Measurement>& measurements, Measure measure,
-                                   const std::vector<Vec3>& targets) {
+                                   const std::vector<Vec3>& target_points) {
   std::vector<double> errors;
   for (const Measurement& m : measurements) {
-    errors.push_back((m.T_base_tool.p - predictedMeasurement(model, m, measure, targets).p).norm());
+    errors.push_back((m.T_base_tool.p - predictedMeasurement(model, m, measure, target_points).p).norm());
   }
   return errors;
 }
@@ -175,7 +175,7 @@ CompensationResult compensateCase(const CalibrationCase& config, const PoeModel&
   options.measure = actual.measure == Measure::Pose ? Measure::Pose : Measure::Position;
   if (actual.measure == Measure::Targets) {
     actual.targets = {setup.targets.front()};  // the site, in MuJoCo's tip frame
-    options.point_tool = result.targets.front();  // the calibrated point, in the calibrated tool frame
+    options.point_tool = result.target_points.front();  // the calibrated point, in the calibrated tool frame
     out.point_name = config.targets.front();
   }
   out.measure = options.measure;
@@ -398,10 +398,10 @@ CalibrationCaseResult runCalibrationCase(const Scenario& scenario, const Calibra
   for (const Target& t : options.targets) fit_targets.push_back(t.name);
   const std::vector<Measurement> held_out = targetsByName(*validation, fit_targets);
   const PoeModel registered = movedModel(nominal, result.registration.T_meas_base);
-  out.validation_before = residualStatistics(registered, held_out, measure, result.registration.targets);
-  out.validation_after = residualStatistics(result.model, held_out, measure, result.targets);
-  out.validation_position_before = positionErrors(registered, held_out, measure, result.registration.targets);
-  out.validation_position_after = positionErrors(result.model, held_out, measure, result.targets);
+  out.validation_before = residualStatistics(registered, held_out, measure, result.registration.target_points);
+  out.validation_after = residualStatistics(result.model, held_out, measure, result.target_points);
+  out.validation_position_before = positionErrors(registered, held_out, measure, result.registration.target_points);
+  out.validation_position_after = positionErrors(result.model, held_out, measure, result.target_points);
   out.blunders = blunders;
   out.plan = std::move(plan);
   if (config.compensation) {

@@ -41,7 +41,7 @@ Eigen::Index residualRows(const std::vector<Measurement>& measurements, Measure 
 // The model's state at an iterate: its geometry, targets' points and joint deflections.
 struct State {
   const PoeModel& model;
-  const std::vector<Vec3>& targets;
+  const std::vector<Vec3>& target_points;
   const JointDeflection& deflection;
 };
 
@@ -58,7 +58,7 @@ double residual(const State& s, const std::vector<Measurement>& measurements, co
       deflected.q = deflectedJoints(s.deflection, measurements[m].q, loads[m]);
       x = &deflected;
     }
-    const Pose T = predict(s.model, data, *x, measure, s.targets);
+    const Pose T = predict(s.model, data, *x, measure, s.target_points);
     const Pose& M = measurements[m].T_base_tool;
     const int per = rowsOf(measurements[m], measure);
     auto rows = r.segment(at, per);
@@ -134,17 +134,11 @@ ErrorModelSpec fitSpec(const CalibrationOptions& options, const Registration& re
   spec.free_pitch = options.free_pitch;
   spec.set = options.parameters;
   spec.names = options.parameter_names;
-  spec.targets = reg.targets;
+  spec.targets = options.targets;  // at the registered (or estimated) points
+  for (size_t t = 0; t < spec.targets.size(); ++t) spec.targets[t].point_tool = reg.target_points[t];
   spec.compliance_joints = options.compliance_joints;
   spec.backlash_joints = options.backlash_joints;
   spec.deflection = options.deflection;
-  for (const Target& t : options.targets) {
-    spec.target_names.push_back(t.name);
-    spec.target_known.push_back(t.known);
-  }
-  if (std::any_of(spec.target_names.begin(), spec.target_names.end(), [](const std::string& n) { return n.empty(); })) {
-    spec.target_names.clear();
-  }
   return spec;
 }
 
@@ -192,7 +186,7 @@ double residualAt(const Problem& p, const State& s, VecX& r) {
   return residual(s, *p.measurements, *p.loads, p.measure, p.w, p.robust, r);
 }
 
-State stateOf(const ErrorModel& em) { return State{em.model(), em.targets(), em.deflection()}; }
+State stateOf(const ErrorModel& em) { return State{em.model(), em.targetPoints(), em.deflection()}; }
 
 // The determined subspace, fixed at the (registered) nominal: the rank analysis of its weighted Jacobian,
 // the column scale D0 and the right singular vectors V0 of the scaled matrix.
@@ -255,7 +249,7 @@ VecX dampedStep(const Problem& p, const Eigen::JacobiSVD<MatX>& svd, const VecX&
 // A trial step: the moved model and targets, their weighted residual and cost.
 struct Trial {
   PoeModel model;
-  std::vector<Vec3> targets{};
+  std::vector<Vec3> target_points{};
   JointDeflection deflection{};
   VecX r{};
   double cost = 0.0;
@@ -269,9 +263,9 @@ std::optional<Trial> tryStep(const Problem& p, const ErrorModel& em, const VecX&
   std::optional<PoeModel> moved = from.tryApply(delta);
   if (!moved) return std::nullopt;
   Trial trial{std::move(*moved)};
-  trial.targets = from.applyTargets(delta);
+  trial.target_points = from.applyTargetPoints(delta);
   trial.deflection = from.applyDeflection(delta);
-  trial.cost = residualAt(p, State{trial.model, trial.targets, trial.deflection}, trial.r);
+  trial.cost = residualAt(p, State{trial.model, trial.target_points, trial.deflection}, trial.r);
   return trial;
 }
 
@@ -304,7 +298,7 @@ bool levenbergMarquardt(const Problem& p, const LmOptions& lm, Iterate& it) {
       converged = total - trial_total <= lm.relative_decrease * total && mu <= lm.mu_start;
       it.cost = trial->cost;
       it.r = std::move(trial->r);
-      it.em = it.em.rebased(trial->model, trial->targets, trial->deflection);
+      it.em = it.em.rebased(trial->model, trial->target_points, trial->deflection);
       it.estimate += step;
       mu /= lm.mu_step * lm.mu_step;  // the loop's increment follows: net one step down
     }
@@ -378,7 +372,7 @@ std::vector<MeasurementResidual> measurementResiduals(const Problem& p, const Er
   const std::vector<Measurement> deflected = deflectedMeasurements(*p.measurements, em.deflection(), *p.loads);
   for (size_t m = 0; m < residuals.size(); ++m) {
     const Measurement& x_m = deflected[m];
-    const MeasurementErrors e = measurementErrors(predict(em.model(), data, x_m, p.measure, em.targets()), x_m, p.measure);
+    const MeasurementErrors e = measurementErrors(predict(em.model(), data, x_m, p.measure, em.targetPoints()), x_m, p.measure);
     MeasurementResidual& x = residuals[m];
     x.rows = rowsOf(x_m, p.measure);
     x.position = e.position;
@@ -557,9 +551,9 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   out.effective_parameters = effective;
   if (problem.prior.size() > 0) out.held_by_prior = heldByPrior(sub.V0, sub.rank.rank, cov.sd);
   out.rank = std::move(sub.rank);
-  out.before = residualStatistics(start, at_start, measure, reg.targets);
+  out.before = residualStatistics(start, at_start, measure, reg.target_points);
   out.after = residualStatistics(it.em.model(), deflectedMeasurements(measurements, it.em.deflection(), loads), measure,
-                                 it.em.targets());
+                                 it.em.targetPoints());
   out.iterations = it.iterations;
   out.converged = converged;
   out.sigma_position = problem.w.position;
@@ -575,7 +569,7 @@ CalibrationResult calibrate(const PoeModel& nominal, const std::vector<Measureme
   out.measure = measure;
   out.parameter_set = options.parameters;
   out.registration = reg;
-  out.targets = it.em.targets();
+  out.target_points = it.em.targetPoints();
   out.loss = options.loss;
   out.robust_scale = scale;
   out.robust_scale_from_median = !stated;

@@ -22,9 +22,9 @@ inline bool hasPitch(const JointMotion& joint, bool free_pitch) {
 
 inline std::string jointTag(int i) { return "j" + std::to_string(i + 1); }
 
-// error_model.cpp: Measure::Targets with targets' points (finite), and only it; at least one pose, each of
-// `dof` finite joint values
-void checkTargets(Measure measure, const std::vector<Vec3>& targets);
+// error_model.cpp: Measure::Targets with the spec's targets (each with a finite point: ErrorModelSpec::validate),
+// and only it; at least one pose, each of `dof` finite joint values
+void checkTargets(Measure measure, const ErrorModelSpec& spec);
 void checkPoses(const std::vector<VecX>& q, int dof);
 
 // registration.cpp: a measurement's target index within `targets`; every measurement's size and numbers
@@ -33,7 +33,8 @@ void checkMeasurements(const PoeModel& nominal, const std::vector<Measurement>& 
                        size_t targets);
 
 // The measured quantity the model predicts (Targets: the point `T p_t`, rotation `T.R`).
-Pose predict(const PoeModel& model, Data& data, const Measurement& m, Measure measure, const std::vector<Vec3>& targets);
+Pose predict(const PoeModel& model, Data& data, const Measurement& m, Measure measure,
+             const std::vector<Vec3>& target_points);
 
 // A measurement's errors against its prediction: position (length) and rotation (rad; 0 for points).
 struct MeasurementErrors {

@@ -104,7 +104,7 @@ CrossValidation crossValidate(const PoeModel& nominal, const std::vector<Measure
           const double wp = fit.sigma_position, wr = fit.sigma_rotation;
           Data data(fit.model);
           for (const Measurement& m : test) {
-            const auto [ep, er] = measurementErrors(predict(fit.model, data, m, o.measure, fit.targets), m, o.measure);
+            const auto [ep, er] = measurementErrors(predict(fit.model, data, m, o.measure, fit.target_points), m, o.measure);
             sum_p += ep * ep;
             sum_r += er * er;
             const int rows = rowsOf(m, o.measure);  // 6 for a pose, 3 for a point (mixed data mixes them)

@@ -79,7 +79,7 @@ void poseRows(const Mat6X& S, const Pose& T, Measure measure, const ErrorModelSp
   Eigen::Index column = S.cols();
   for (size_t t = 0; t < spec.targets.size(); ++t) {
     auto block = rows.middleRows(3 * static_cast<Eigen::Index>(t), 3);
-    measurementRows(S, T.R * spec.targets[t] + T.p, Measure::Position, dof, block.leftCols(S.cols()));
+    measurementRows(S, T.R * *spec.targets[t].point_tool + T.p, Measure::Position, dof, block.leftCols(S.cols()));
     if (spec.knownTarget(t)) continue;
     block.middleCols<3>(column) = T.R;
     column += 3;
@@ -92,20 +92,20 @@ int unknownTargets(const ErrorModelSpec& spec) {
   return unknown;
 }
 
-// The spec's targets against its measure (checkTargets) and its known flags against its targets.
-void checkSpecTargets(Measure measure, const ErrorModelSpec& spec) {
-  checkTargets(measure, spec.targets);
-  LP_CHECK(spec.target_known.empty() || spec.target_known.size() == spec.targets.size(),
-           "error model: " << spec.target_known.size() << " known flags for " << spec.targets.size() << " targets");
+// Target t's name in parameter names and messages: its own, or its number ("1", "2", ...) when any target's
+// name is empty (every target is numbered then, so that no number collides with a name).
+std::string targetName(const ErrorModelSpec& spec, size_t t) {
+  const bool numbered = std::any_of(spec.targets.begin(), spec.targets.end(), [](const Target& x) { return x.name.empty(); });
+  return numbered ? std::to_string(t + 1) : spec.targets[t].name;
 }
 
 }  // namespace
 
 namespace detail {
 
-void checkTargets(Measure measure, const std::vector<Vec3>& targets) {
-  LP_CHECK((measure == Measure::Targets) == !targets.empty(), "Measure::Targets needs targets' points, and only it");
-  for (const Vec3& t : targets) LP_CHECK(t.allFinite(), "a target's point is not finite");
+void checkTargets(Measure measure, const ErrorModelSpec& spec) {
+  LP_CHECK((measure == Measure::Targets) == !spec.targets.empty(), "Measure::Targets needs targets' points, and only it");
+  spec.validate();
 }
 
 void checkPoses(const std::vector<VecX>& q, int dof) {
@@ -116,15 +116,24 @@ void checkPoses(const std::vector<VecX>& q, int dof) {
 }  // namespace detail
 
 std::vector<Vec3> ErrorModelSpec::knownPoints() const {
+  validate();
   std::vector<Vec3> known;
-  for (size_t t = 0; t < targets.size(); ++t) {
-    if (knownTarget(t)) known.push_back(targets[t]);
+  for (const Target& t : targets) {
+    if (t.known) known.push_back(*t.point_tool);
   }
   return known;
 }
 
 bool ErrorModelSpec::toolParameters() const {
-  return targets.empty() || pose_measurements || std::find(target_known.begin(), target_known.end(), true) != target_known.end();
+  return targets.empty() || pose_measurements || std::any_of(targets.begin(), targets.end(), [](const Target& t) { return t.known; });
+}
+
+void ErrorModelSpec::validate() const {
+  for (size_t t = 0; t < targets.size(); ++t) {
+    LP_CHECK(targets[t].point_tool, "error model: target " << cut(targetName(*this, t))
+                                                           << " has no point (an error model needs every target's point)");
+    LP_CHECK(targets[t].point_tool->allFinite(), "error model: target " << cut(targetName(*this, t)) << " has a non-finite point");
+  }
 }
 
 int knownPointsToolRank(const std::vector<Vec3>& known_points, double L) {
@@ -204,8 +213,6 @@ PoseLoad loadAt(const std::vector<PoseLoad>& loads, size_t pose, size_t poses) {
   return loads.empty() ? PoseLoad{} : loads[pose];
 }
 
-
-
 // The point about which the base parameters turn the model: the first joint's line point nearest the
 // frame origin (the robot's foot, wherever the measurement frame is), or the origin for a prismatic joint.
 Vec3 baseCenter(const PoeModel& model) {
@@ -217,6 +224,8 @@ Vec3 baseCenter(const PoeModel& model) {
 }  // namespace
 
 ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : model_(model), spec_(spec) {
+  spec.validate();
+  for (const Target& t : spec.targets) target_points_.push_back(*t.point_tool);
   auto add = [&](ParameterKind kind, int joint, int component, std::string name, const char* unit) {
     all_.push_back(Parameter{kind, joint, component, std::move(name), unit});
   };
@@ -258,15 +267,10 @@ ErrorModel::ErrorModel(const PoeModel& model, const ErrorModelSpec& spec) : mode
     for (int k = 0; k < 3; ++k) add(ParameterKind::ToolRotation, -1, k, std::string("tool.r") + axes[k], "rad");
     for (int k = 0; k < 3; ++k) add(ParameterKind::ToolTranslation, -1, k, std::string("tool.") + axes[k], "length");
   }
-  LP_CHECK(spec.target_names.empty() || spec.target_names.size() == spec.targets.size(),
-           "error model: " << spec.target_names.size() << " target names for " << spec.targets.size() << " targets");
-  LP_CHECK(spec.target_known.empty() || spec.target_known.size() == spec.targets.size(),
-           "error model: " << spec.target_known.size() << " known flags for " << spec.targets.size() << " targets");
   target_columns_.assign(spec.targets.size(), -1);
   for (size_t t = 0; t < spec.targets.size(); ++t) {
-    LP_CHECK(spec.targets[t].allFinite(), "error model: target " << t + 1 << " has a non-finite point");
     if (spec.knownTarget(t)) continue;  // fixed: no parameter
-    const std::string name = spec.target_names.empty() ? std::to_string(t + 1) : spec.target_names[t];
+    const std::string name = targetName(spec, t);
     target_columns_[t] = static_cast<int>(all_.size());
     for (int k = 0; k < 3; ++k) add(ParameterKind::TargetPoint, static_cast<int>(t), k, "target." + name + "." + axes[k], "length");
   }
@@ -367,9 +371,9 @@ std::optional<PoeModel> ErrorModel::tryApply(const Eigen::Ref<const VecX>& delta
   }
 }
 
-std::vector<Vec3> ErrorModel::applyTargets(const Eigen::Ref<const VecX>& delta) const {
+std::vector<Vec3> ErrorModel::applyTargetPoints(const Eigen::Ref<const VecX>& delta) const {
   const VecX d = expanded(delta);
-  std::vector<Vec3> out = spec_.targets;
+  std::vector<Vec3> out = target_points_;
   for (size_t t = 0; t < out.size(); ++t) {
     if (target_columns_[t] >= 0) out[t] += d.segment<3>(target_columns_[t]);
   }
@@ -388,19 +392,20 @@ JointDeflection ErrorModel::applyDeflection(const Eigen::Ref<const VecX>& delta)
   return out;
 }
 
-ErrorModel ErrorModel::rebased(const PoeModel& model) const { return rebased(model, spec_.targets); }
+ErrorModel ErrorModel::rebased(const PoeModel& model) const { return rebased(model, target_points_); }
 
-ErrorModel ErrorModel::rebased(const PoeModel& model, const std::vector<Vec3>& targets) const {
-  return rebased(model, targets, spec_.deflection);
+ErrorModel ErrorModel::rebased(const PoeModel& model, const std::vector<Vec3>& target_points) const {
+  return rebased(model, target_points, spec_.deflection);
 }
 
-ErrorModel ErrorModel::rebased(const PoeModel& model, const std::vector<Vec3>& targets,
+ErrorModel ErrorModel::rebased(const PoeModel& model, const std::vector<Vec3>& target_points,
                                const JointDeflection& deflection) const {
   LP_CHECK(model.dof() == model_.dof(), "error model: rebased onto a model with another joint count");
-  LP_CHECK(targets.size() == spec_.targets.size(), "error model: rebased with another number of targets");
+  LP_CHECK(target_points.size() == target_points_.size(), "error model: rebased with another number of targets");
   ErrorModel out = *this;
   out.model_ = model;
-  out.spec_.targets = targets;
+  for (size_t t = 0; t < target_points.size(); ++t) out.spec_.targets[t].point_tool = target_points[t];
+  out.target_points_ = target_points;
   out.spec_.deflection = deflection;
   checkDeflectionSpec(model, out.spec_);
   return out;
@@ -452,7 +457,7 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q_commanded, const PoseL
   const int per = rowsPerMeasurement(measure);
   MatX all(per, static_cast<Eigen::Index>(all_.size()));
   all.setZero();
-  const Vec3 point = targets ? Vec3(T.R * spec_.targets[static_cast<size_t>(target)] + T.p) : T.p;
+  const Vec3 point = targets ? Vec3(T.R * target_points_[static_cast<size_t>(target)] + T.p) : T.p;
   measurementRows(S, point, measure == Measure::Targets ? Measure::Position : measure, model_.dof(), all.leftCols(twists));
   if (targets && target_columns_[static_cast<size_t>(target)] >= 0) all.middleCols<3>(target_columns_[static_cast<size_t>(target)]) = T.R;
   for (const DeflectionColumn& d : deflection_columns_) {  // joint i's offset column times its input
@@ -463,18 +468,16 @@ Pose ErrorModel::jacobian(const Eigen::Ref<const VecX>& q_commanded, const PoseL
   return T;
 }
 
-
 MatX fullErrorModelJacobian(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
                             const ErrorModelSpec& spec, const std::vector<PoseLoad>& loads) {
   const bool free_pitch = spec.free_pitch;
-  const std::vector<Vec3>& targets = spec.targets;
   checkPoses(q, model.dof());
-  checkSpecTargets(measure, spec);
+  checkTargets(measure, spec);
   checkDeflectionSpec(model, spec);
   const std::vector<std::pair<int, bool>> order = deflectionOrder(model.dof(), spec);
   int cols = 6;
   for (const Joint& j : model.joints()) cols += 6 + (hasPitch(j, free_pitch) ? 1 : 0) + 2;
-  const int per = rowsPerPose(measure, static_cast<int>(targets.size()));
+  const int per = rowsPerPose(measure, static_cast<int>(spec.targets.size()));
   const Eigen::Index first = cols + 3 * static_cast<Eigen::Index>(unknownTargets(spec));
   MatX J(per * static_cast<Eigen::Index>(q.size()), first + static_cast<Eigen::Index>(order.size()));
   Mat6X S(6, cols);
@@ -511,9 +514,8 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
                               const ErrorModelSpec& spec, std::vector<std::string>* names,
                               const std::vector<PoseLoad>& loads) {
   const bool free_pitch = spec.free_pitch;
-  const std::vector<Vec3>& targets = spec.targets;
   checkPoses(q, model.dof());
-  checkSpecTargets(measure, spec);
+  checkTargets(measure, spec);
   const std::vector<std::pair<int, bool>> order = deflectionOrder(model.dof(), spec);
   // a Hayati row's parameters are theta, alpha, a, beta (its d is fixed to 0; docs/conventions.md)
   auto rowColumns = [](const DhParams& r) {
@@ -531,14 +533,13 @@ MatX dhIdentificationJacobian(const DhModel& model, const std::vector<VecX>& q, 
   columns.push_back("tool.theta");
   columns.push_back("tool.d");
   const auto cols = static_cast<Eigen::Index>(columns.size());
-  for (size_t t = 0; t < targets.size(); ++t) {
+  for (size_t t = 0; t < spec.targets.size(); ++t) {
     if (spec.knownTarget(t)) continue;
-    const std::string name = t < spec.target_names.size() ? spec.target_names[t] : std::to_string(t + 1);
-    for (const char* axis : {".x", ".y", ".z"}) columns.push_back("target." + name + axis);
+    for (const char* axis : {".x", ".y", ".z"}) columns.push_back("target." + targetName(spec, t) + axis);
   }
   const auto first = static_cast<Eigen::Index>(columns.size());
   for (const auto& [joint, compliance] : order) columns.push_back(jointTag(joint) + (compliance ? ".compliance" : ".backlash"));
-  const int per = rowsPerPose(measure, static_cast<int>(targets.size()));
+  const int per = rowsPerPose(measure, static_cast<int>(spec.targets.size()));
   MatX J(per * static_cast<Eigen::Index>(q.size()), static_cast<Eigen::Index>(columns.size()));
   Mat6X S(6, cols + static_cast<Eigen::Index>(model.dof()));  // the joints' motion columns after the parameters'
   for (size_t m = 0; m < q.size(); ++m) {

@@ -97,17 +97,14 @@ RankAnalysis analyzeRank(const MatX& jacobian, Measure measure, double L, int po
 
 Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<VecX>& q, Measure measure,
                                        const ErrorModelSpec& options, const std::vector<PoseLoad>& loads) {
-  const std::vector<Vec3>& targets = options.targets;
   checkPoses(q, model.dof());
-  checkTargets(measure, targets);
+  checkTargets(measure, options);
   Identifiability out;
   out.measure = measure;
   out.free_pitch = options.free_pitch;
   ErrorModelSpec spec;  // the full set
   spec.free_pitch = options.free_pitch;
-  spec.targets = targets;
-  spec.target_names = options.target_names;
-  spec.target_known = options.target_known;
+  spec.targets = options.targets;
   spec.compliance_joints = options.compliance_joints;
   spec.backlash_joints = options.backlash_joints;
   spec.deflection = options.deflection;
@@ -115,7 +112,7 @@ Identifiability analyzeIdentifiability(const PoeModel& model, const std::vector<
   out.expected = identifiableCount(model, measure, spec);
   const ErrorModel em(model, spec);
   out.parameters = em.parameters();
-  const int per = rowsPerMeasurement(measure), k = measure == Measure::Targets ? static_cast<int>(targets.size()) : 1;
+  const int per = rowsPerMeasurement(measure), k = measure == Measure::Targets ? static_cast<int>(spec.targets.size()) : 1;
   const auto poses = static_cast<int>(q.size());
   MatX J(per * static_cast<Eigen::Index>(poses) * k, em.size());
   for (int m = 0; m < poses; ++m) {

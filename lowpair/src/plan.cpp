@@ -17,23 +17,6 @@ namespace lowpair {
 
 namespace {
 
-// The targets' points (tool frame), in order; validate() has checked that each has one.
-std::vector<Vec3> targetPoints(const PlanOptions& options) {
-  std::vector<Vec3> points;
-  for (const Target& t : options.targets) points.push_back(*t.point_tool);
-  return points;
-}
-
-// The targets' names, or none when one is empty (the error model then numbers them).
-std::vector<std::string> targetNames(const PlanOptions& options) {
-  std::vector<std::string> names;
-  for (const Target& t : options.targets) {
-    if (t.name.empty()) return {};
-    names.push_back(t.name);
-  }
-  return names;
-}
-
 int rowsPerCandidate(const PlanOptions& options) {
   return rowsPerPose(options.measure, static_cast<int>(options.targets.size()));
 }
@@ -287,15 +270,13 @@ PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& ca
   for (const VecX& q : candidates) checkJointVector(q, model.dof());
   ErrorModelSpec spec;
   spec.free_pitch = options.free_pitch;
-  spec.targets = targetPoints(options);
-  spec.target_names = targetNames(options);
-  for (const Target& t : options.targets) spec.target_known.push_back(t.known);
+  spec.targets = options.targets;
   const ErrorModel em(model, spec);
 
   PlanCandidates c;
   c.measure = options.measure;
   c.free_pitch = options.free_pitch;
-  c.targets = spec.targets;
+  c.targets = options.targets;
   c.q = candidates;
   c.parameters = em.parameters();
   c.expected = identifiableCount(model, options.measure, spec);
@@ -409,11 +390,7 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
   co.sigma_position = sigma_position;
   co.sigma_rotation = sigma_rotation;
   co.register_frame = false;  // the measurements are in the base frame
-  const std::vector<Vec3> points = targetPoints(options);
-  const std::vector<std::string> names = targetNames(options);
-  for (size_t t = 0; t < points.size(); ++t) {
-    co.targets.push_back(Target{t < names.size() ? names[t] : std::to_string(t + 1), points[t], options.targets[t].known});
-  }
+  co.targets = options.targets;  // each with its point (validate)
   std::vector<Measurement> measurements;
   Data data(model);
   for (const VecX& qi : q) {
@@ -424,8 +401,8 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
       measurements.push_back(Measurement{qi, T});
       continue;
     }
-    for (size_t t = 0; t < points.size(); ++t) {
-      measurements.push_back(Measurement{qi, Pose{Mat3::Identity(), T.R * points[t] + T.p}, static_cast<int>(t)});
+    for (size_t t = 0; t < options.targets.size(); ++t) {
+      measurements.push_back(Measurement{qi, Pose{Mat3::Identity(), T.R * *options.targets[t].point_tool + T.p}, static_cast<int>(t)});
     }
   }
   CalibrationResult calibration = calibrate(model, measurements, co);

@@ -21,12 +21,13 @@ void checkTargetIndex(const Measurement& m, Measure measure, size_t targets) {
            "measurement of target " << m.target << ": there are " << targets << " targets");
 }
 
-Pose predict(const PoeModel& model, Data& data, const Measurement& m, Measure measure, const std::vector<Vec3>& targets) {
+Pose predict(const PoeModel& model, Data& data, const Measurement& m, Measure measure,
+             const std::vector<Vec3>& target_points) {
   forwardKinematics(model, data, m.q);
   if (measuresPose(m, measure) || measure == Measure::Position) return data.T_base_tool;
-  checkTargetIndex(m, measure, targets.size());
+  checkTargetIndex(m, measure, target_points.size());
   const Pose& T = data.T_base_tool;
-  return Pose{T.R, T.R * targets[static_cast<size_t>(m.target)] + T.p};
+  return Pose{T.R, T.R * target_points[static_cast<size_t>(m.target)] + T.p};
 }
 
 MeasurementErrors measurementErrors(const Pose& predicted, const Measurement& m, Measure measure) {
@@ -89,13 +90,13 @@ Registration registration(const PoeModel& model, const std::vector<Measurement>&
                           const std::vector<Target>& targets, bool frame) {
   checkMeasurements(model, measurements, measure, targets.size());
   Registration out;
-  out.targets.resize(targets.size(), Vec3::Zero());
+  out.target_points.resize(targets.size(), Vec3::Zero());
   out.estimated.resize(targets.size(), false);
   bool estimate = false;
   for (size_t t = 0; t < targets.size(); ++t) {
     if (targets[t].point_tool) {
       LP_CHECK(targets[t].point_tool->allFinite(), "target " << targets[t].name << ": non-finite point");
-      out.targets[t] = *targets[t].point_tool;
+      out.target_points[t] = *targets[t].point_tool;
     } else {
       out.estimated[t] = estimate = true;
     }
@@ -123,7 +124,7 @@ Registration registration(const PoeModel& model, const std::vector<Measurement>&
   for (out.iterations = 1; out.iterations <= kMaxAlternations; ++out.iterations) {
     for (size_t m = 0; m < measurements.size(); ++m) {
       const int t = measurements[m].target;
-      x[m] = measure == Measure::Targets && t >= 0 ? Vec3(T[m].R * out.targets[static_cast<size_t>(t)] + T[m].p) : T[m].p;
+      x[m] = measure == Measure::Targets && t >= 0 ? Vec3(T[m].R * out.target_points[static_cast<size_t>(t)] + T[m].p) : T[m].p;
     }
     Pose g;
     if (frame) {
@@ -146,8 +147,8 @@ Registration registration(const PoeModel& model, const std::vector<Measurement>&
         if (!out.estimated[t]) continue;
         LP_CHECK(count[t] > 0, "target " << targets[t].name << " has no point and no measurement to estimate it from");
         const Vec3 p = sum[t] / count[t];
-        moved = std::max(moved, (p - out.targets[t]).norm() / L);
-        out.targets[t] = p;
+        moved = std::max(moved, (p - out.target_points[t]).norm() / L);
+        out.target_points[t] = p;
       }
     }
     if (!estimate || moved <= kSettled) break;
@@ -158,21 +159,22 @@ Registration registration(const PoeModel& model, const std::vector<Measurement>&
 
 }  // namespace detail
 
-Pose predictedMeasurement(const PoeModel& model, const Measurement& m, Measure measure, const std::vector<Vec3>& targets) {
+Pose predictedMeasurement(const PoeModel& model, const Measurement& m, Measure measure,
+                          const std::vector<Vec3>& target_points) {
   checkJointVector(m.q, model.dof());
   Data data(model);
-  return predict(model, data, m, measure, targets);
+  return predict(model, data, m, measure, target_points);
 }
 
 ResidualStatistics residualStatistics(const PoeModel& model, const std::vector<Measurement>& measurements,
-                                      Measure measure, const std::vector<Vec3>& targets) {
+                                      Measure measure, const std::vector<Vec3>& target_points) {
   ResidualStatistics s;
   Data data(model);
   double sum_p = 0.0, sum_r = 0.0;
   int rotations = 0;  // the pose measurements (mixed data: some of them)
   for (const Measurement& m : measurements) {
     checkJointVector(m.q, model.dof());
-    const auto [ep, er] = measurementErrors(predict(model, data, m, measure, targets), m, measure);
+    const auto [ep, er] = measurementErrors(predict(model, data, m, measure, target_points), m, measure);
     sum_p += ep * ep;
     sum_r += er * er;
     rotations += measuresPose(m, measure) ? 1 : 0;

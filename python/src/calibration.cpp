@@ -284,7 +284,7 @@ void exposeCalibrationArrays(py::class_<Calibration>& calibration) {
                              [](const Calibration& c) {
                                py::dict out;
                                for (size_t t = 0; t < c.report.target_names.size(); ++t) {
-                                 out[py::str(c.report.target_names[t])] = vectorArray(c.report.result.targets[t]);
+                                 out[py::str(c.report.target_names[t])] = vectorArray(c.report.result.target_points[t]);
                                }
                                return out;
                              },

@@ -39,8 +39,7 @@ IdentifiabilityResult identifiability(const Robot& r, const std::string& measure
   ErrorModelSpec spec;
   spec.free_pitch = free_pitch;
   if (measure == Measure::Targets) {
-    spec.targets = commands::robotFileTargetPoints(r.file, pythonSpelling());
-    for (const Target& t : r.file.targets) spec.target_known.push_back(t.known);  // known points: the tool's columns
+    spec.targets = commands::numberedRobotFileTargets(r.file, pythonSpelling());  // known points: the tool's columns
   }
   Identifiability id;
   {

@@ -12,12 +12,14 @@
 #include <vector>
 
 #include "calibration_helpers.hpp"
+#include "expect_invalid.hpp"
 #include "lowpair/calibration.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 
 using namespace lowpair;
 using namespace calibration_helpers;
+using lowpair_test::expectInvalid;
 
 namespace {
 
@@ -38,8 +40,7 @@ std::vector<Measurement> measureTargets(const PoeModel& truth, const std::vector
 
 ErrorModelSpec targetSpec(const std::vector<Vec3>& points, const std::vector<bool>& known) {
   ErrorModelSpec spec;
-  spec.targets = points;
-  spec.target_known = known;
+  for (size_t t = 0; t < points.size(); ++t) spec.targets.push_back(Target{"", points[t], t < known.size() && known[t]});
   return spec;
 }
 
@@ -145,10 +146,10 @@ TEST(KnownTargets, ToolColumnsMatchCentralDifferences) {
         const double h = std::cbrt(kEpsilon) * unit;
         VecX d = VecX::Zero(em.size());
         d[k] = h;
-        if (em.applyTargets(d)[0] != points[0]) failures.add(types + " " + p.name + ": moves the known point");
+        if (em.applyTargetPoints(d)[0] != points[0]) failures.add(types + " " + p.name + ": moves the known point");
         auto point = [&](const VecX& delta) {
           const Pose T = poeForwardKinematics(em.apply(delta), q);
-          return Vec3(T.R * em.applyTargets(delta)[static_cast<size_t>(t)] + T.p);
+          return Vec3(T.R * em.applyTargetPoints(delta)[static_cast<size_t>(t)] + T.p);
         };
         const Vec3 numeric = (point(d) - point(-d)) / (2.0 * h);
         const double S = distanceScale(model, q, poeForwardKinematics(model, q));
@@ -200,7 +201,10 @@ TEST(KnownTargets, ThreeKnownSmrsPinTheTool) {
   std::printf("known points, noise-free: TCP RMS %.3g mm, %.3g rad\n", e0.position, e0.rotation);
   EXPECT_LE(e0.position, 1e-9 * L);
   EXPECT_LE(e0.rotation, 1e-9);
-  for (size_t t = 0; t < smr.size(); ++t) EXPECT_EQ(pinned.targets[t], smr[t]);
+  for (size_t t = 0; t < smr.size(); ++t) {
+    EXPECT_EQ(pinned.target_points[t], smr[t]);
+    EXPECT_EQ(pinned.error_model.spec().targets[t].name, options.targets[t].name);
+  }
 
   // noisy: the TCP to the noise (a least-squares fit predicts to about sigma sqrt(p / m): 36 parameters,
   // 450 rows, so 0.3 sigma; the TCP is up to 70 mm off the SMRs, so allow sigma)
@@ -217,21 +221,75 @@ TEST(KnownTargets, ThreeKnownSmrsPinTheTool) {
   const CalibrationResult free_points = calibrate(nominal, noisy, unknown);
   EXPECT_TRUE(free_points.accepted) << free_points.reason;
   EXPECT_EQ(free_points.expected.total(), 4 * 6 + 6 + 9);
+  for (size_t t = 0; t < smr.size(); ++t) {  // the fitted points, moved from the given ones
+    EXPECT_EQ(*free_points.error_model.spec().targets[t].point_tool, free_points.target_points[t]);
+    EXPECT_GT((free_points.target_points[t] - smr[t]).norm(), 0.0);
+  }
   const ToolError e2 = toolError(free_points.model, actual_in_frame, check);
   std::printf("unknown points: TCP RMS %.3g mm, %.3g rad (the tool's error: %.3g mm, %.3g rad)\n", e2.position, e2.rotation,
               tool_error.p.norm(), rotationAngle(tool_error.R));
   EXPECT_GE(e2.position, 0.5 * tool_error.p.norm());
 }
 
-// A known target needs its point; known flags must match the targets.
-TEST(KnownTargets, KnownWithoutPointOrMismatchedFlagsAreRefused) {
+// A known target needs its point in calibrate's options; every target of an error model needs one (finite): the
+// error model and every function taking a spec refuse a target without, naming it (numbered when one is unnamed).
+TEST(KnownTargets, TargetsWithoutPointsAreRefusedByName) {
   CalibrationOptions options;
   options.measure = Measure::Targets;
   options.targets = {Target{"a", std::nullopt, true}};
   EXPECT_THROW(options.validate(), std::invalid_argument);
   const PoeModel nominal = pumaLike(0.0, true);
-  ErrorModelSpec spec = targetSpec({Vec3(1, 2, 3), Vec3(3, 2, 1)}, {true});
-  EXPECT_THROW(ErrorModel(nominal, spec), std::invalid_argument);
+  const std::vector<VecX> q(1, VecX::Zero(nominal.dof()));
+  ErrorModelSpec spec;
+  spec.targets = {Target{"smr_a", Vec3(1, 2, 3)}, Target{"smr_b", std::nullopt}};
+  const std::string message = "error model: target smr_b has no point (an error model needs every target's point)";
+  expectInvalid([&] { (void)ErrorModel(nominal, spec); }, message);
+  expectInvalid([&] { identifiableCount(nominal, Measure::Targets, spec); }, message);
+  expectInvalid([&] { fullErrorModelJacobian(nominal, q, Measure::Targets, spec); }, message);
+  expectInvalid([&] { dhIdentificationJacobian(poeToDh(nominal).model, q, Measure::Targets, spec); }, message);
+  expectInvalid([&] { analyzeIdentifiability(nominal, q, Measure::Targets, spec); }, message);
+  spec.targets[1].point_tool = Vec3(1, std::nan(""), 3);
+  expectInvalid([&] { (void)ErrorModel(nominal, spec); }, "error model: target smr_b has a non-finite point");
+  spec.targets[0].name.clear();
+  expectInvalid([&] { spec.validate(); }, "error model: target 2 has a non-finite point");
+}
+
+// The targets' parameters carry the targets' names, every target numbered when one name is empty, in the error
+// model and the D-H parameterization alike; a known target has none. rebased moves the spec's points with
+// targetPoints() and keeps names and known flags.
+TEST(KnownTargets, TargetParameterNamesAndRebasedPoints) {
+  const PoeModel nominal = pumaLike(0.0, true);
+  const std::vector<VecX> q(1, VecX::Zero(nominal.dof()));
+  ErrorModelSpec spec;
+  spec.targets = {Target{"smr_a", Vec3(60, 0, 40)}, Target{"nest", Vec3(-30, 55, 25), true},
+                  Target{"smr_c", Vec3(-20, -50, 70)}};
+  auto targetParameters = [&](const ErrorModelSpec& s) {
+    std::vector<std::string> poe, dh, columns;
+    const ErrorModel em(nominal, s);
+    for (const Parameter& p : em.parameters()) {
+      if (p.kind == ParameterKind::TargetPoint) poe.push_back(p.name);
+    }
+    dhIdentificationJacobian(poeToDh(nominal).model, q, Measure::Targets, s, &columns);
+    for (const std::string& c : columns) {
+      if (c.rfind("target.", 0) == 0) dh.push_back(c);
+    }
+    EXPECT_EQ(dh, poe);
+    return poe;
+  };
+  EXPECT_EQ(targetParameters(spec), (std::vector<std::string>{"target.smr_a.x", "target.smr_a.y", "target.smr_a.z",
+                                                              "target.smr_c.x", "target.smr_c.y", "target.smr_c.z"}));
+  spec.targets[2].name.clear();
+  EXPECT_EQ(targetParameters(spec), (std::vector<std::string>{"target.1.x", "target.1.y", "target.1.z", "target.3.x",
+                                                              "target.3.y", "target.3.z"}));
+  const ErrorModel em(nominal, spec);
+  const std::vector<Vec3> moved = {Vec3(61, 1, 41), Vec3(-30, 55, 25), Vec3(-21, -49, 71)};
+  const ErrorModel at = em.rebased(nominal, moved);
+  EXPECT_EQ(at.targetPoints(), moved);
+  for (size_t t = 0; t < moved.size(); ++t) {
+    EXPECT_EQ(*at.spec().targets[t].point_tool, moved[t]);
+    EXPECT_EQ(at.spec().targets[t].name, spec.targets[t].name);
+    EXPECT_EQ(at.spec().targets[t].known, t == 1);
+  }
 }
 
 // Mixed data: 30 poses measured through three SMRs at unknown points and 10 more with a 6-DOF probe (the tool
@@ -290,7 +348,7 @@ TEST(KnownTargets, MixedPoseAndTargetMeasurementsFitTogether) {
   EXPECT_TRUE(r1.accepted) << r1.reason;
   const ToolError e1 = toolError(r1.model, actual_in_frame, check);
   std::vector<Measurement> held_out = measureTargets(actual, check, smr, F);
-  const ResidualStatistics points = residualStatistics(r1.model, held_out, Measure::Targets, r1.targets);
+  const ResidualStatistics points = residualStatistics(r1.model, held_out, Measure::Targets, r1.target_points);
   std::printf("mixed data, noise %.3g mm: TCP RMS %.3g mm, %.3g rad; SMRs held out %.3g mm; variance factor %.3g\n", sp,
               e1.position, e1.rotation, points.rms_position, r1.variance_factor);
   EXPECT_LE(e1.position, sp);

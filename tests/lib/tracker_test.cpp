@@ -94,7 +94,7 @@ TEST(TrackerErrorModel, OffsetBaseAndTargetColumnsMatchCentralDifferences) {
     for (const ParameterSet set : {ParameterSet::Full, ParameterSet::Lines, ParameterSet::Offsets}) {
       ErrorModelSpec spec;
       spec.set = set;
-      spec.targets = points;
+      for (const Vec3& p : points) spec.targets.push_back(Target{"", p});
       const ErrorModel em(model, spec);
       const VecX q = uniformJoints(model, rng);
       for (int t = 0; t < 2; ++t) {
@@ -108,7 +108,7 @@ TEST(TrackerErrorModel, OffsetBaseAndTargetColumnsMatchCentralDifferences) {
           d[k] = h;
           auto point = [&](const VecX& delta) {
             const Pose T = poeForwardKinematics(em.apply(delta), q);
-            return Vec3(T.R * em.applyTargets(delta)[static_cast<size_t>(t)] + T.p);
+            return Vec3(T.R * em.applyTargetPoints(delta)[static_cast<size_t>(t)] + T.p);
           };
           const Vec3 numeric = (point(d) - point(-d)) / (2.0 * h);
           const double S = distanceScale(model, q, poeForwardKinematics(model, q));
@@ -134,9 +134,9 @@ TEST(TrackerIdentifiability, RankWithTargetsEqualsCount) {
     for (int k = 1; k <= 4; ++k) {
       const PoeModel model = jointMix(types, std::pow(10.0, u(rng) * 2.0), rng);
       const double L = model.lengthScale();
-      std::vector<Vec3> points;
-      for (int t = 0; t < k; ++t) points.push_back(0.2 * L * lowpair_test::draw3(u, rng));
-      const Identifiability id = analyzeIdentifiability(model, uniformPoses(model, 40, rng), Measure::Targets, ErrorModelSpec{false, ParameterSet::Full, {}, points});
+      std::vector<Target> targets;
+      for (int t = 0; t < k; ++t) targets.push_back(Target{"", Vec3(0.2 * L * lowpair_test::draw3(u, rng))});
+      const Identifiability id = analyzeIdentifiability(model, uniformPoses(model, 40, rng), Measure::Targets, ErrorModelSpec{false, ParameterSet::Full, {}, targets});
       ++analyses;
       const int expected = identifiableCount(model, Measure::Pose).total() - 6 + 3 * k;
       if (id.expected.total() != expected) failures.add(types + ": count " + std::to_string(id.expected.total()));
@@ -247,7 +247,7 @@ TEST(TrackerTargets, ThreeUnknownSmrsInAFarFrame) {
   EXPECT_EQ(r.error_model.size(), count);
   EXPECT_TRUE(r.accepted) << r.reason;
   const std::vector<VecX> check = uniformPoses(nominal, 200, rng);
-  const double rms = heldOutRms(movedModel(r.model, F.inverse()), r.targets, actual, smr, check);
+  const double rms = heldOutRms(movedModel(r.model, F.inverse()), r.target_points, actual, smr, check);
   std::printf("3 SMRs, frame and points unknown: %d iterations, registration %d alternations, held-out RMS %.3g mm "
               "(noise %.3g mm), variance factor %.3g\n",
               r.iterations, r.registration.iterations, rms, sp, r.variance_factor);

@@ -120,7 +120,9 @@ struct CalibrationResult {
   /// The registration: the pose of the nominal's base frame in the measurement frame (identity when not
   /// registered). `before` is the nominal placed there (with its targets as registered/estimated).
   Registration registration{};
-  std::vector<Vec3> targets{};  ///< calibrated targets' points (tool frame of `model`)
+  /// The calibrated targets' points (tool frame of `model`; index = Measurement::target; names and known flags:
+  /// `error_model.spec().targets`, which hold the same points).
+  std::vector<Vec3> target_points{};
   /// The tool frame's directions the measurements can determine: 6 (pose measurements; targets with three
   /// non-collinear known points), 3 (position measurements: the tool origin), or with targets
   /// knownPointsToolRank of the known ones (0 with unknown points only: they carry the tool frame, which

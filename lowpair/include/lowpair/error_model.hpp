@@ -75,13 +75,13 @@ struct ErrorModelSpec {
   bool free_pitch = false;          ///< revolute joints get a pitch parameter as well (counted as helical)
   ParameterSet set = ParameterSet::Full;
   std::vector<std::string> names{};   ///< ParameterSet::Named
-  /// Targets' points in the tool frame: every unknown one gets 3 parameters (`target.NAME.x`, `.y`, `.z`,
-  /// tool frame); names from `target_names` ("1", "2", ... when empty). Without known points the tool's 6
-  /// parameters are left out (the points carry the tool frame); with one or more they are kept.
-  std::vector<Vec3> targets{};
-  std::vector<std::string> target_names{};
-  /// Per target: its point is known (fixed, not a parameter). Empty: none known.
-  std::vector<bool> target_known{};
+  /// Measure::Targets: the targets (measure.hpp; the type of CalibrationOptions::targets), each with its point
+  /// in the tool frame (`point_tool`, required here: the error model is evaluated there). An unknown target gets
+  /// 3 parameters (`target.NAME.x`, `.y`, `.z`, tool frame), a known one (`known`) none: its point is fixed.
+  /// NAME is the target's name; when one target's name is empty, every target is numbered instead ("1", "2",
+  /// ..., so that no number collides with a name). Without known points the tool's 6 parameters are left out
+  /// (the points carry the tool frame); with one or more they are kept.
+  std::vector<Target> targets{};
   /// Targets: some measurements are of the whole tool frame (mixed data, kPoseMeasurement): the tool's 6
   /// parameters are kept, and the pose measurements determine them.
   bool pose_measurements = false;
@@ -90,10 +90,16 @@ struct ErrorModelSpec {
   /// (applied whether they are parameters or not; empty: none).
   std::vector<int> compliance_joints{}, backlash_joints{};
   JointDeflection deflection{};
-  bool knownTarget(size_t t) const { return t < target_known.size() && target_known[t]; }
-  std::vector<Vec3> knownPoints() const;  ///< the known targets' points, in order
+  bool knownTarget(size_t t) const { return t < targets.size() && targets[t].known; }
+  std::vector<Vec3> knownPoints() const;  ///< the known targets' points, in order (@throws as validate)
   /// The tool frame has parameters: no targets, at least one known, or pose measurements among them.
   bool toolParameters() const;
+
+  /// The rules on the spec alone (ErrorModel, fullErrorModelJacobian, dhIdentificationJacobian,
+  /// analyzeIdentifiability and knownPoints, so identifiableCount with targets, call it; the deflections are
+  /// checked against the model there).
+  /// @throws std::invalid_argument naming the target for a target without a point or with one not finite
+  void validate() const;
 };
 
 /// The tool-frame directions that known points (tool frame, at least `L`-sized robot) fix: 0 for none, 3 for
@@ -118,14 +124,16 @@ struct Parameter {
 /// The error model's local coordinates at one model (see the file comment).
 class ErrorModel {
  public:
-  /// @throws std::invalid_argument for a Named set naming a parameter the model does not have (or none)
+  /// @throws std::invalid_argument for a Named set naming a parameter the model does not have (or none), and as
+  /// ErrorModelSpec::validate (a target without a point)
   explicit ErrorModel(const PoeModel& model, const ErrorModelSpec& spec = {});
 
   const PoeModel& model() const { return model_; }
   bool freePitch() const { return spec_.free_pitch; }
   const ErrorModelSpec& spec() const { return spec_; }
-  /// The targets' points (tool frame) at this model; empty without targets.
-  const std::vector<Vec3>& targets() const { return spec_.targets; }
+  /// The targets' points (tool frame) at this model, index = Measurement::target (the points of
+  /// `spec().targets`); empty without targets.
+  const std::vector<Vec3>& targetPoints() const { return target_points_; }
   const std::vector<Parameter>& parameters() const { return parameters_; }
   int size() const { return static_cast<int>(parameters_.size()); }
   /// The model moved by `delta` (one entry per parameter): `Ad(exp(eta))` per joint, pitch and scale
@@ -136,8 +144,8 @@ class ErrorModel {
   /// apply() as data: the moved model, or nothing where apply throws (a scale through 0, a model beyond
   /// the magnitude limits): a fit's trial step or a probe that leaves the valid models.
   std::optional<PoeModel> tryApply(const Eigen::Ref<const VecX>& delta) const;
-  /// The targets' points moved by `delta` (tool frame).
-  std::vector<Vec3> applyTargets(const Eigen::Ref<const VecX>& delta) const;
+  /// The targets' points moved by `delta` (tool frame; a known target's stays).
+  std::vector<Vec3> applyTargetPoints(const Eigen::Ref<const VecX>& delta) const;
   /// The joint deflections moved by `delta` (every joint's; entries sized to the model's joints when a
   /// deflection parameter exists).
   JointDeflection applyDeflection(const Eigen::Ref<const VecX>& delta) const;
@@ -145,9 +153,11 @@ class ErrorModel {
   const JointDeflection& deflection() const { return spec_.deflection; }
   /// The same parameters, their directions (the eta twists) kept from this model, at another model of the
   /// same robot (a calibration iterate): the coordinates of every iterate then mean the same thing.
+  /// `target_points`: the targets' points there (as targetPoints(); applyTargetPoints of a step), one per target.
   ErrorModel rebased(const PoeModel& model) const;
-  ErrorModel rebased(const PoeModel& model, const std::vector<Vec3>& targets) const;
-  ErrorModel rebased(const PoeModel& model, const std::vector<Vec3>& targets, const JointDeflection& deflection) const;
+  ErrorModel rebased(const PoeModel& model, const std::vector<Vec3>& target_points) const;
+  ErrorModel rebased(const PoeModel& model, const std::vector<Vec3>& target_points,
+                     const JointDeflection& deflection) const;
   /// Identification Jacobian at `q`: d(measured quantity)/d(parameters), 6 rows `[dtheta; dp]` (Pose) or
   /// 3 rows `dp` (Position; Targets: of target `target`'s point), `size()` columns; units: rad and length
   /// per parameter unit. Also returns the model's `T_base_tool(q)`.
@@ -161,6 +171,7 @@ class ErrorModel {
  private:
   PoeModel model_;
   ErrorModelSpec spec_;
+  std::vector<Vec3> target_points_;  // the points of spec_.targets (the Jacobian's and the fit's)
   std::vector<Parameter> all_;       // every candidate parameter, in column order of the full computation
   std::vector<int> selected_;        // indices into all_ of the parameters
   std::vector<int> target_columns_;  // per target: index into all_ of its x parameter, -1 when known

@@ -50,6 +50,13 @@ inline int rowsOf(const Measurement& m, Measure measure) { return measuresPose(m
 /// A point fixed on the tool (an SMR): its name and its position in the tool frame (length): a start for the
 /// fit's estimate, or, when `known` (from a calibrated nest), fixed. Unknown points carry the tool frame (it
 /// is not determined); three or more non-collinear known points determine it (docs/calibration.md).
+///
+/// The one targets type of the API: what says which targets there are (names, points or none, known flags)
+/// is a `std::vector<Target>`, and every field or parameter named `targets` is one (CalibrationOptions,
+/// PlanOptions, ErrorModelSpec, PlanCandidates, registerMeasurementFrame). Where only where the targets are
+/// matters, their points are a `std::vector<Vec3>` named `target_points` (index = Measurement::target, the
+/// targets described elsewhere): the results (Registration, CalibrationResult, ErrorModel::targetPoints) and
+/// what evaluates a model at given points (residualStatistics, predictedMeasurement, ErrorModel::rebased).
 struct Target {
   std::string name;
   std::optional<Vec3> point_tool;

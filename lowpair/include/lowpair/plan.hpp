@@ -79,7 +79,7 @@ struct PlanOptions {
 struct PlanCandidates {
   Measure measure = Measure::Pose;
   bool free_pitch = false;
-  std::vector<Vec3> targets;
+  std::vector<Target> targets;          ///< PlanOptions::targets
   std::vector<VecX> q;                  ///< the candidates (joint vectors)
   std::vector<Parameter> parameters;    ///< the columns: ErrorModel(model, {free_pitch, targets})
   ParameterCount expected;              ///< identifiableCount

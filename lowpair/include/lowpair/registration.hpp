@@ -18,13 +18,15 @@ struct ResidualStatistics {
   double rms_rotation = 0.0, max_rotation = 0.0;
 };
 
-/// @param targets the targets' points (tool frame), for Measure::Targets
+/// @param target_points for Measure::Targets the targets' points (tool frame; index = Measurement::target): a
+/// result's (CalibrationResult::target_points, Registration::target_points) or the targets' own
 ResidualStatistics residualStatistics(const PoeModel& model, const std::vector<Measurement>& measurements,
-                                      Measure measure, const std::vector<Vec3>& targets = {});
+                                      Measure measure, const std::vector<Vec3>& target_points = {});
 
 /// The measured point or pose a model predicts for one measurement (Targets: `T(q) point`).
+/// @param target_points as residualStatistics
 Pose predictedMeasurement(const PoeModel& model, const Measurement& m, Measure measure,
-                          const std::vector<Vec3>& targets = {});
+                          const std::vector<Vec3>& target_points = {});
 
 /// `model` moved as a whole by `T_frame_base`: every twist `Ad(T) xi`, the tool `T T_tool`. Its forward
 /// kinematics is `T_frame_base T_base_tool(q)`: the same robot seen from another frame.
@@ -37,8 +39,8 @@ PoeModel movedModel(const PoeModel& model, const Pose& T_frame_base);
 /// points expressed in the predicted tool frame), alternating with the registration until both settle.
 struct Registration {
   Pose T_meas_base;
-  std::vector<Vec3> targets;  ///< every target's point (tool frame): given or estimated
-  std::vector<bool> estimated;
+  std::vector<Vec3> target_points;  ///< every target's point (tool frame): given or estimated
+  std::vector<bool> estimated;      ///< per target: its point was estimated (it had none)
   int iterations = 0;
   bool determined = true;  ///< false: the predicted points are collinear (and no rotations): identity kept
 };
