@@ -24,6 +24,7 @@
 #include <string>
 
 #include "cli_runner.hpp"
+#include "targets_robot.hpp"
 
 namespace {
 
@@ -56,18 +57,6 @@ std::string chainFile(int n, bool dh = false) {
   }
   text += dh ? "  tool: {theta: 0, d: 0}\n" : "  tool: [0, 0, 0, " + std::to_string(0.001 * n) + ", 0, 0]\n";
   return writeScratchFile("chain" + std::to_string(n) + (dh ? "_dh" : "") + ".yaml", text);
-}
-
-// The PUMA with k targets on its tool, spread over a 160 mm cube.
-std::string pumaWithTargets(int k) {
-  std::ifstream in(modelPath("puma560_okamura_nominal.yaml"));
-  std::string text((std::istreambuf_iterator<char>(in)), {});
-  text += "targets:\n";
-  for (int t = 0; t < k; ++t) {
-    text += "  - {name: t" + std::to_string(t) + ", point: [" + std::to_string((t * 37) % 160 - 80) + ", " +
-            std::to_string((t * 61) % 160 - 80) + ", " + std::to_string((t * 89) % 160 - 80) + "]}\n";
-  }
-  return writeScratchFile("puma_" + std::to_string(k) + "_targets.yaml", text);
 }
 
 std::string rowsFile(const std::string& name, const std::string& header, const std::string& row, long long rows) {
@@ -115,7 +104,7 @@ TEST(LimitsTable, RobotsOfMoreThanTenThousandJointsAreRefused) {
 
 // fk --q-file: rows x targets at most 10^6 (a measurement file); 1000 targets x 1000 rows are written
 TEST(LimitsTable, FkQFileRowsTimesTargetsAtMostAMillion) {
-  const std::string robot = pumaWithTargets(1000);
+  const std::string robot = nominalWithTargets(1000);
   const std::string over = rowsFile("q1001.csv", "q1,q2,q3,q4,q5,q6", "0.1,0.2,0.3,0.4,0.5,0.6", 1001);
   expectRefusedAtOnce("fk " + robot + " --q-file " + over + " --measure targets",
                       "1001 rows x 1000 targets = 1001000 measurements, more than the 1000000", over);

@@ -33,6 +33,7 @@
 #include <string>
 
 #include "cli_runner.hpp"
+#include "targets_robot.hpp"
 
 namespace {
 
@@ -89,19 +90,7 @@ CliRun runWithin(int megabytes, const std::string& args) {
 
 // Unbounded: plan with 200 targets and one pose (killed at 120 s): the candidates' blocks are over the limit
 TEST(ThirdAudit, PlanOfTwoHundredTargetsOnOnePose) {
-  std::string text = "name: puma-targets\nlength_unit: mm\nangle_unit: rad\npoe:\n  joints:\n"
-                     "    - {type: revolute, twist: [0, 0, 1, 0, 0, 0]}\n"
-                     "    - {type: revolute, twist: [0, -1, 0, 0, 0, 0]}\n"
-                     "    - {type: revolute, twist: [0, -1, 0, 0, 0, -100]}\n"
-                     "    - {type: revolute, twist: [0, 0, -1, -50, 250, 0]}\n"
-                     "    - {type: revolute, twist: [0, -1, 0, -20, 0, -250]}\n"
-                     "    - {type: revolute, twist: [0, 0, -1, -50, 250, 0]}\n"
-                     "  tool: [0, 0, 0, 250, 50, -20]\ntargets:\n";
-  for (int t = 0; t < 200; ++t) {
-    text += "  - {name: t" + std::to_string(t) + ", point: [" + std::to_string((t * 37) % 160 - 80) + ", " +
-            std::to_string((t * 61) % 160 - 80) + ", " + std::to_string((t * 89) % 160 - 80) + "]}\n";
-  }
-  const std::string robot = writeScratchFile("audit_200_targets.yaml", text);
+  const std::string robot = nominalWithTargets(200);
   expectRefusedAtOnce("plan " + robot + " --measure targets --poses 1", "exceed the identification", "--candidates");
 }
 
