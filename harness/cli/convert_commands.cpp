@@ -39,13 +39,24 @@ Pose frameOf(const RobotFile& file, const std::string& frame) {
   return *file.measurement_frame;
 }
 
-// fk --q-file: the tool frame (Pose), its origin (Position) or each target's point (Targets) at every row's q,
-// as a measurement CSV (io/measurements.hpp). Each row is evaluated by the same call as fk --q
-// (poeForwardKinematics / dhForwardKinematics): the rows equal fk --q bit for bit. (forwardKinematicsBatch
-// agrees with it only to rounding: 2 eps in R, 9 eps L in p measured, docs/ik.md.)
-int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::string& kind, const FkFileOptions& o,
-               bool as_json, const Pose& T_frame_base) {
-  JointTable table = readJointTable(o.q_file, TableKind::Joints, file.dof(), robot_path, csvJointNames(file));
+// fk --q-file: what was read and computed, every row checked before anything is written.
+struct FkRows {
+  JointTable table;
+  Measure measure = Measure::Pose;
+  std::vector<std::string> target_names;
+  std::vector<Pose> T;  // T_frame_tool at each row (each target's point: T * point_tool)
+  size_t perRow() const { return measure == Measure::Targets ? target_names.size() : 1; }
+};
+
+// The rows of fk --q-file, each evaluated by the same call as fk --q (poeForwardKinematics /
+// dhForwardKinematics): the rows equal fk --q bit for bit. (forwardKinematicsBatch agrees with it only to
+// rounding: 2 eps in R, 9 eps L in p measured, docs/ik.md.)
+// @throws RobotFileError naming the file and line of a row whose tool (or a target) lies beyond 1e100
+FkRows fkRows(const RobotFile& file, const std::string& robot_path, const std::string& kind, const FkFileOptions& o,
+              const Pose& T_frame_base) {
+  FkRows r;
+  r.table = readJointTable(o.q_file, TableKind::Joints, file.dof(), robot_path, csvJointNames(file));
+  JointTable& table = r.table;
   for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
   // prismatic joint values in the robot's unit (revolute and helical q are rad)
   if (const std::string note = convertTableUnit(table, file.length_unit, robot_path, prismaticJoints(file.poeModel()));
@@ -53,84 +64,98 @@ int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::
     std::cerr << "note: " << note << "\n";
   }
   checkJointRows(table, file.poeModel());
-  const std::vector<long long>& lines = table.lines;
-  const MatX Q = table.matrix();
-  const Measure measure = commands::parseMeasure(o.measure, cliSpelling());
-  std::vector<std::string> target_names;
-  if (measure == Measure::Targets) {
+  r.measure = commands::parseMeasure(o.measure, cliSpelling());
+  if (r.measure == Measure::Targets) {
     if (file.targets.empty()) {
       throw UsageError(robot_path, "--measure targets: the robot file lists no targets (a 'targets:' list of {name, point})");
     }
-    for (const Target& t : file.targets) target_names.push_back(t.name);
+    for (const Target& t : file.targets) r.target_names.push_back(t.name);
   }
-  const long long per_row = measure == Measure::Targets ? static_cast<long long>(file.targets.size()) : 1;
-  if (static_cast<long long>(Q.rows()) * per_row > kMaxMeasurements) {
-    throw UsageError(o.q_file, std::to_string(Q.rows()) + " rows x " + std::to_string(per_row) + " targets = " +
-                                   std::to_string(Q.rows() * per_row) + " measurements, more than the " +
+  const auto rows = static_cast<long long>(table.rows()), per_row = static_cast<long long>(r.perRow());
+  if (rows * per_row > kMaxMeasurements) {
+    throw UsageError(o.q_file, std::to_string(rows) + " rows x " + std::to_string(per_row) + " targets = " +
+                                   std::to_string(rows * per_row) + " measurements, more than the " +
                                    std::to_string(kMaxMeasurements) + " a measurement file holds");
   }
   const std::optional<PoeModel> poe = kind == "poe" ? std::optional<PoeModel>(file.poeModel()) : std::nullopt;
   const std::optional<DhModel> dh =
       kind == "dh" ? std::optional<DhModel>(file.dh ? *file.dh : poeToDh(*file.poe).model) : std::nullopt;
-  std::vector<Measurement> measurements;
-  measurements.reserve(static_cast<size_t>(Q.rows() * per_row));
-  json rows = json::array();
   const PoeModel model = file.poeModel();  // (the gravity load of a compliance: deflection_inputs.hpp)
-  std::vector<VecX> rows_q;
-  for (Eigen::Index k = 0; k < Q.rows(); ++k) rows_q.push_back(Q.row(k).transpose());
+  std::vector<VecX> rows_q;  // (only --approach reads them)
+  for (size_t k = 0; !o.approach.empty() && k < table.rows(); ++k) rows_q.push_back(table.row(k));
   const std::vector<VecX> signs = commands::approachSigns(o.approach, rows_q, file.dof(), false, cliSpelling());
   if (const std::string note = commands::deflectionNote(file, !signs.empty()); !note.empty()) std::cerr << "note: " << note << "\n";
-  for (Eigen::Index k = 0; k < Q.rows(); ++k) {
-    const VecX q = Q.row(k).transpose();
-    const VecX q_stand = commands::standingJoints(file, model, q, signs.empty() ? VecX() : signs[static_cast<size_t>(k)]);
+  const auto beyond = [](const Vec3& p) { return !(p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
+  r.T.reserve(table.rows());
+  for (size_t k = 0; k < table.rows(); ++k) {
+    const VecX q_stand = commands::standingJoints(file, model, table.row(k), signs.empty() ? VecX() : signs[k]);
     const Pose T = T_frame_base * (poe ? poeForwardKinematics(*poe, q_stand) : dhForwardKinematics(*dh, q_stand));
-    const auto beyond = [](const Vec3& p) { return !(p.cwiseAbs().maxCoeff() <= kMaxMagnitude); };
-    const std::string where = o.q_file + ":" + std::to_string(lines[static_cast<size_t>(k)]);
-    if (measure == Measure::Targets) {
-      for (size_t t = 0; t < file.targets.size(); ++t) {
-        Measurement m{q, Pose{}, static_cast<int>(t)};
-        m.T_base_tool.p = T * *file.targets[t].point_tool;
-        if (beyond(m.T_base_tool.p)) throw RobotFileError(where + ": target " + file.targets[t].name + " lies beyond 1e100, which no reader takes");
-        if (as_json) rows.push_back({{"line", lines[static_cast<size_t>(k)]}, {"q", toVector(q)}, {"target", file.targets[t].name}, {"p", toVector(m.T_base_tool.p)}});
-        measurements.push_back(std::move(m));
+    const std::string where = o.q_file + ":" + std::to_string(table.lines[k]);
+    for (size_t t = 0; r.measure == Measure::Targets && t < file.targets.size(); ++t) {
+      if (beyond(T * *file.targets[t].point_tool)) {
+        throw RobotFileError(where + ": target " + file.targets[t].name + " lies beyond 1e100, which no reader takes");
       }
-      continue;
     }
-    if (beyond(T.p)) throw RobotFileError(where + ": the tool lies beyond 1e100, which no reader takes");
-    Measurement m{q, T, -1};
-    if (measure == Measure::Position) m.T_base_tool.R.setIdentity();
-    if (as_json) {
-      json row = {{"line", lines[static_cast<size_t>(k)]}, {"q", toVector(q)}};
-      if (measure == Measure::Pose) {
-        row["T_base_tool"] = poseJson(T);
-      } else {
-        row["p"] = toVector(T.p);
-      }
-      rows.push_back(std::move(row));
-    }
-    measurements.push_back(std::move(m));
+    if (r.measure != Measure::Targets && beyond(T.p)) throw RobotFileError(where + ": the tool lies beyond 1e100, which no reader takes");
+    r.T.push_back(T);
   }
+  return r;
+}
+
+// fk --q-file: the tool frame (Pose), its origin (Position) or each target's point (Targets) at every row's q,
+// as a measurement CSV (io/measurements.hpp), or JSON. Rows are computed and checked first, then written as they
+// are formatted (10^6 rows: neither the CSV nor the JSON is held whole; docs/cli.md "Limits").
+int fkFromFile(const RobotFile& file, const std::string& robot_path, const std::string& kind, const FkFileOptions& o,
+               bool as_json, const Pose& T_frame_base) {
+  const FkRows r = fkRows(file, robot_path, kind, o, T_frame_base);
+  const size_t per_row = r.perRow(), count = r.table.rows() * per_row;
+  // measurement i: row i / per_row, and for targets the target i % per_row
+  const auto point = [&](size_t i) { return r.T[i / per_row] * *file.targets[i % per_row].point_tool; };
   const std::string unit = file.length_unit.empty() ? "length" : file.length_unit;
-  const std::string what = measure == Measure::Pose   ? "x,y,z: tool position in the base frame (" + unit + "); qw,qx,qy,qz: its rotation, unit quaternion"
-                           : measure == Measure::Position ? "x,y,z: tool position in the base frame (" + unit + ")"
-                                                          : "x,y,z: the target's point in the base frame (" + unit + "), one row per target of " + robot_path;
+  const std::string what = r.measure == Measure::Pose   ? "x,y,z: tool position in the base frame (" + unit + "); qw,qx,qy,qz: its rotation, unit quaternion"
+                           : r.measure == Measure::Position ? "x,y,z: tool position in the base frame (" + unit + ")"
+                                                            : "x,y,z: the target's point in the base frame (" + unit + "), one row per target of " + robot_path;
   std::vector<std::string> comments{"lowpair fk " + robot_path + " --q-file " + o.q_file + " --measure " + o.measure + " --model " + kind,
                                     "forward kinematics of the " + kind + " model at the q1..qn of every row of " + o.q_file +
                                         " (the same evaluation as fk --q, bit for bit)",
                                     what};
   if (isUnitLabel(file.length_unit)) comments.push_back("length_unit: " + file.length_unit);
-  const std::string text = formatMeasurements(measure, measurements, comments, target_names);
-  if (!o.out.empty()) writeFileAtomically(o.out, text);
+  const StreamWriter csv = [&](std::ostream& out) {
+    MeasurementWriter writer(out, r.measure, file.dof(), r.target_names);
+    writer.writeHeader(comments);
+    for (size_t i = 0; i < count; ++i) {
+      const auto q = r.table.row(i / per_row);
+      if (r.measure == Measure::Targets) {
+        writer.write(q, Pose{Mat3::Identity(), point(i)}, static_cast<int>(i % per_row));
+      } else {
+        writer.write(q, r.measure == Measure::Pose ? r.T[i] : Pose{Mat3::Identity(), r.T[i].p});
+      }
+    }
+  };
+  if (!o.out.empty()) writeFileAtomically(o.out, csv);
   if (as_json) {
-    std::cout << jsonText({{"name", file.name}, {"source", file.path}, {"model", kind}, {"length_unit", file.length_unit},
-                           {"q_file", o.q_file}, {"measure", o.measure}, {"rows", rows}})
-              << "\n";
+    const auto row = [&](size_t i) {
+      json j = {{"line", r.table.lines[i / per_row]}, {"q", toVector(r.table.row(i / per_row))}};
+      if (r.measure == Measure::Targets) {
+        j["target"] = file.targets[i % per_row].name;
+        j["p"] = toVector(point(i));
+      } else if (r.measure == Measure::Pose) {
+        j["T_base_tool"] = poseJson(r.T[i]);
+      } else {
+        j["p"] = toVector(r.T[i].p);
+      }
+      return j;
+    };
+    writeJsonWithRows(std::cout, {{"name", file.name}, {"source", file.path}, {"model", kind},
+                                  {"length_unit", file.length_unit}, {"q_file", o.q_file}, {"measure", o.measure}},
+                      "rows", count, row);
+    std::cout << "\n";
   } else if (!o.out.empty()) {
     // ("300 target measurements", "50 pose measurements")
-    std::cout << measurements.size() << " " << (o.measure == "targets" ? std::string("target") : o.measure)
+    std::cout << count << " " << (o.measure == "targets" ? std::string("target") : o.measure)
               << " measurements written to " << o.out << "\n";
   } else {
-    std::cout << text;
+    csv(std::cout);
   }
   return 0;
 }

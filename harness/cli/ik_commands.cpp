@@ -29,6 +29,7 @@
 #include "lowpair/kinematics.hpp"
 #include "lowpair/tolerances.hpp"
 #include "commands/ik_rows.hpp"
+#include "commands/limits.hpp"
 #include "commands/sampling.hpp"
 
 namespace lowpair::cli {
@@ -51,24 +52,27 @@ void appendNumber(std::string& out, double x) {
 
 std::string unitName(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
 
-// The CSV: comments, `q1..qn,residual,status`, one row per solution in input order.
-std::string solutionsCsv(const std::vector<std::string>& comments, int dof, const std::vector<IkRow>& rows) {
-  std::string out;
-  for (const std::string& c : comments) out += "# " + c + "\n";
-  for (int i = 0; i < dof; ++i) out += "q" + std::to_string(i + 1) + ",";
-  out += "residual,status\n";
+// The CSV: comments, `q1..qn,residual,status`, one row per solution in input order, written as it is made.
+void writeSolutionsCsv(std::ostream& out, const std::vector<std::string>& comments, int dof,
+                       const std::vector<IkRow>& rows) {
+  std::string text;
+  for (const std::string& c : comments) text += "# " + c + "\n";
+  for (int i = 0; i < dof; ++i) text += "q" + std::to_string(i + 1) + ",";
+  text += "residual,status\n";
+  out << text;
   for (const IkRow& row : rows) {
     const IkResult& s = row.result;
+    text.clear();
     for (int i = 0; i < dof; ++i) {
-      appendNumber(out, s.q[i]);
-      out += ',';
+      appendNumber(text, s.q[i]);
+      text += ',';
     }
-    appendNumber(out, s.position_error);
-    out += ',';
-    out += ikStatusName(s.status);
-    out += '\n';
+    appendNumber(text, s.position_error);
+    text += ',';
+    text += ikStatusName(s.status);
+    text += '\n';
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
   }
-  return out;
 }
 
 struct Summary {
@@ -143,19 +147,22 @@ void printSummary(std::ostream& out, const std::string& what, const Summary& s, 
   if (failed > kListedFailures) out << "  ... " << failed - kListedFailures << " more rows not ok (the status column lists every one)\n";
 }
 
-// Writes the CSV to --out (all or nothing) and the text or JSON to stdout, or the CSV to stdout.
-// The CSV and the JSON are made only when written or printed (up to 10^6 rows: the JSON of every row, about
-// 1 KB each, is not built without --json).
-int emit(const std::string& out_path, bool as_json, const std::function<std::string()>& csv,
-         const std::function<json()>& j, const std::function<void(std::ostream&)>& text, const Summary& s) {
-  if (!out_path.empty()) writeFileAtomically(out_path, csv());
+// Writes the CSV to --out (all or nothing) and the text or JSON to stdout, or the CSV to stdout. Every row is
+// solved before: nothing is written on an error. The CSV and the JSON are written as they are made (10^6 rows:
+// about 1 KB of JSON values each, never held together; docs/cli.md "Limits").
+// @param head the JSON without its "rows": those are ikRowJson of `rows`
+int emit(const std::string& out_path, bool as_json, const StreamWriter& csv, const json& head,
+         const std::vector<IkRow>& rows, bool with_seed, const std::function<void(std::ostream&)>& text,
+         const Summary& s) {
+  if (!out_path.empty()) writeFileAtomically(out_path, csv);
   if (as_json) {
-    std::cout << jsonText(j()) << "\n";
+    writeJsonWithRows(std::cout, head, "rows", rows.size(), [&](size_t k) { return ikRowJson(rows[k], with_seed); });
+    std::cout << "\n";
   } else if (!out_path.empty()) {
     text(std::cout);
     std::cout << "  written to " << out_path << "\n";
   } else {
-    std::cout << csv();
+    csv(std::cout);
   }
   return s.all_ok() ? 0 : 1;
 }
@@ -175,6 +182,10 @@ int runIk(const IkCommandOptions& o) {
   const PoeModel model = file.poeModel();
   const int n = model.dof();
   JointTable table = readJointTable(o.poses, TableKind::Targets, n, o.robot.path, csvJointNames(file));
+  // the solver's work bounded before any row is solved (limits.hpp): --seeds named when the seeds are random
+  if (const auto problem = ikWorkProblem(table.rows(), table.dof > 0 ? 1 : o.seeds, n, table.dof == 0)) {
+    throw UsageError(table.dof > 0 ? o.poses : "--seeds", *problem);
+  }
   std::vector<std::string> notes = table.notes;  // the columns ignored, then a unit conversion
   // positions, and the seeds' prismatic joint values, in the robot's unit
   if (const std::string note = convertTableUnit(table, file.length_unit, file.path, prismaticJoints(model)); !note.empty()) {
@@ -219,25 +230,22 @@ int runIk(const IkCommandOptions& o) {
   for (const std::string& note : notes) comments.push_back(note);
   for (const std::string& line : summaryComments(s, rows, file, table.pose)) comments.push_back(line);
   if (isUnitLabel(file.length_unit)) comments.push_back("length_unit: " + file.length_unit);
-  auto csv = [&] { return solutionsCsv(comments, n, rows); };
-  auto j = [&] {
-    return json{{"name", file.name},
-                {"source", file.path},
-                {"poses", o.poses},
-                {"length_unit", file.length_unit},
-                {"task", task},
-                {"seeds", table.dof > 0 ? json("file") : json(o.seeds)},
-                {"seed", o.seed},
-                {"notes", notes},
-                {"counts", ikCountsJson(rows)},
-                {"rows", ikRowsJson(rows, true)}};
-  };
+  const StreamWriter csv = [&](std::ostream& out) { writeSolutionsCsv(out, comments, n, rows); };
+  const json head{{"name", file.name},
+                  {"source", file.path},
+                  {"poses", o.poses},
+                  {"length_unit", file.length_unit},
+                  {"task", task},
+                  {"seeds", table.dof > 0 ? json("file") : json(o.seeds)},
+                  {"seed", o.seed},
+                  {"notes", notes},
+                  {"counts", ikCountsJson(rows)}};
   auto text = [&](std::ostream& out) {
     for (const std::string& note : notes) out << "note: " << note << "\n";
     printSummary(out, "ik: " + std::to_string(rows.size()) + " " + task + " targets of " + robotLabel(file) + ", " + seeding,
                  s, rows, o.poses, file, table.pose);
   };
-  return emit(o.out, o.as_json, csv, j, text, s);
+  return emit(o.out, o.as_json, csv, head, rows, true, text, s);
 }
 
 // ---- compensate ----------------------------------------------------------------------------------------------------
@@ -272,6 +280,7 @@ int runCompensate(const CompensateOptions& o) {
   }
   const int n = calibrated.dof();
   JointTable table = readJointTable(o.q_file, TableKind::Joints, n, o.calibrated.path, csvJointNames(calibrated_file));
+  if (const auto problem = ikWorkProblem(table.rows(), 1, n, false)) throw UsageError(o.q_file, *problem);
   for (const std::string& note : table.notes) std::cerr << "note: " << note << "\n";
   // prismatic joint values in the robots' unit (one unit: checked above)
   if (const std::string note = convertTableUnit(table, nominal_file.length_unit, o.nominal, prismaticJoints(nominal));
@@ -287,8 +296,8 @@ int runCompensate(const CompensateOptions& o) {
       table.q.data(), static_cast<Eigen::Index>(table.rows()), n);
   std::vector<IkRow> rows = compensateJointRows(nominal, calibrated, q_nominal, table.lines, options);
   // a compliance (and a backlash with --approach): the commands whose joints, deflected, stand where the solution puts them
-  std::vector<VecX> rows_q;
-  for (Eigen::Index k = 0; k < q_nominal.rows(); ++k) rows_q.push_back(q_nominal.row(k).transpose());
+  std::vector<VecX> rows_q;  // (only --approach reads them)
+  for (Eigen::Index k = 0; !o.approach.empty() && k < q_nominal.rows(); ++k) rows_q.push_back(q_nominal.row(k).transpose());
   const std::vector<VecX> signs = commands::approachSigns(o.approach, rows_q, n, false, cliSpelling());
   const JointDeflection applied = commands::appliedDeflection(calibrated_file, !signs.empty());
   const bool compliance = !applied.empty();
@@ -327,31 +336,24 @@ int runCompensate(const CompensateOptions& o) {
     std::cerr << "note: " << tool_note << "\n";
   }
   if (isUnitLabel(calibrated_file.length_unit)) comments.push_back("length_unit: " + calibrated_file.length_unit);
-  auto csv = [&] { return solutionsCsv(comments, n, rows); };
-  auto j = [&] {
-    return json{{"name", calibrated_file.name},
-                {"source", calibrated_file.path},
-                {"nominal", nominal_file.path},
-                {"q_file", o.q_file},
-                {"length_unit", calibrated_file.length_unit},
-                {"measure", o.measure},
-                {"tool_determined", tool_note.empty()},
-                {"tool_note", tool_note.empty() ? json(nullptr) : json(tool_note)},
-                {"counts", ikCountsJson(rows)},
-                {"rows", ikRowsJson(rows, false)}};
-  };
-  auto json_out = [&] {
-    json out = j();
-    if (applied.compliance.size() > 0) out["compliance_applied"] = true;  // (only then: other outputs unchanged)
-    if (applied.backlash.size() > 0) out["backlash_applied"] = true;
-    return out;
-  };
+  const StreamWriter csv = [&](std::ostream& out) { writeSolutionsCsv(out, comments, n, rows); };
+  json head{{"name", calibrated_file.name},
+            {"source", calibrated_file.path},
+            {"nominal", nominal_file.path},
+            {"q_file", o.q_file},
+            {"length_unit", calibrated_file.length_unit},
+            {"measure", o.measure},
+            {"tool_determined", tool_note.empty()},
+            {"tool_note", tool_note.empty() ? json(nullptr) : json(tool_note)},
+            {"counts", ikCountsJson(rows)}};
+  if (applied.compliance.size() > 0) head["compliance_applied"] = true;  // (only then: other outputs unchanged)
+  if (applied.backlash.size() > 0) head["backlash_applied"] = true;
   auto text = [&](std::ostream& out) {
     printSummary(out, "compensate: " + std::to_string(rows.size()) + " joint vectors of " + o.q_file + " (" + o.measure +
                           "), " + robotLabel(nominal_file) + " -> " + robotLabel(calibrated_file),
                  s, rows, o.q_file, calibrated_file, pose);
   };
-  return emit(o.out, o.as_json, csv, json_out, text, s);
+  return emit(o.out, o.as_json, csv, head, rows, false, text, s);
 }
 
 }  // namespace

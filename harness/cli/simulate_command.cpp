@@ -338,7 +338,8 @@ int simulate(const SimulateOptions& given) {
   const std::vector<long long>& q_lines = q_table.lines;
   const MatX Q = q_table.matrix();
   if (!o.q_file.empty()) o.poses = static_cast<int>(Q.rows());
-  const long long rows = simulationRows(o.poses, setup, o.q_file.empty() ? "--poses" : o.q_file);
+  const long long rows = simulationRows(o.poses, static_cast<int>(joints), setup, o.q_file.empty() ? "--poses" : o.q_file,
+                                       o.robot.path);
   if (blunders) checkBlunderCount(*blunders, rows, cliSpelling());
   SimulationPoses poses;
   poses.count = o.poses;
@@ -358,13 +359,15 @@ int simulate(const SimulateOptions& given) {
     const long long before = commentLines(comments) + commentLines(blunderComments(*blunders, s.blunders, 0, unit));
     for (const std::string& line : blunderComments(*blunders, s.blunders, before + 2, unit)) comments.push_back(line);
   }
-  const std::string text =
-      formatMeasurements(setup.measure, measurements, comments, setup.measure == Measure::Targets ? targets.names
-                                                                                                  : std::vector<std::string>{});
+  // written as it is made (10^6 rows: the text is never held whole), every row checked before the first byte
+  const StreamWriter csv = [&](std::ostream& out) {
+    writeMeasurements(out, setup.measure, measurements, comments,
+                      setup.measure == Measure::Targets ? targets.names : std::vector<std::string>{});
+  };
   if (o.out.empty()) {
-    std::cout << text;
+    csv(std::cout);
   } else {
-    writeFileAtomically(o.out, text);  // all or nothing
+    writeFileAtomically(o.out, csv);  // all or nothing
     // ("300 target measurements", "50 pose measurements")
     std::cout << measurements.size() << " " << (o.measure == "targets" ? std::string("target") : o.measure)
               << " measurements written to " << o.out << "\n";

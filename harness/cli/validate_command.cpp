@@ -67,8 +67,8 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
   // seeds are whole numbers in [0, 2^53], as in scenario files (a larger value used to be clamped silently)
   v->add_option("--seed", o->seed, "seed in [0, 2^53] (default: the scenario's)")
       ->check(CLI::Range(0LL, kMaxSeed));
-  v->add_option("--threads", o->threads, "threads (default: all cores; results do not depend on it)")
-      ->check(CLI::NonNegativeNumber);
+  v->add_option("--threads", o->threads, "threads, at most 256 (default: all cores; results do not depend on it)")
+      ->check(CLI::Range(0, kMaxThreads));
   v->add_option("--shard", o->shard, "K/N: run the K-th of N disjoint slices of the sample stream");
   v->add_flag("--json", o->as_json, "print JSON instead of the table");
   v->add_option("--report", o->report, "write report.json, summary.md and pictures to this folder");

@@ -68,12 +68,6 @@ json ikRowJson(const IkRow& row, bool with_seed) {
   return j;
 }
 
-json ikRowsJson(const std::vector<IkRow>& rows, bool with_seed) {
-  json out = json::array();
-  for (const IkRow& row : rows) out.push_back(ikRowJson(row, with_seed));
-  return out;
-}
-
 json ikCountsJson(const std::vector<IkRow>& rows) {
   std::array<long long, 5> count{};
   for (const IkRow& row : rows) ++count[static_cast<size_t>(row.result.status)];

@@ -51,9 +51,6 @@ std::vector<IkRow> compensateJointRows(const PoeModel& nominal, const PoeModel& 
 /// One row of the JSON of `ik` (with_seed: the row's seed, "file" for its own) and `compensate`.
 nlohmann::json ikRowJson(const IkRow& row, bool with_seed);
 
-/// The `rows` of the JSON of `ik` and `compensate`: ikRowJson of each row.
-nlohmann::json ikRowsJson(const std::vector<IkRow>& rows, bool with_seed);
-
 /// The `counts` of the same JSON: the rows per status, every status named.
 nlohmann::json ikCountsJson(const std::vector<IkRow>& rows);
 

@@ -14,17 +14,6 @@
 
 namespace lowpair::commands {
 
-namespace {
-
-std::string scientific(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
-
-}  // namespace
-
-
 using nlohmann::json;
 
 namespace {
@@ -75,34 +64,9 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
   spec.targets = options.targets;
   const double columns = ErrorModel(model, spec).size();
   const double rows = r.measure == Measure::Pose ? 6.0 : 3.0 * std::max<size_t>(1, options.targets.size());
-  if (static_cast<double>(request.candidates) * rows * columns > kMaxPlanEntries) {
-    const bool robot = rows * columns > kMaxPlanEntries;
-    throw UsageError(robot ? r.file.path : spelling.name("candidates"),
-                     std::to_string(request.candidates) + " candidates of " + io::shortest(rows) + " rows and " +
-                         io::shortest(columns) + " parameters exceed the identification size limit (" +
-                         io::shortest(kMaxPlanEntries) + " numbers, held about four times): fewer candidates");
-  }
-  // the rank rule on every candidate's rows stacked: one SVD (limits.hpp)
-  const IdentificationSize stacked{static_cast<double>(request.candidates) * rows, columns};
-  if (stacked.work() > kMaxIdentificationWork) {
-    const bool robot = IdentificationSize{rows, columns}.work() > kMaxIdentificationWork;
-    throw UsageError(robot ? r.file.path : spelling.name("candidates"),
-                     std::to_string(request.candidates) + " candidates of " + io::shortest(rows) + " rows and " +
-                         io::shortest(columns) + " parameters exceed the identification work limit (" +
-                         io::shortest(kMaxIdentificationWork) + " for the SVD of them stacked, rows columns^2 + 5 "
-                         "columns^3; here " + io::shortest(stacked.work()) + "): fewer candidates" +
-                         (options.targets.size() > 1 ? " or targets" : ""));
-  }
-  // the greedy steps alone (PlanOptions::max_exchange_work, rank <= columns): each pose added after a trial
-  // against every candidate (rows x (rank + rows)) and every candidate's factor updated (rows x rank^2); the
-  // exchange passes stop at the same budget
-  const double greedy = static_cast<double>(request.poses) * request.candidates * rows * (columns + rows + columns * columns);
-  if (greedy > options.max_exchange_work) {
-    throw UsageError(spelling.name("candidates"),
-                     std::to_string(request.poses) + " poses from " + std::to_string(request.candidates) +
-                         " candidates exceed the plan's work limit (" + io::shortest(options.max_exchange_work) +
-                         " operations, about a minute; the greedy choice alone takes " + scientific(greedy) +
-                         "): fewer candidates or poses");
+  if (const auto problem = planSizeProblem(request.candidates, request.poses, rows, columns, options.max_exchange_work,
+                                           options.targets.size() > 1)) {
+    throw UsageError(problem->robot ? r.file.path : spelling.name("candidates"), problem->text);
   }
 
   options.validate();

@@ -13,16 +13,15 @@
 #include "lowpair/calibration.hpp"
 #include "lowpair/plan.hpp"
 #include "commands/arguments.hpp"
+#include "commands/limits.hpp"
 
 namespace lowpair::commands {
 
-/// Upper bounds of `plan`: the poses chosen, the candidates, and the numbers of their blocks (candidates x
-/// rows x parameters): the blocks are held about four times (scaled, the SVD's copy, in the determined
-/// directions, the search's working copy), so 1e7 numbers is about 320 MB.
+/// Upper bounds of `plan`: the poses chosen and the candidates (the numbers of their blocks and the search's
+/// work: planSizeProblem, limits.hpp).
 constexpr int kMaxPlanPoses = 1000;
 constexpr int kDefaultPlanCandidates = 5000;
 constexpr int kMaxPlanCandidates = 100000;
-constexpr double kMaxPlanEntries = 1e7;
 /// The random sets of N the plan is compared with.
 constexpr int kPlanRandomSets = 100;
 

@@ -112,12 +112,22 @@ Blunders checkBlunders(double count, double size, const ArgumentSpelling& spelli
   return {static_cast<long long>(count), size};
 }
 
-long long simulationRows(long long poses, const MeasurementSetup& setup, const std::string& poses_subject) {
+long long simulationRows(long long poses, int joints, const MeasurementSetup& setup, const std::string& poses_subject,
+                         const std::string& robot_subject) {
+  if (joints > io::kMaxMeasurementJoints) {
+    throw UsageError(robot_subject, std::to_string(joints) + " joints, more than the " +
+                                        std::to_string(io::kMaxMeasurementJoints) + " a measurement file holds");
+  }
   const long long rows = poses * rowsPerPose(setup);
   if (rows > io::kMaxMeasurements) {
     throw UsageError(poses_subject, std::to_string(poses) + " poses x " + std::to_string(rowsPerPose(setup)) +
                                         " targets = " + std::to_string(rows) + " measurements, more than the " +
                                         std::to_string(io::kMaxMeasurements) + " a measurement file holds");
+  }
+  if (rows * joints > io::kMaxMeasurementJointValues) {
+    throw UsageError(poses_subject, std::to_string(rows) + " measurements x " + std::to_string(joints) + " joints = " +
+                                        std::to_string(rows * joints) + " joint values, more than the " +
+                                        std::to_string(io::kMaxMeasurementJointValues) + " a measurement file holds");
   }
   return rows;
 }

@@ -52,9 +52,13 @@ struct Blunders {
 /// @throws UsageError naming blunders as `spelling` spells it
 Blunders checkBlunders(double count, double size, const ArgumentSpelling& spelling);
 
-/// The rows `poses` poses measure, at most io::kMaxMeasurements (what a measurement file holds).
-/// @throws UsageError with subject `poses_subject` (the argument or file that sets the poses)
-long long simulationRows(long long poses, const MeasurementSetup& setup, const std::string& poses_subject);
+/// The rows `poses` poses of a `joints`-joint robot measure, at most io::kMaxMeasurements, with at most
+/// io::kMaxMeasurementJoints joints and io::kMaxMeasurementJointValues joint values in all (what a measurement file
+/// holds: a file beyond them would not be read back, and 10^6 rows of 1000 joints would hold 8 GB).
+/// @throws UsageError with subject `poses_subject` (the argument or file that sets the poses), or `robot_subject`
+/// for the joints
+long long simulationRows(long long poses, int joints, const MeasurementSetup& setup, const std::string& poses_subject,
+                         const std::string& robot_subject);
 
 /// Checks that the blunders are no more than the rows. @throws UsageError naming blunders
 void checkBlunderCount(const Blunders& blunders, long long rows, const ArgumentSpelling& spelling);

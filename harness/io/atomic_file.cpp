@@ -6,11 +6,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <ostream>
+#include <streambuf>
 #include <system_error>
 
 #include "io/robot_file.hpp"
@@ -28,10 +32,9 @@ constexpr size_t kMaxTemporaryStem = 200;
 
 std::string errorText(int error) { return std::generic_category().message(error); }
 
-// Writes all of `content` to `fd`: 0, or the errno of the write that failed (ENOSPC, EFBIG, EIO, ...).
-int writeAll(int fd, const std::string& content) {
-  const char* data = content.data();
-  size_t left = content.size();
+// Writes `size` bytes at `data` to `fd`: 0, or the errno of the write that failed (ENOSPC, EFBIG, EIO, ...).
+int writeAll(int fd, const char* data, size_t size) {
+  size_t left = size;
   while (left > 0) {
     const ssize_t n = ::write(fd, data, left);
     if (n < 0) {
@@ -44,9 +47,55 @@ int writeAll(int fd, const std::string& content) {
   return 0;
 }
 
-// Writes `content` to an exclusive temporary beside `path`; returns the temporary's path.
-// @throws RobotFileError (the temporary removed)
-std::string writeTemporary(const std::string& path, const std::string& content) {
+int writeAll(int fd, const std::string& content) { return writeAll(fd, content.data(), content.size()); }
+
+// A stream onto a descriptor in 64 KiB writes; the first failed write's errno is kept (later output is dropped).
+class DescriptorBuffer : public std::streambuf {
+ public:
+  explicit DescriptorBuffer(int fd) : fd_(fd) { setp(buffer_.data(), buffer_.data() + buffer_.size()); }
+  /// Writes what is buffered: 0, or the errno of the first write that failed.
+  int finish() {
+    drain();
+    return error_;
+  }
+
+ protected:
+  int_type overflow(int_type c) override {
+    drain();
+    if (error_ != 0) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return finish() == 0 ? 0 : -1; }
+
+ private:
+  void drain() {
+    if (error_ == 0) error_ = writeAll(fd_, pbase(), static_cast<size_t>(pptr() - pbase()));
+    setp(buffer_.data(), buffer_.data() + buffer_.size());
+  }
+  int fd_;
+  int error_ = 0;
+  std::array<char, 65536> buffer_{};
+};
+
+// What `write` puts on a stream, written to `fd`: 0, or the errno of the write that failed. An exception of
+// `write` propagates (the caller removes what it made).
+int writeStream(int fd, const StreamWriter& write) {
+  DescriptorBuffer buffer(fd);
+  std::ostream out(&buffer);
+  write(out);
+  return buffer.finish();
+}
+
+// How a file's bytes reach a descriptor: 0, or the errno of the write that failed.
+using DescriptorWriter = std::function<int(int fd)>;
+
+// Writes the content `write_to` writes to an exclusive temporary beside `path`; returns the temporary's path.
+// @throws RobotFileError, or what write_to throws (the temporary removed)
+std::string writeTemporary(const std::string& path, const DescriptorWriter& write_to) {
   auto failure = [&path](const std::string& reason) { return RobotFileError(path + ": cannot write: " + reason); };
   const fs::path target(path);
   if (path.empty() || !target.has_filename()) throw failure("not a file name");
@@ -71,7 +120,13 @@ std::string writeTemporary(const std::string& path, const std::string& content) 
   if (::stat(path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode) && ::fchmod(fd, existing.st_mode & 07777) != 0) {
     error = errno;
   }
-  if (error == 0) error = writeAll(fd, content);
+  try {
+    if (error == 0) error = write_to(fd);
+  } catch (...) {  // (an interruption, out of memory): nothing replaced, nothing left behind
+    ::close(fd);
+    fs::remove(temporary, ec);
+    throw;
+  }
   // close reports delayed write errors (NFS, quotas); its failure is a failure of the write
   if (::close(fd) != 0 && error == 0) error = errno;
   if (error == 0) return temporary.string();
@@ -149,16 +204,16 @@ OutputTarget classifyOutput(const std::string& path) {
   throw failure("not a regular file, a character device or a FIFO (a socket or a block device is not written)");
 }
 
-// Writes `content` to this process's descriptor `own` when the path names one (after what was printed to
-// it: the same file offset, as a shell redirection expects), else opens the existing character device,
-// FIFO or another process's descriptor path (O_APPEND: a file behind it keeps what it holds).
+// Writes what `write_to` writes to this process's descriptor `own` when the path names one (after what was
+// printed to it: the same file offset, as a shell redirection expects), else opens the existing character
+// device, FIFO or another process's descriptor path (O_APPEND: a file behind it keeps what it holds).
 // @throws RobotFileError `PATH: cannot write: REASON`
-void writeDirectly(const std::string& path, int own, const std::string& content) {
+void writeDirectly(const std::string& path, int own, const DescriptorWriter& write_to) {
   if (own >= 0) {
     std::cout.flush();
     std::cerr.flush();
     std::fflush(nullptr);
-    const int error = writeAll(own, content);
+    const int error = write_to(own);
     if (error != 0) throw RobotFileError(path + ": cannot write: " + errorText(error));
     return;
   }
@@ -171,9 +226,18 @@ void writeDirectly(const std::string& path, int own, const std::string& content)
   if (::stat(path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode) && ::fchmod(fd, existing.st_mode & 07777) != 0) {
     error = errno;
   }
-  if (error == 0) error = writeAll(fd, content);
+  try {
+    if (error == 0) error = write_to(fd);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
   if (::close(fd) != 0 && error == 0) error = errno;
   if (error != 0) throw RobotFileError(path + ": cannot write: " + errorText(error));
+}
+
+DescriptorWriter contentWriter(const std::string& content) {
+  return [&content](int fd) { return writeAll(fd, content); };
 }
 
 }  // namespace
@@ -182,6 +246,23 @@ void writeFileAtomically(const std::string& path, const std::string& content) {
   StagedFiles files;
   files.stage(path, content);
   files.commit();
+}
+
+void writeFileAtomically(const std::string& path, const StreamWriter& write) {
+  const OutputTarget target = classifyOutput(path);
+  const DescriptorWriter write_to = [&write](int fd) { return writeStream(fd, write); };
+  if (target.direct) {
+    writeDirectly(target.path, target.descriptor, write_to);
+    return;
+  }
+  const std::string temporary = writeTemporary(target.path, write_to);
+  std::error_code ec;
+  fs::rename(temporary, target.path, ec);
+  if (ec) {
+    const std::string reason = ec.message();
+    fs::remove(temporary, ec);
+    throw RobotFileError(target.path + ": cannot write: " + reason);
+  }
 }
 
 StagedFiles::~StagedFiles() {
@@ -197,7 +278,7 @@ void StagedFiles::stage(const std::string& path, const std::string& content) {
   if (target.direct) {
     entries_.push_back(Entry{target.path, std::string(), content, target.descriptor});
   } else {
-    entries_.push_back(Entry{target.path, writeTemporary(target.path, content), std::string(), -1});
+    entries_.push_back(Entry{target.path, writeTemporary(target.path, contentWriter(content)), std::string(), -1});
   }
 }
 
@@ -205,7 +286,7 @@ void StagedFiles::commit() {
   while (!entries_.empty()) {
     const Entry& e = entries_.front();
     if (e.direct()) {
-      writeDirectly(e.target, e.descriptor, e.content);
+      writeDirectly(e.target, e.descriptor, contentWriter(e.content));
     } else {
       std::error_code ec;
       fs::rename(e.temporary, e.target, ec);

@@ -6,6 +6,8 @@
 /// permission, the target is a directory) leaves the target as it was and removes the temporary. No fsync:
 /// this protects against failed writes, not against a system crash.
 
+#include <functional>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -19,6 +21,15 @@ namespace lowpair::io {
 /// to it) are written directly, never replaced: they are not all or nothing. Anything else (a directory, a socket, a block device) is refused.
 /// @throws RobotFileError `PATH: cannot write: REASON`
 void writeFileAtomically(const std::string& path, const std::string& content);
+
+/// What writes an output's bytes to a stream, as they are made.
+using StreamWriter = std::function<void(std::ostream&)>;
+
+/// The same, the content written by `write` as it is made (in 64 KiB writes): an output of 10^6 rows is never
+/// held whole in memory. An exception of `write` (an interruption, out of memory) leaves the target as it was
+/// and removes the temporary (a device, FIFO or descriptor path, written directly, has what was written).
+/// @throws RobotFileError `PATH: cannot write: REASON`, or what `write` throws
+void writeFileAtomically(const std::string& path, const StreamWriter& write);
 
 /// Several files all or nothing: each is written to its temporary when staged (a failure throws and
 /// leaves every target as it was: the temporaries are removed by the destructor), and `commit()` renames

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <unordered_map>
@@ -247,68 +248,97 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
   return file;
 }
 
-std::string formatMeasurements(Measure measure, const std::vector<Measurement>& measurements,
-                               const std::vector<std::string>& comments, const std::vector<std::string>& target_names) {
-  if (measurements.empty()) throw std::invalid_argument("formatMeasurements: no measurements");
+MeasurementWriter::MeasurementWriter(std::ostream& out, Measure measure, Eigen::Index dof,
+                                     const std::vector<std::string>& target_names, bool mixed)
+    : out_(out), measure_(measure), dof_(dof), target_names_(target_names), mixed_(mixed && measure == Measure::Targets) {
   checkTargetNames(measure, target_names);
-  const Eigen::Index n = measurements.front().q.size();
-  std::string out;
+}
+
+void MeasurementWriter::writeHeader(const std::vector<std::string>& comments) {
+  std::string text;
   for (const std::string& comment : comments) {
     size_t begin = 0;
     while (true) {  // one "# " line per line of the comment
       const size_t end = std::min(comment.find('\n', begin), comment.size());
-      std::string text = comment.substr(begin, end - begin);
-      if (!text.empty() && text.back() == '\r') text.pop_back();
-      out += text.empty() ? "#\n" : "# " + text + "\n";
+      std::string line = comment.substr(begin, end - begin);
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      text += line.empty() ? "#\n" : "# " + line + "\n";
       if (end == comment.size()) break;
       begin = end + 1;
     }
   }
+  for (Eigen::Index i = 0; i < dof_; ++i) text += "q" + std::to_string(i + 1) + ",";
+  text += measure_ == Measure::Pose        ? "x,y,z,qw,qx,qy,qz\n"
+          : mixed_                         ? "target,x,y,z,qw,qx,qy,qz\n"
+          : measure_ == Measure::Targets   ? "target,x,y,z\n"
+                                           : "x,y,z\n";
+  out_.write(text.data(), static_cast<std::streamsize>(text.size()));
+}
+
+bool MeasurementWriter::poseRow(int target) const {
+  return measure_ == Measure::Pose || (measure_ == Measure::Targets && target == kPoseMeasurement);
+}
+
+void MeasurementWriter::checkRow(Eigen::Index dof, int target) const {
+  if (dof != dof_) {
+    throw std::invalid_argument("formatMeasurements: joint vectors of " + std::to_string(dof_) + " and " +
+                                std::to_string(dof) + " values");
+  }
+  if (measure_ == Measure::Targets && !poseRow(target) && (target < 0 || static_cast<size_t>(target) >= target_names_.size())) {
+    throw std::invalid_argument("formatMeasurements: target " + std::to_string(target) + " of " +
+                                std::to_string(target_names_.size()) + " target names");
+  }
+}
+
+void MeasurementWriter::write(const Eigen::Ref<const VecX>& q, const Pose& T, int target) {
+  checkRow(q.size(), target);
+  row_.clear();
+  for (Eigen::Index i = 0; i < dof_; ++i) {
+    appendNumber(row_, q[i]);
+    row_ += ',';
+  }
+  const bool pose_row = poseRow(target);
+  if (measure_ == Measure::Targets && pose_row) {
+    row_ += ',';
+  } else if (measure_ == Measure::Targets) {
+    row_ += target_names_[static_cast<size_t>(target)] + ',';
+  }
+  for (int i = 0; i < 3; ++i) {
+    if (i > 0) row_ += ',';
+    appendNumber(row_, T.p[i]);
+  }
+  if (pose_row) {
+    const Eigen::Vector4d quaternion = csvQuaternion(T.R);
+    for (int i = 0; i < 4; ++i) {
+      row_ += ',';
+      appendNumber(row_, quaternion[i]);
+    }
+  } else if (mixed_) {
+    row_ += ",,,";  // a target's row: qw..qz empty
+    row_ += ',';
+  }
+  row_ += '\n';
+  out_.write(row_.data(), static_cast<std::streamsize>(row_.size()));
+}
+
+std::string formatMeasurements(Measure measure, const std::vector<Measurement>& measurements,
+                               const std::vector<std::string>& comments, const std::vector<std::string>& target_names) {
+  std::ostringstream out;
+  writeMeasurements(out, measure, measurements, comments, target_names);
+  return std::move(out).str();
+}
+
+void writeMeasurements(std::ostream& out, Measure measure, const std::vector<Measurement>& measurements,
+                       const std::vector<std::string>& comments, const std::vector<std::string>& target_names) {
+  if (measurements.empty()) throw std::invalid_argument("formatMeasurements: no measurements");
   // target measurements with poses of the tool frame among them (mixed): both columns, each row one of them
   const bool mixed = measure == Measure::Targets &&
                      std::any_of(measurements.begin(), measurements.end(),
                                  [](const Measurement& m) { return m.target == kPoseMeasurement; });
-  for (Eigen::Index i = 0; i < n; ++i) out += "q" + std::to_string(i + 1) + ",";
-  out += measure == Measure::Pose ? "x,y,z,qw,qx,qy,qz\n"
-         : mixed                  ? "target,x,y,z,qw,qx,qy,qz\n"
-         : measure == Measure::Targets ? "target,x,y,z\n"
-                                       : "x,y,z\n";
-  for (const Measurement& m : measurements) {
-    if (m.q.size() != n) {
-      throw std::invalid_argument("formatMeasurements: joint vectors of " + std::to_string(n) + " and " +
-                                  std::to_string(m.q.size()) + " values");
-    }
-    for (Eigen::Index i = 0; i < n; ++i) {
-      appendNumber(out, m.q[i]);
-      out += ',';
-    }
-    const bool pose_row = measuresPose(m, measure);
-    if (measure == Measure::Targets && pose_row) {
-      out += ',';
-    } else if (measure == Measure::Targets) {
-      if (m.target < 0 || static_cast<size_t>(m.target) >= target_names.size()) {
-        throw std::invalid_argument("formatMeasurements: target " + std::to_string(m.target) + " of " +
-                                    std::to_string(target_names.size()) + " target names");
-      }
-      out += target_names[static_cast<size_t>(m.target)] + ',';
-    }
-    for (int i = 0; i < 3; ++i) {
-      if (i > 0) out += ',';
-      appendNumber(out, m.T_base_tool.p[i]);
-    }
-    if (pose_row) {
-      const Eigen::Vector4d quaternion = csvQuaternion(m.T_base_tool.R);
-      for (int i = 0; i < 4; ++i) {
-        out += ',';
-        appendNumber(out, quaternion[i]);
-      }
-    } else if (mixed) {
-      out += ",,,";  // a target's row: qw..qz empty
-      out += ',';
-    }
-    out += '\n';
-  }
-  return out;
+  MeasurementWriter writer(out, measure, measurements.front().q.size(), target_names, mixed);
+  for (const Measurement& m : measurements) writer.checkRow(m.q.size(), m.target);  // every row, before a byte
+  writer.writeHeader(comments);
+  for (const Measurement& m : measurements) writer.write(m);
 }
 
 }  // namespace lowpair::io

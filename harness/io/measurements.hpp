@@ -46,6 +46,7 @@
 
 #include <functional>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -130,5 +131,36 @@ MeasurementFile readMeasurements(const std::string& path, const MeasurementHeade
 std::string formatMeasurements(Measure measure, const std::vector<Measurement>& measurements,
                                const std::vector<std::string>& comments,
                                const std::vector<std::string>& target_names = {});
+
+/// formatMeasurements onto a stream, row by row (the text of 10^6 rows is never held whole); every row is
+/// checked before the first byte is written. @throws std::invalid_argument as formatMeasurements
+void writeMeasurements(std::ostream& out, Measure measure, const std::vector<Measurement>& measurements,
+                       const std::vector<std::string>& comments, const std::vector<std::string>& target_names = {});
+
+/// The measurement CSV written one row at a time, from rows kept elsewhere (`fk --q-file` writes the table it
+/// read and the poses it computed, without a Measurement per row): the same bytes as formatMeasurements.
+class MeasurementWriter {
+ public:
+  /// @param mixed Measure::Targets with poses of the tool frame among the rows (both sets of columns)
+  /// @throws std::invalid_argument for target names as formatMeasurements
+  MeasurementWriter(std::ostream& out, Measure measure, Eigen::Index dof, const std::vector<std::string>& target_names,
+                    bool mixed = false);
+  /// The comments and the header line.
+  void writeHeader(const std::vector<std::string>& comments);
+  /// @throws std::invalid_argument for a row formatMeasurements refuses (checkRow)
+  void write(const Eigen::Ref<const VecX>& q, const Pose& T_base_tool, int target = -1);
+  void write(const Measurement& m) { write(m.q, m.T_base_tool, m.target); }
+  /// @throws std::invalid_argument when a row of `dof` joint values measuring `target` cannot be written
+  void checkRow(Eigen::Index dof, int target) const;
+
+ private:
+  bool poseRow(int target) const;
+  std::ostream& out_;
+  Measure measure_;
+  Eigen::Index dof_;
+  std::vector<std::string> target_names_;
+  bool mixed_;
+  std::string row_;  // one row's text, reused
+};
 
 }  // namespace lowpair::io

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 #include "lowpair/se3.hpp"
 #include "lowpair/tolerances.hpp"
@@ -73,6 +74,39 @@ std::string fixed(double x, int decimals) {
 }
 
 std::string jsonText(const json& j) { return j.dump(1, ' ', false, json::error_handler_t::replace); }
+
+void writeJsonWithRows(std::ostream& out, const json& head, const std::string& key, size_t count,
+                       const std::function<json(size_t)>& row) {
+  if (!head.is_object() || head.contains(key)) throw std::invalid_argument("writeJsonWithRows: head must be an object without " + key);
+  // the document with an empty array at `key`; a dump holds no raw newline inside a string, so the key's line
+  // (a newline, the one-space indent of the top level, the key) is found only where the key is
+  json document = head;
+  document[key] = json::array();
+  const std::string text = jsonText(document);
+  const std::string mark = "\n " + json(key).dump() + ": []";
+  const size_t at = text.find(mark);
+  if (at == std::string::npos) throw std::logic_error("writeJsonWithRows: the key's line was not found");
+  const size_t array_at = at + mark.size() - 2;  // at the "[]"
+  out.write(text.data(), static_cast<std::streamsize>(array_at));
+  if (count == 0) {
+    out << "[]";
+  } else {
+    // as nlohmann's serializer writes an array at depth 1 (indent 1): "[\n", each element at indent 2 (its
+    // own dump with every line after the first indented by 2 more), ",\n" between, "\n ]"
+    out << "[\n";
+    std::string element;
+    for (size_t k = 0; k < count; ++k) {
+      element = "  ";
+      for (const char c : jsonText(row(k))) {
+        element += c;
+        if (c == '\n') element += "  ";
+      }
+      element += k + 1 < count ? ",\n" : "\n ]";
+      out.write(element.data(), static_cast<std::streamsize>(element.size()));
+    }
+  }
+  out.write(text.data() + array_at + 2, static_cast<std::streamsize>(text.size() - array_at - 2));
+}
 
 json poseJson(const Pose& T) {
   json rows = json::array();

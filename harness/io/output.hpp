@@ -3,6 +3,7 @@
 /// JSON and human-readable renderings of models, conversions and poses (the CLI's contract, README).
 
 #include <cmath>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
@@ -16,6 +17,11 @@ namespace lowpair::io {
 /// `j` as indented JSON text (one space). Strings that are not valid UTF-8 (a name read from a file) are
 /// written with U+FFFD in place of the invalid bytes instead of failing the command.
 std::string jsonText(const nlohmann::json& j);
+/// Writes jsonText(document) to `out`, byte for byte, where document is `head` (an object without `key`) with
+/// `key` set to the array [row(0), ..., row(count - 1)]: one row's JSON value is made at a time (10^6 rows of
+/// `fk --q-file --json` held as one document took 3.7 GB).
+void writeJsonWithRows(std::ostream& out, const nlohmann::json& head, const std::string& key, size_t count,
+                       const std::function<nlohmann::json(size_t)>& row);
 /// A number as JSON, null where it is not finite (JSON has no inf or NaN: an undetermined deviation, no redundancy).
 inline nlohmann::json finiteOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 

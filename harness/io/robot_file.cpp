@@ -126,6 +126,13 @@ void requireBoundedModelFile(const std::string& path) {
   }
 }
 
+void requireJointCount(const std::string& path, size_t joints) {
+  if (joints > static_cast<size_t>(kMaxJoints)) {
+    throw RobotFileError(path + ": " + std::to_string(joints) + " joints, more than the " + std::to_string(kMaxJoints) +
+                         " a robot may have");
+  }
+}
+
 YAML::Node loadYamlFile(const std::string& path) {
   // a directory opens as a stream on Linux and fails inside yaml-cpp with a raw ios message (and a leak)
   std::error_code ec;
@@ -209,6 +216,7 @@ DhModel readDhSection(YamlReader& in, const std::string& path, const YAML::Node&
   if (!joints.IsDefined() || !joints.IsSequence() || joints.size() == 0) {
     yamlError(path, joints.IsDefined() ? joints : dh, "dh.joints must be a non-empty list");
   }
+  requireJointCount(path, joints.size());
   std::vector<DhJoint> list;
   for (size_t i = 0; i < joints.size(); ++i) {
     const YAML::Node j = joints[i];
@@ -290,6 +298,7 @@ RobotFile readRobotFile(const std::string& path) {
       if (!joints.IsDefined() || !joints.IsSequence() || joints.size() == 0) {
         yamlError(path, joints.IsDefined() ? joints : poe, "poe.joints must be a non-empty list");
       }
+      requireJointCount(path, joints.size());
       std::vector<JointSpec> specs;
       for (size_t i = 0; i < joints.size(); ++i) {  // (load_keys: the masses' and deflections' keys, per joint)
         const YAML::Node j = joints[i];

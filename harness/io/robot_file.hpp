@@ -26,15 +26,25 @@ class RobotFileError : public std::runtime_error {
   throw RobotFileError(path + ": " + what);
 }
 
-/// Largest model file read, in bytes: a robot file, a URDF, an MJCF and each file it includes (64 MiB;
-/// the published MJCF and URDF files tried by hand (Menagerie, ros-industrial) are at most 11 KB; meshes, which a
-/// kinematics-only read never opens, do not count). Checked by size before a byte is read.
-constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{64} << 20;
+/// Largest model file read, in bytes: a robot file, a URDF, an MJCF, and an MJCF with every file it includes
+/// (2 MiB; the published MJCF and URDF files tried by hand (Menagerie, ros-industrial) are at most 11 KB; meshes,
+/// which a kinematics-only read never opens, do not count). Checked by size before a byte is read. Why 2 MiB:
+/// parsing holds up to about 230 bytes per byte of a file of tiny nodes (measured: a YAML flow list of 2M zeros,
+/// 4 MiB, 973 MB and 5.7 s; the same bytes of `<a/>` elements, 240 MB as URDF and 363 MB as MJCF), so 64 MiB
+/// could ask for 15 GB.
+constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{2} << 20;
 
 /// For an existing `path`: throws unless it is a regular file (after symbolic links) of at most
 /// kMaxModelFileBytes. A path that does not exist passes (the reader names it as it always has).
-/// @throws RobotFileError `PATH: not a regular file ...` or `PATH: N bytes: over the 64 MiB ...`
+/// @throws RobotFileError `PATH: not a regular file ...` or `PATH: N bytes: over the 2 MiB ...`
 void requireBoundedModelFile(const std::string& path);
+
+/// Most joints of a robot (a robot file's list, a URDF's or an MJCF's chain): every command's cost grows with
+/// them (singular of 10,000 joints: about 1 s), and the measurement CSVs hold at most kMaxMeasurementJoints.
+constexpr int kMaxJoints = 10000;
+
+/// @throws RobotFileError `PATH: N joints, more than the 10000 a robot may have` beyond kMaxJoints
+void requireJointCount(const std::string& path, size_t joints);
 
 /// Target names (a robot file's `targets:`, the measurement CSV's `target` column; docs/file_formats.md):
 /// 1 to kMaxTargetNameBytes printable ASCII characters, none of them a space, a comma or a quote (`'`, `"`),

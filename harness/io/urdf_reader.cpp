@@ -315,6 +315,7 @@ RobotFile readUrdf(const std::string& path, const std::string& tip, const std::s
   if (!model->getRoot()) failFile(path, "not a valid URDF: no root link");
   const std::string base_link = base.empty() ? model->getRoot()->name : base;
   const std::vector<urdf::JointConstSharedPtr> chain = chainJoints(path, *model, tip, base_link);
+  requireJointCount(path, chain.size());
 
   std::vector<JointSpec> specs;
   std::vector<Line> lines;             // of specs

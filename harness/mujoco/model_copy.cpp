@@ -187,6 +187,13 @@ class Copier {
   // Parses `file` into `doc` and records every element's origin.
   void load(XMLDocument& doc, const std::string& file) {
     requireBoundedModelFile(file);  // an include too: a FIFO would hang LoadFile, a 1 GB file cost 3 GB
+    // the model and its includes together: each file under the limit, but many of them, cost as much
+    std::error_code ec;
+    loaded_bytes_ += fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
+    if (loaded_bytes_ > kMaxModelFileBytes) {
+      fail(file, "the model and the files it includes hold " + std::to_string(loaded_bytes_) + " bytes: over the " +
+                     std::to_string(kMaxModelFileBytes >> 20) + " MiB a model file may have");
+    }
     const tinyxml2::XMLError status = doc.LoadFile(file.c_str());
     if (status == tinyxml2::XML_ERROR_FILE_NOT_FOUND || status == tinyxml2::XML_ERROR_FILE_COULD_NOT_BE_OPENED) {
       fail(file, "cannot open file");
@@ -533,6 +540,7 @@ class Copier {
   XMLDocument doc_;
   fs::path folder_;
   std::set<std::string> included_;
+  std::uintmax_t loaded_bytes_ = 0;  // of the model and the files it includes, so far
   std::unordered_map<const XMLElement*, Origin> origin_;
   std::map<std::string, int> dropped_;
 };

@@ -172,6 +172,7 @@ Chain findChain(const mjModel* m, const std::string& path, int tip_owner, int ba
   for (int b : chain.bodies) {
     for (int k = 0; k < m->body_jntnum[b]; ++k) chain.joints.insert(m->body_jntadr[b] + k);
   }
+  io::requireJointCount(path, chain.joints.size());
   return chain;
 }
 

@@ -141,10 +141,9 @@ CasePlanResult planCase(const Scenario& scenario, const CalibrationCase& config,
   const double targets = static_cast<double>(config.targets.size());
   const double rows = options.measure == Measure::Targets ? 3.0 * targets : options.measure == Measure::Position ? 3.0 : 6.0;
   const double columns = 7.0 * nominal.dof() + (options.measure == Measure::Targets ? 3.0 * targets : 6.0);
-  if (static_cast<double>(p.candidates) * rows * columns > kMaxPlanEntries) {
-    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': plan: " + std::to_string(p.candidates) +
-                         " candidates x " + shortest(rows) + " rows x up to " + shortest(columns) +
-                         " parameters exceed the plan's " + shortest(kMaxPlanEntries) + " numbers: fewer candidates");
+  if (const auto problem = planSizeProblem(p.candidates, config.poses, rows, columns, options.max_exchange_work,
+                                           config.targets.size() > 1)) {  // the shared limits of `plan`
+    throw RobotFileError(scenario.path + ": calibration '" + config.name + "': plan: " + problem->text);
   }
   const std::vector<VecX> candidates = randomSamples(config.seed, 0, p.candidates, ranges);
   CasePlanResult out;
@@ -261,9 +260,10 @@ void checkCase(const Scenario& scenario, const CalibrationCase& config, const Ro
   const double targets = static_cast<double>(config.targets.size());
   const double rows = measure == Measure::Targets ? 3.0 * targets * config.poses : 6.0 * config.poses;
   const double columns = 7.0 * nominal.dof() + (measure == Measure::Targets ? 3.0 * targets : 6.0);
-  if (rows * columns + columns * columns > kMaxJacobianEntries) {
+  // the limits of `calibrate` (commands/limits.hpp): the Jacobian and the SVD's V, and one SVD's work
+  if (const std::string over = identificationOverLimit(IdentificationSize{rows, columns}); !over.empty()) {
     throw RobotFileError(scenario.path + ": calibration '" + config.name + "': " + std::to_string(config.poses) +
-                         " poses of a " + std::to_string(nominal.dof()) + "-joint robot exceed the Jacobian size limit");
+                         " poses of a " + std::to_string(nominal.dof()) + "-joint robot " + over);
   }
 }
 

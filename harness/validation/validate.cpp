@@ -324,7 +324,8 @@ ScenarioResult runScenario(const Scenario& scenario, const RunOptions& options) 
   result.size = setup.L;
   result.samples = static_cast<int>(stream.size());
   const int threads =
-      options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      options.threads > 0 ? std::min(options.threads, kMaxThreads)
+                          : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, static_cast<unsigned>(kMaxThreads)));
   runSamples(setup, stream, threads, result);
 
   MujocoRobot::Evaluator mujoco(*setup.robot);

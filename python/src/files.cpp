@@ -87,7 +87,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   const std::optional<MatX> Q = q_arg ? std::optional<MatX>(jointMatrix(*q_arg, r.dof(), r.subject(), "q", &r.poe)) : std::nullopt;
   const long long count = Q ? static_cast<long long>(Q->rows()) : *poses;
   if (count == 0) throw UsageError("q", "no joint values");
-  const long long rows = commands::simulationRows(count, setup, Q ? "q" : "poses");
+  const long long rows = commands::simulationRows(count, r.dof(), setup, Q ? "q" : "poses", r.subject());
   std::optional<commands::Blunders> blunder_set;
   if (blunders) {
     blunder_set = commands::checkBlunders(std::get<0>(*blunders), std::get<1>(*blunders), pythonSpelling());
@@ -255,7 +255,10 @@ void exposeFiles(py::module_& m) {
       .def(
           "save",
           [](const Simulation& s, const std::string& path) {
-            io::writeFileAtomically(path, io::formatMeasurements(s.measure, s.measurements, s.comments, s.target_names));
+            // written as it is made: the text of 10^6 rows is never held whole
+            io::writeFileAtomically(path, [&s](std::ostream& out) {
+              io::writeMeasurements(out, s.measure, s.measurements, s.comments, s.target_names);
+            });
           },
           py::arg("path"),
           "save(path) -> None\n\n"

@@ -11,6 +11,7 @@
 #include "lowpair/kinematics.hpp"
 #include "robot.hpp"
 #include "commands/ik_rows.hpp"
+#include "commands/limits.hpp"
 #include "commands/sampling.hpp"
 
 namespace lowpair::python {
@@ -152,6 +153,10 @@ IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optiona
   bool pose = false;
   std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
   if (singlePrecision(targets_obj) || (rotations_obj && singlePrecision(*rotations_obj))) roundFromSinglePrecision(targets);
+  // the solver's work bounded before any row is solved (commands/limits.hpp), as the CLI's
+  if (const auto problem = commands::ikWorkProblem(targets.size(), q0 ? 1 : seeds, r.dof(), !q0)) {
+    throw UsageError(q0 ? "targets" : "seeds", *problem);
+  }
   const std::optional<MatX> given = seedRows(r, q0, targets.size());
   const PoeModel& model = r.poe;
   IkOptions options;
@@ -210,6 +215,9 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
                                                " in " + unit(nominal) + ": compensation needs one unit");
   }
   checkRowCount(q_arg, "q");
+  // the solver's work bounded before anything is converted or solved (commands/limits.hpp), as the CLI's
+  const auto rows = static_cast<size_t>(q_arg.ndim() >= 2 ? q_arg.shape(0) : 1);
+  if (const auto problem = commands::ikWorkProblem(rows, 1, calibrated.dof(), false)) throw UsageError("q", *problem);
   // the nominal's joint values (evaluated by its FK, then seeds of the calibrated robot's IK)
   const MatX Q = q_arg.ndim() == 1
                      ? MatX(jointVector(q_arg, calibrated.dof(), calibrated.subject(), "q", &nominal.poe).transpose())

@@ -145,8 +145,11 @@ void exposeRobot(py::module_& m) {
       .def_property_readonly("dof", &Robot::dof, "Number of joints n (int).")
       .def_property_readonly("model", [](const Robot& r) { return r.ownDh() ? "dh" : "poe"; },
                              "'poe' or 'dh': the description the file holds (fk evaluates it by default).")
-      .def_property_readonly("length_unit", [](const Robot& r) { return r.file.length_unit; },
-                             "The length unit of every length in and out ('' when the file states none).")
+      .def_property_readonly(
+          "length_unit",
+          [](const Robot& r) -> py::object { return r.file.length_unit.empty() ? py::object(py::none()) : py::object(py::str(r.file.length_unit)); },
+          "The length unit of every length in and out (None when the file states none: an MJCF, a robot file without\n"
+          "length_unit), as Measurements.length_unit.")
       .def_property_readonly("angle_unit", [](const Robot& r) { return r.file.angle_unit; },
                              "The file's angle unit ('rad' or 'deg'); every angle in and out of the module is in rad.")
       .def_property_readonly("length_scale", [](const Robot& r) { return r.poe.lengthScale(); },

@@ -469,8 +469,9 @@ TEST(HostileInput, UnclosedNestingIsRejectedWithoutParsing) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
 }
 
-// Rough edges, medium 3 and 4: a model file or an included file over 64 MiB is refused by its size before
-// a byte is read (a 1 GB include cost 3 GB and 40 s), and an include that is a FIFO is refused (it hung).
+// Rough edges, medium 3 and 4: a model file or an included file over the limit (2 MiB since issue 30; 64 MiB
+// before) is refused by its size before a byte is read (a 1 GB include cost 3 GB and 40 s), and an include that
+// is a FIFO is refused (it hung).
 TEST(HostileInput, ModelFilesAreBoundedAndRegular) {
   const std::string big = scratch() + "/big.xml";
   {
@@ -483,13 +484,13 @@ TEST(HostileInput, ModelFilesAreBoundedAndRegular) {
                           "<site name=\"t\" pos=\"1 0 0\"/></body></worldbody></mujoco>\n");
   const auto start = std::chrono::steady_clock::now();
   expectRejected("validate " + shellQuote(main_file) + " --tip t --samples 10",
-                 "1073741824 bytes: over the 64 MiB a model file may have", big);
+                 "1073741824 bytes: over the 2 MiB a model file may have", big);
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
   for (const std::string copy : {"big.urdf", "big.yaml"}) {
     std::ofstream(scratch() + "/" + copy) << "name: x\n";
-    fs::resize_file(scratch() + "/" + copy, std::uintmax_t{65} << 20);  // sparse, never read
+    fs::resize_file(scratch() + "/" + copy, (std::uintmax_t{2} << 20) + 1);  // sparse, never read
     const std::string tip = copy == "big.urdf" ? " --tip t" : "";
-    expectRejected("poe2dh " + shellQuote(scratch() + "/" + copy) + tip, "over the 64 MiB", scratch() + "/" + copy);
+    expectRejected("poe2dh " + shellQuote(scratch() + "/" + copy) + tip, "2097153 bytes: over the 2 MiB", scratch() + "/" + copy);
     fs::remove(scratch() + "/" + copy);
   }
   fs::remove(big);

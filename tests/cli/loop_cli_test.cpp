@@ -362,7 +362,7 @@ TEST(LoopScenario, BadKeysExitTwoWithOneLine) {
   // a plan of target measurements needs the targets' points in the nominal (the plan is made on it)
   bad("plan_targets", "    targets: [smr_a]\n    plan: {candidates: 100}\n", "plan: with targets the nominal");
   // the candidates' blocks are bounded as lowpair plan bounds them
-  bad("plan_entries", "    plan: {candidates: 40000}\n", "exceed the plan's 1e+07 numbers");
+  bad("plan_entries", "    plan: {candidates: 40000}\n", "exceed the identification size limit (1e+07 numbers");
 }
 
 }  // namespace
