@@ -3,7 +3,7 @@
 PACKAGES := cmake g++ make libeigen3-dev libmujoco-dev libqhull-dev liburdfdom-dev libyaml-cpp-dev \
             googletest libgtest-dev libbenchmark-dev liborocos-kdl-dev libcli11-dev nlohmann-json3-dev gnuplot-nox python3 \
             valgrind bc libsleef-dev clang libclang-rt-14-dev libtinyxml2-dev \
-            pybind11-dev python3-numpy python3-pytest
+            pybind11-dev python3-numpy python3-pytest ninja-build
 BUILD ?= build
 JOBS ?= $(shell nproc)
 # CMAKE_ARGS: extra configure arguments for build/ and the sanitizer build, e.g. CMAKE_ARGS=-DLOWPAIR_WERROR=ON (CI:
@@ -25,8 +25,13 @@ deps:
 	  fi; \
 	fi
 
+# A new build tree uses Ninja: it compiles a target's files while the libraries it links are still being built,
+# where Make's generator waits for them, so both cores stay busy. An existing tree keeps its generator.
+new_tree_generator = $(if $(wildcard $(1)/CMakeCache.txt),,-G Ninja)
+
 configure: deps
-	@test -f $(BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
+	@test -f $(BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || cmake -S . -B $(BUILD) $(call new_tree_generator,$(BUILD)) \
+	  -DCMAKE_BUILD_TYPE=Release $(CMAKE_ARGS)
 
 build: configure
 	cmake --build $(BUILD) -j$(JOBS)
@@ -73,7 +78,7 @@ SAN_SKIP_MORE ?=
 SAN_SKIP := ^($(shell sed -n 's/^\([A-Za-z_][A-Za-z0-9_.]*\).*/\1/p' tests/sanitize_skip.txt | paste -sd'|')$(SAN_SKIP_MORE))$$
 .PHONY: sanitize sanitize-build
 sanitize-build: deps
-	@test -f $(SAN_BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) \
+	@test -f $(SAN_BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) $(call new_tree_generator,$(SAN_BUILD)) \
 	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DLOWPAIR_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)" \
 	  $(CMAKE_ARGS)
 	cmake --build $(SAN_BUILD) -j$(JOBS)
