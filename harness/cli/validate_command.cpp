@@ -41,17 +41,83 @@ std::vector<std::string> defaultScenarios() {
 bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
+
+// validate's options as parsed
+struct ValidateOptions {
+  std::vector<std::string> inputs, robots;
+  std::string tip, base, shard = "1/1", report, length_unit, tolerance;
+  int samples = -1, threads = 0;
+  long long seed = -1;
+  bool as_json = false;
+};
+
+// --shard K/N into the run options
+void readShard(const std::string& shard, RunOptions& options) {
+  int k = 0, n = 0;
+  char slash = 0;
+  std::istringstream in(shard);
+  if (!(in >> k >> slash >> n) || slash != '/' || k < 1 || n < 1 || k > n || !in.eof()) {
+    throw UsageError("--shard", "expected K/N with 1 <= K <= N, got '" + shard + "'");
+  }
+  options.shard = k;
+  options.shards = n;
+}
+
+// The scenarios to run: one model file with --tip (model mode), or scenario files (default: scenarios/*.yaml)
+std::vector<Scenario> scenariosOf(const ValidateOptions& o) {
+  std::vector<Scenario> scenarios;
+  const bool model_mode = o.inputs.size() == 1 && (endsWith(o.inputs[0], ".xml") || endsWith(o.inputs[0], ".urdf"));
+  if (model_mode) {
+    if (o.tip.empty()) {
+      throw UsageError(o.inputs[0], "--tip NAME is required with a model file; " + mujoco::tipCandidates(o.inputs[0]));
+    }
+    Scenario s;
+    s.name = fs::path(o.inputs[0]).stem().string();
+    s.model = o.inputs[0];
+    s.tip = o.tip;
+    s.base = o.base;
+    s.robot_files = o.robots;
+    if (!o.length_unit.empty()) {
+      if (!metresPerUnit(o.length_unit)) {
+        throw UsageError("--length-unit", "'" + o.length_unit + "' is not one lowpair converts (m, mm, cm, dm, um, km, in, ft)");
+      }
+      if (endsWith(o.inputs[0], ".urdf") && o.length_unit != "m") {
+        throw UsageError("--length-unit", "a URDF is in metres (URDF fixes its unit)");
+      }
+      s.length_unit = o.length_unit;
+    }
+    if (!o.tolerance.empty()) {
+      double pos = 0, rot = 0;
+      char comma = 0;
+      std::istringstream in(o.tolerance);
+      if (!(in >> pos >> comma >> rot) || comma != ',' || !in.eof() || !(pos > 0) || !(rot > 0) ||
+          !std::isfinite(pos) || !std::isfinite(rot)) {
+        throw UsageError("--tolerance", "expected POS,ROT, two positive numbers, got '" + o.tolerance + "'");
+      }
+      s.tol_translation = pos;
+      s.tol_rotation = rot;
+    }
+    scenarios.push_back(s);
+  } else {
+    if (!o.tip.empty() || !o.base.empty() || !o.robots.empty() || !o.length_unit.empty() || !o.tolerance.empty()) {
+      throw UsageError("validate", "--tip/--base/--robot/--length-unit/--tolerance go with a model file (.xml or .urdf), "
+                                   "not scenarios (a scenario states them as keys)");
+    }
+    const auto files = o.inputs.empty() ? defaultScenarios() : o.inputs;
+    for (const auto& f : files) {
+      if (!endsWith(f, ".yaml") && !endsWith(f, ".yml")) {
+        throw UsageError(f, "expected scenario files (.yaml) or one model (.xml/.urdf)");
+      }
+      scenarios.push_back(readScenario(f));
+    }
+  }
+  return scenarios;
+}
+
 }  // namespace
 
 void addValidateCommand(CLI::App& app, Commands& commands) {
-  struct Options {
-    std::vector<std::string> inputs, robots;
-    std::string tip, base, shard = "1/1", report, length_unit, tolerance;
-    int samples = -1, threads = 0;
-    long long seed = -1;
-    bool as_json = false;
-  };
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<ValidateOptions>();
   auto* v = app.add_subcommand("validate", "compare the library against MuJoCo over random samples (exit 1 on a failure)");
   v->add_option("INPUT", o->inputs, "scenario files (.yaml), or one model (.xml MJCF / .urdf) with --tip; "
                                     "default: every scenarios/*.yaml");
@@ -78,62 +144,8 @@ void addValidateCommand(CLI::App& app, Commands& commands) {
     if (o->seed >= 0) options.seed = static_cast<unsigned long long>(o->seed);
     options.threads = o->threads;
     options.singularity_map = !o->report.empty();
-    {
-      int k = 0, n = 0;
-      char slash = 0;
-      std::istringstream in(o->shard);
-      if (!(in >> k >> slash >> n) || slash != '/' || k < 1 || n < 1 || k > n || !in.eof()) {
-        throw UsageError("--shard", "expected K/N with 1 <= K <= N, got '" + o->shard + "'");
-      }
-      options.shard = k;
-      options.shards = n;
-    }
-    std::vector<Scenario> scenarios;
-    const bool model_mode = o->inputs.size() == 1 && (endsWith(o->inputs[0], ".xml") || endsWith(o->inputs[0], ".urdf"));
-    if (model_mode) {
-      if (o->tip.empty()) {
-        throw UsageError(o->inputs[0], "--tip NAME is required with a model file; " + mujoco::tipCandidates(o->inputs[0]));
-      }
-      Scenario s;
-      s.name = fs::path(o->inputs[0]).stem().string();
-      s.model = o->inputs[0];
-      s.tip = o->tip;
-      s.base = o->base;
-      s.robot_files = o->robots;
-      if (!o->length_unit.empty()) {
-        if (!metresPerUnit(o->length_unit)) {
-          throw UsageError("--length-unit", "'" + o->length_unit + "' is not one lowpair converts (m, mm, cm, dm, um, km, in, ft)");
-        }
-        if (endsWith(o->inputs[0], ".urdf") && o->length_unit != "m") {
-          throw UsageError("--length-unit", "a URDF is in metres (URDF fixes its unit)");
-        }
-        s.length_unit = o->length_unit;
-      }
-      if (!o->tolerance.empty()) {
-        double pos = 0, rot = 0;
-        char comma = 0;
-        std::istringstream in(o->tolerance);
-        if (!(in >> pos >> comma >> rot) || comma != ',' || !in.eof() || !(pos > 0) || !(rot > 0) ||
-            !std::isfinite(pos) || !std::isfinite(rot)) {
-          throw UsageError("--tolerance", "expected POS,ROT, two positive numbers, got '" + o->tolerance + "'");
-        }
-        s.tol_translation = pos;
-        s.tol_rotation = rot;
-      }
-      scenarios.push_back(s);
-    } else {
-      if (!o->tip.empty() || !o->base.empty() || !o->robots.empty() || !o->length_unit.empty() || !o->tolerance.empty()) {
-        throw UsageError("validate", "--tip/--base/--robot/--length-unit/--tolerance go with a model file (.xml or .urdf), "
-                                     "not scenarios (a scenario states them as keys)");
-      }
-      const auto files = o->inputs.empty() ? defaultScenarios() : o->inputs;
-      for (const auto& f : files) {
-        if (!endsWith(f, ".yaml") && !endsWith(f, ".yml")) {
-          throw UsageError(f, "expected scenario files (.yaml) or one model (.xml/.urdf)");
-        }
-        scenarios.push_back(readScenario(f));
-      }
-    }
+    readShard(o->shard, options);
+    const std::vector<Scenario> scenarios = scenariosOf(*o);
     std::vector<ScenarioResult> results;
     bool warned = false;
     for (const auto& s : scenarios) {

@@ -8,6 +8,59 @@
 
 namespace lowpair::validation {
 
+namespace {
+
+// The compensation cases: before and after on MuJoCo's actual robot, the rows not ok with their reasons
+void printCompensationTable(std::ostream& out, const std::vector<ScenarioResult>& results) {
+  char line[400];
+  bool header = false;
+  for (const auto& r : results) {
+    for (const auto& c : r.calibrations) {
+      if (!c.compensation) continue;
+      if (!header) {
+        std::snprintf(line, sizeof line, "\n%-28s %-20s %-8s %6s %6s %12s %12s %12s %12s %11s %11s\n", "scenario",
+                      "compensated", "task", "rows", "not ok", "RMS before", "RMS after", "max after", "tolerance",
+                      "rot before", "rot after");
+        out << line;
+        header = true;
+      }
+      const CompensationResult& k = *c.compensation;
+      const std::string task = (k.point_name.empty() ? std::string(measureName(k.measure)) : k.point_name) + (k.base_frame ? "*" : "");
+      const bool rotation = k.measure == Measure::Pose;
+      char rot_before[32] = "-", rot_after[32] = "-";
+      if (rotation) {
+        std::snprintf(rot_before, sizeof rot_before, "%.3e", k.before.rms_rotation);
+        std::snprintf(rot_after, sizeof rot_after, "%.3e", k.after.rms_rotation);
+      }
+      std::snprintf(line, sizeof line, "%-28s %-20s %-8s %6d %6zu %12.3e %12.3e %12.3e %12.3e %11s %11s\n",
+                    r.scenario.name.c_str(), c.config.name.c_str(), task.c_str(), k.count(), k.not_ok.size(),
+                    k.before.rms_position, k.after.rms_position, k.after.max_position, c.config.compensation->tolerance,
+                    rot_before, rot_after);
+      out << line;
+      for (size_t s = 0; s < k.statuses.size(); ++s) {
+        if (s != static_cast<size_t>(IkStatus::Ok) && k.statuses[s] > 0) out << "  " << k.statuses[s] << " row(s) " << ikStatusName(static_cast<IkStatus>(s)) << "\n";
+      }
+      constexpr size_t kRowsShown = 3;
+      for (size_t i = 0; i < k.not_ok.size() && i < kRowsShown; ++i) {
+        out << "  validation pose " << k.not_ok[i].row + 1 << ": " << ikStatusName(k.not_ok[i].status) << ": "
+            << k.not_ok[i].reason << "\n";
+      }
+      if (k.base_frame) {
+        std::snprintf(line, sizeof line, "%.4g length, %.4g rad", k.rigid_after.p.norm(), rotationAngle(k.rigid_after.R));
+        out << "  * in the nominal's base frame (calibrate --out's robot), up to the actual's base error: " << line << "\n";
+      }
+      if (!k.tool_determined) out << "  the tool frame was not determined (targets at unknown points): the task is " << k.point_name << "'s point\n";
+    }
+  }
+  if (header) {
+    out << "(compensation: MuJoCo's tool commanded at the validation q (before) and at the compensated q' (after, ok "
+           "rows only) against the nominal's FK at q; position in the nominal's length unit, rotation RMS in rad; "
+           "base frame: up to the rigid motion of the actual's base)\n";
+  }
+}
+
+}  // namespace
+
 void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& results) {
   char line[400];
   std::snprintf(line, sizeof line, "%-28s %-52s %7s %11s %11s %11s %11s %9s %9s  %s\n", "scenario", "comparison",
@@ -83,50 +136,7 @@ void printValidationTable(std::ostream& out, const std::vector<ScenarioResult>& 
   if (header) {
     out << "(plan: log det of the planned poses' information, and of the first N samples the case fits without plan:)\n";
   }
-  header = false;
-  for (const auto& r : results) {
-    for (const auto& c : r.calibrations) {
-      if (!c.compensation) continue;
-      if (!header) {
-        std::snprintf(line, sizeof line, "\n%-28s %-20s %-8s %6s %6s %12s %12s %12s %12s %11s %11s\n", "scenario",
-                      "compensated", "task", "rows", "not ok", "RMS before", "RMS after", "max after", "tolerance",
-                      "rot before", "rot after");
-        out << line;
-        header = true;
-      }
-      const CompensationResult& k = *c.compensation;
-      const std::string task = (k.point_name.empty() ? std::string(measureName(k.measure)) : k.point_name) + (k.base_frame ? "*" : "");
-      const bool rotation = k.measure == Measure::Pose;
-      char rot_before[32] = "-", rot_after[32] = "-";
-      if (rotation) {
-        std::snprintf(rot_before, sizeof rot_before, "%.3e", k.before.rms_rotation);
-        std::snprintf(rot_after, sizeof rot_after, "%.3e", k.after.rms_rotation);
-      }
-      std::snprintf(line, sizeof line, "%-28s %-20s %-8s %6d %6zu %12.3e %12.3e %12.3e %12.3e %11s %11s\n",
-                    r.scenario.name.c_str(), c.config.name.c_str(), task.c_str(), k.count(), k.not_ok.size(),
-                    k.before.rms_position, k.after.rms_position, k.after.max_position, c.config.compensation->tolerance,
-                    rot_before, rot_after);
-      out << line;
-      for (size_t s = 0; s < k.statuses.size(); ++s) {
-        if (s != static_cast<size_t>(IkStatus::Ok) && k.statuses[s] > 0) out << "  " << k.statuses[s] << " row(s) " << ikStatusName(static_cast<IkStatus>(s)) << "\n";
-      }
-      constexpr size_t kRowsShown = 3;
-      for (size_t i = 0; i < k.not_ok.size() && i < kRowsShown; ++i) {
-        out << "  validation pose " << k.not_ok[i].row + 1 << ": " << ikStatusName(k.not_ok[i].status) << ": "
-            << k.not_ok[i].reason << "\n";
-      }
-      if (k.base_frame) {
-        std::snprintf(line, sizeof line, "%.4g length, %.4g rad", k.rigid_after.p.norm(), rotationAngle(k.rigid_after.R));
-        out << "  * in the nominal's base frame (calibrate --out's robot), up to the actual's base error: " << line << "\n";
-      }
-      if (!k.tool_determined) out << "  the tool frame was not determined (targets at unknown points): the task is " << k.point_name << "'s point\n";
-    }
-  }
-  if (header) {
-    out << "(compensation: MuJoCo's tool commanded at the validation q (before) and at the compensated q' (after, ok "
-           "rows only) against the nominal's FK at q; position in the nominal's length unit, rotation RMS in rad; "
-           "base frame: up to the rigid motion of the actual's base)\n";
-  }
+  printCompensationTable(out, results);
   out << (pass ? "all comparisons within tolerance" : "FAILED: a comparison is outside its tolerance (marked FAIL)")
       << "  (rotation in rad; translation relative to the robot size L; Jacobian rows: angular block as 'rot', "
          "linear as 'tr')\n";

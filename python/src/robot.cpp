@@ -132,6 +132,53 @@ void exposeRobotFrames(py::class_<Robot, RobotPtr>& robot) {
           "T @ fk(q). T: (4, 4) rigid motion [R p; 0 0 0 1] (length_unit).");
 }
 
+// Robot's methods: targets, fk, jacobian, dh, singular, save, repr
+void exposeRobotMethods(py::class_<Robot, RobotPtr>& robot) {
+  robot.def("with_targets", &withTargets, py::arg("targets"), py::arg("known") = false,
+           "with_targets(targets, known=False) -> Robot\n\n"
+           "The robot with these targets (SMRs): targets is a dict name -> (3,) point in the tool frame (length_unit),\n"
+           "added, or replacing a target of the same name. known=True: the points are known (a calibrated nest) and\n"
+           "calibrate keeps them fixed and fits the tool frame; False: a start for their estimate.")
+      .def("fk", &fk, py::arg("q"), py::arg("model") = py::none(), py::arg("out") = py::none(),
+           "fk(q, model=None, out=None) -> numpy.ndarray\n\n"
+           "Forward kinematics T_base_tool(q).\n\n"
+           "q: (n,) joint values -> (4, 4) homogeneous transform; or (N, n), one configuration per row -> (N, 4, 4),\n"
+           "evaluated by batched C++ calls (forwardKinematicsBatch, SIMD) with the GIL released.\n"
+           "Units: q in rad (revolute, helical) or length_unit (prismatic), the robot file's joint variable;\n"
+           "the translation column in length_unit. model: None (the file's own description, as `lowpair fk`),\n"
+           "'poe' or 'dh'. A single q equals `lowpair fk --json` bit for bit; the batched form holds the numbers of\n"
+           "forwardKinematicsBatch bit for bit, which agree with the single form to rounding (a few eps;\n"
+           "docs/python.md). out: an optional preallocated C-contiguous float64 array of the result's shape,\n"
+           "filled and returned. Cost: see docs/python.md, \"Speed\".\n"
+           "Raises lowpair.Error for a wrong shape or a non-finite value.")
+      .def("jacobian", &jacobian, py::arg("q"), py::arg("frame") = "spatial",
+           "jacobian(q, frame='spatial') -> numpy.ndarray (6, n)\n\n"
+           "The manipulator Jacobian at q (n,), as `lowpair jacobian --frame`:\n"
+           "'spatial': rows [w; v], twist coordinates in the base frame; 'body': rows [w; v] in the tool frame;\n"
+           "'geometric': rows [v; w], v the tool origin's velocity, base coordinates (Paden-Sastry eq. 3.13).\n"
+           "Columns are d/dq_i (they carry the joint scale); w in rad per unit q, v in length_unit per unit q.")
+      .def("dh", [](const Robot& r, double t, bool modified) { return dhTable(r, t, modified); },
+           py::arg("parallel_threshold") = 0.0, py::arg("modified") = false,
+           "dh(parallel_threshold=0.0, modified=False) -> DhTable\n\n"
+           "The standard (or modified, Craig) D-H table of the robot with its conditioning report and FK check,\n"
+           "as `lowpair poe2dh [--modified] --json` (DhTable.to_dict() is that JSON's content). Angles rad, lengths\n"
+           "length_unit. parallel_threshold: sin(angle) below which axes count as parallel (0: rounding level).")
+      .def("singular", &singular, py::arg("q"),
+           "singular(q) -> Singularity\n\n"
+           "Singularity analysis at q (n,), as `lowpair singular --json`: rank, sigma_min, manipulability, condition\n"
+           "of the dimensionless geometric Jacobian, the classes C1..C7, the wrist/arm split, null vectors.")
+      .def("save", [](const Robot& r, const std::string& path) { exportTo(r, path, r.ownDh() ? "dh" : "poe"); },
+           py::arg("path"),
+           "save(path) -> None\n\n"
+           "Writes the robot as a robot file (.yaml): a POE file, or a D-H file when it was read from one (the\n"
+           "table of poe2dh). Units as the robot's; a calibrated robot carries `calibrate --out`'s provenance.\n"
+           "The file is replaced atomically (all or nothing).")
+      .def("__repr__", [](const Robot& r) {
+        return "<lowpair.Robot '" + r.file.name + "' (" + std::to_string(r.dof()) + " joints, " +
+               (r.ownDh() ? "dh" : "poe") + (r.file.length_unit.empty() ? "" : ", " + r.file.length_unit) + ")>";
+      });
+}
+
 }  // namespace
 
 void exposeRobot(py::module_& m) {
@@ -200,50 +247,8 @@ void exposeRobot(py::module_& m) {
             return r.file.tool_frame == io::ToolFrame::Nominal ? "nominal" : r.file.tool_frame == io::ToolFrame::Origin ? "origin" : "defined";
           },
           "'defined', or what a calibration left of the nominal's tool frame: 'origin' (its orientation; position "
-          "measurements) or 'nominal' (all of it: targets at unknown points). compensate says so in tool_note.")
-      .def("with_targets", &withTargets, py::arg("targets"), py::arg("known") = false,
-           "with_targets(targets, known=False) -> Robot\n\n"
-           "The robot with these targets (SMRs): targets is a dict name -> (3,) point in the tool frame (length_unit),\n"
-           "added, or replacing a target of the same name. known=True: the points are known (a calibrated nest) and\n"
-           "calibrate keeps them fixed and fits the tool frame; False: a start for their estimate.")
-      .def("fk", &fk, py::arg("q"), py::arg("model") = py::none(), py::arg("out") = py::none(),
-           "fk(q, model=None, out=None) -> numpy.ndarray\n\n"
-           "Forward kinematics T_base_tool(q).\n\n"
-           "q: (n,) joint values -> (4, 4) homogeneous transform; or (N, n), one configuration per row -> (N, 4, 4),\n"
-           "evaluated by batched C++ calls (forwardKinematicsBatch, SIMD) with the GIL released.\n"
-           "Units: q in rad (revolute, helical) or length_unit (prismatic), the robot file's joint variable;\n"
-           "the translation column in length_unit. model: None (the file's own description, as `lowpair fk`),\n"
-           "'poe' or 'dh'. A single q equals `lowpair fk --json` bit for bit; the batched form holds the numbers of\n"
-           "forwardKinematicsBatch bit for bit, which agree with the single form to rounding (a few eps;\n"
-           "docs/python.md). out: an optional preallocated C-contiguous float64 array of the result's shape,\n"
-           "filled and returned. Cost: see docs/python.md, \"Speed\".\n"
-           "Raises lowpair.Error for a wrong shape or a non-finite value.")
-      .def("jacobian", &jacobian, py::arg("q"), py::arg("frame") = "spatial",
-           "jacobian(q, frame='spatial') -> numpy.ndarray (6, n)\n\n"
-           "The manipulator Jacobian at q (n,), as `lowpair jacobian --frame`:\n"
-           "'spatial': rows [w; v], twist coordinates in the base frame; 'body': rows [w; v] in the tool frame;\n"
-           "'geometric': rows [v; w], v the tool origin's velocity, base coordinates (Paden-Sastry eq. 3.13).\n"
-           "Columns are d/dq_i (they carry the joint scale); w in rad per unit q, v in length_unit per unit q.")
-      .def("dh", [](const Robot& r, double t, bool modified) { return dhTable(r, t, modified); },
-           py::arg("parallel_threshold") = 0.0, py::arg("modified") = false,
-           "dh(parallel_threshold=0.0, modified=False) -> DhTable\n\n"
-           "The standard (or modified, Craig) D-H table of the robot with its conditioning report and FK check,\n"
-           "as `lowpair poe2dh [--modified] --json` (DhTable.to_dict() is that JSON's content). Angles rad, lengths\n"
-           "length_unit. parallel_threshold: sin(angle) below which axes count as parallel (0: rounding level).")
-      .def("singular", &singular, py::arg("q"),
-           "singular(q) -> Singularity\n\n"
-           "Singularity analysis at q (n,), as `lowpair singular --json`: rank, sigma_min, manipulability, condition\n"
-           "of the dimensionless geometric Jacobian, the classes C1..C7, the wrist/arm split, null vectors.")
-      .def("save", [](const Robot& r, const std::string& path) { exportTo(r, path, r.ownDh() ? "dh" : "poe"); },
-           py::arg("path"),
-           "save(path) -> None\n\n"
-           "Writes the robot as a robot file (.yaml): a POE file, or a D-H file when it was read from one (the\n"
-           "table of poe2dh). Units as the robot's; a calibrated robot carries `calibrate --out`'s provenance.\n"
-           "The file is replaced atomically (all or nothing).")
-      .def("__repr__", [](const Robot& r) {
-        return "<lowpair.Robot '" + r.file.name + "' (" + std::to_string(r.dof()) + " joints, " +
-               (r.ownDh() ? "dh" : "poe") + (r.file.length_unit.empty() ? "" : ", " + r.file.length_unit) + ")>";
-      });
+          "measurements) or 'nominal' (all of it: targets at unknown points). compensate says so in tool_note.");
+  exposeRobotMethods(robot);
   exposeRobotFrames(robot);
 
   m.def(
