@@ -20,6 +20,16 @@ void checkSeed(long long seed) {
   if (seed < 0 || seed > commands::kMaxSeed) throw UsageError("seed", "must be in [0, 2^53], got " + std::to_string(seed));
 }
 
+std::string pathArgument(const py::handle& path_arg) {
+  if (!py::isinstance<py::str>(path_arg) && !py::hasattr(path_arg, "__fspath__")) {
+    throw UsageError("path", "expected a str or os.PathLike, got " +
+                                 py::str(py::type::handle_of(path_arg).attr("__name__")).cast<std::string>());
+  }
+  const py::object fs_path = py::module_::import("os").attr("fspath")(path_arg);
+  if (!py::isinstance<py::str>(fs_path)) throw UsageError("path", "expected a text path (str), got bytes");
+  return fs_path.cast<std::string>();
+}
+
 py::object toPython(const json& j) {
   switch (j.type()) {
     case json::value_t::null: return py::none();
@@ -89,7 +99,10 @@ std::string arrayProblem(const py::handle& x) {
     }
   }
   const char kind = a.dtype().kind();
-  if (kind == 'c' || kind == 'M' || kind == 'm') {
+  // text and objects too (numpy's float64 conversion parses '0.1' and calls float() on objects): an array of them is
+  // not numbers; a 0-d one ("text", None) is left to the conversion (TypeError, or a shape ())
+  const bool not_numbers = (kind == 'U' || kind == 'S' || kind == 'O' || kind == 'V') && a.ndim() >= 1;
+  if (kind == 'c' || kind == 'M' || kind == 'm' || not_numbers) {
     return "expected real numbers, got an array of dtype " + py::str(a.dtype()).cast<std::string>() +
            (kind == 'c' ? " (its imaginary part would be dropped)" : "");
   }

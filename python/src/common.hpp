@@ -32,6 +32,10 @@ commands::ArgumentSpelling pythonSpelling();
 // A seed of the sampling streams, as the CLI's --seed takes it: a whole number in [0, 2^53].
 void checkSeed(long long seed);
 
+// A path argument: a str or any os.PathLike (pathlib.Path), as open() takes; else lowpair.Error
+// "path: expected a str or os.PathLike, got TYPE" (bytes: "expected a text path (str), got bytes").
+std::string pathArgument(const py::handle& path_arg);
+
 // nlohmann::json -> Python objects (numbers keep their double bits).
 py::object toPython(const json& j);
 

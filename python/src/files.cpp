@@ -66,7 +66,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   }
   if (frame) {  // the frame's pose in the base: 6 numbers (the CLI's --frame) or a (4, 4) rigid motion
     const InArray f = arrayArgument(*frame, "frame");
-    if (f.ndim() == 2) {
+    if (f.ndim() == 2 && f.shape(0) == 4 && f.shape(1) == 4) {
       setup.T_frame_base = rigidMotionArgument(f, "frame").inverse();
     } else {
       if (f.ndim() != 1 || f.shape(0) != 6) {
@@ -254,7 +254,8 @@ void exposeFiles(py::module_& m) {
                              "list[str]: what reading did to the numbers (a unit conversion), as calibrate's notes.")
       .def(
           "save",
-          [](const Simulation& s, const std::string& path) {
+          [](const Simulation& s, const py::object& path_arg) {
+            const std::string path = pathArgument(path_arg);
             // written as it is made: the text of 10^6 rows is never held whole
             io::writeFileAtomically(path, [&s](std::ostream& out) {
               io::writeMeasurements(out, s.measure, s.measurements, s.comments, s.target_names);
@@ -267,7 +268,9 @@ void exposeFiles(py::module_& m) {
       .def("__repr__", [](const Simulation& s) {
         return "<lowpair.Measurements " + std::to_string(s.measurements.size()) + " " + measureName(s.measure) + ">";
       });
-  m.def("read_measurements", &readMeasurementFile, py::arg("path"), py::arg("robot") = py::none(),
+  m.def("read_measurements",
+        [](const py::object& path, const Robot* robot) { return readMeasurementFile(pathArgument(path), robot); },
+        py::arg("path"), py::arg("robot") = py::none(),
         "read_measurements(path, robot=None) -> Measurements\n\n"
         "A measurement CSV (docs/calibration.md \"Measurement files\"), as `lowpair calibrate` reads one: its\n"
         "columns as arrays for lowpair.calibrate. With `robot`, it is read for that robot: the joint count and\n"
@@ -291,7 +294,9 @@ void exposeFiles(py::module_& m) {
         "and noise_rotation (rad): Gaussian noise per coordinate / axis; blunders: (count, size), rows moved by\n"
         "`size` in random directions. Same arguments, same numbers as the CLI on the robot file. (A model file's\n"
         "MuJoCo ground truth with --joint-variables is the CLI's only.)");
-  m.def("export", &exportTo, py::arg("robot"), py::arg("path"), py::arg("format"),
+  m.def("export",
+        [](const Robot& r, const py::object& path, const std::string& format) { exportTo(r, pathArgument(path), format); },
+        py::arg("robot"), py::arg("path"), py::arg("format"),
         "export(robot, path, format) -> None\n\n"
         "`lowpair export --out path`: the robot as 'urdf', 'mjcf', 'poe' or 'dh' (robot file). A URDF/MJCF of a\n"
         "robot whose joint scale is not 1 or offset not 0 also writes <stem>.joint_variables.yaml beside it.");

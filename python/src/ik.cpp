@@ -1,4 +1,5 @@
 // lowpair.ik and lowpair.compensate (`lowpair ik`, `lowpair compensate`) and the class IkSolutions.
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -7,6 +8,7 @@
 #include "common.hpp"
 #include "expose.hpp"
 #include "io/measurements.hpp"
+#include "io/output.hpp"
 #include "lowpair/ik.hpp"
 #include "lowpair/kinematics.hpp"
 #include "robot.hpp"
@@ -25,6 +27,7 @@ struct IkSolutions {
   std::vector<commands::IkRow> rows;  // line: the 0-based row
   json j;                               // the JSON without "rows": to_dict() builds them when asked (1 KB a row)
   bool with_seed = false;               // ik's rows name their seed, compensate's do not
+  Eigen::Index dof = 0;                 // q's columns, also with no rows
 };
 
 // The targets of ik: (N, 4, 4) homogeneous transforms, or (N, 3) positions, made poses by rotations (N, 4) qw..qz
@@ -74,7 +77,13 @@ std::vector<Pose> ikTargets(const InArray& targets, const std::optional<InArray>
       if (matrices) {  // checked as a rotation by the solver (kRotationOrthonormal), as a transform's is
         auto m = rotations->unchecked<3>();
         for (int a = 0; a < 3; ++a) {
-          for (int c = 0; c < 3; ++c) T.R(a, c) = m(k, a, c);
+          for (int c = 0; c < 3; ++c) {
+            T.R(a, c) = m(k, a, c);
+            if (!std::isfinite(T.R(a, c))) {  // named here: the check below names targets
+              throw UsageError("rotations", "[" + std::to_string(k) + ", " + std::to_string(a) + ", " +
+                                                std::to_string(c) + "]: '" + io::shortest(T.R(a, c)) + "' is not finite");
+            }
+          }
         }
       } else if (rotations) {
         auto w = rotations->unchecked<2>();
@@ -196,6 +205,7 @@ IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optiona
          {"notes", json::array()},
          {"counts", commands::ikCountsJson(s.rows)}};
   s.with_seed = true;
+  s.dof = r.dof();
   return s;
 }
 
@@ -242,6 +252,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
   const std::string tool_note = commands::undeterminedToolNote(calibrated.file, measure == "pose");
   s.j["tool_determined"] = tool_note.empty();
   s.j["tool_note"] = tool_note.empty() ? json(nullptr) : json(tool_note);
+  s.dof = calibrated.dof();
   return s;
 }
 
@@ -268,8 +279,7 @@ void exposeIk(py::module_& m) {
       .def_property_readonly(
           "q",
           [](const IkSolutions& s) {
-            const Eigen::Index n = s.rows.empty() ? 0 : s.rows.front().result.q.size();
-            return vectorRows(s.rows, n, [](const commands::IkRow& row) -> const VecX& { return row.result.q; });
+            return vectorRows(s.rows, s.dof, [](const commands::IkRow& row) -> const VecX& { return row.result.q; });
           },
           "(N, n): the solutions (or each row's last iterate when not ok), rad / length_unit.")
       .def_property_readonly(

@@ -2,6 +2,7 @@
 #include "robot.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "expose.hpp"
 #include "files.hpp"
 #include "kinematics.hpp"
+#include "io/output.hpp"
 #include "commands/robot_source.hpp"
 #include "lowpair/registration.hpp"
 #include "lowpair/tolerances.hpp"
@@ -53,7 +55,14 @@ Pose rigidMotionArgument(const InArray& T, const std::string& subject) {
   for (int i = 0; i < 4; ++i) {
     for (int k = 0; k < 4; ++k) M(i, k) = T.at(i, k);
   }
-  requireFinite(M.data(), 16, 16, subject, "entry");
+  for (int i = 0; i < 4; ++i) {  // named [row, column] as the array has them (M is column-major)
+    for (int k = 0; k < 4; ++k) {
+      if (!std::isfinite(M(i, k))) {
+        throw UsageError(subject, "[" + std::to_string(i) + ", " + std::to_string(k) + "]: '" + io::shortest(M(i, k)) +
+                                      "' is not finite");
+      }
+    }
+  }
   const Pose P = Pose::fromMatrix(M);
   if (M.row(3) != Eigen::RowVector4d(0, 0, 0, 1) ||
       !((P.R.transpose() * P.R - Mat3::Identity()).norm() <= kRotationOrthonormal) || P.R.determinant() <= 0) {
@@ -84,9 +93,14 @@ RobotPtr withTargets(const Robot& r, const py::dict& targets, bool known) {
     if (const std::string problem = io::targetNameProblem(name); !problem.empty()) {
       throw UsageError("targets", "target name " + io::quotedFileText(name) + " " + problem + " (" + io::kTargetNameRule + ")");
     }
+    // complex, datetime64, text, objects: refused before numpy's conversion (which drops an imaginary part)
+    if (const std::string problem = arrayProblem(value); !problem.empty()) {
+      throw UsageError("targets", "target " + name + ": " + problem);
+    }
     const auto point = py::array_t<double, py::array::forcecast>::ensure(value);
     if (!point || point.ndim() != 1 || point.shape(0) != 3) {
-      throw UsageError("targets", "target " + name + ": expected a (3,) point in the tool frame");
+      throw UsageError("targets", "target " + name + ": expected a (3,) point in the tool frame" +
+                                      (point ? ", got shape " + shapeText(point) : std::string()));
     }
     const Vec3 p(point.at(0), point.at(1), point.at(2));
     if (const std::string problem = io::targetPointProblem(p); !problem.empty()) {
@@ -167,7 +181,7 @@ void exposeRobotMethods(py::class_<Robot, RobotPtr>& robot) {
            "singular(q) -> Singularity\n\n"
            "Singularity analysis at q (n,), as `lowpair singular --json`: rank, sigma_min, manipulability, condition\n"
            "of the dimensionless geometric Jacobian, the classes C1..C7, the wrist/arm split, null vectors.")
-      .def("save", [](const Robot& r, const std::string& path) { exportTo(r, path, r.ownDh() ? "dh" : "poe"); },
+      .def("save", [](const Robot& r, const py::object& path) { exportTo(r, pathArgument(path), r.ownDh() ? "dh" : "poe"); },
            py::arg("path"),
            "save(path) -> None\n\n"
            "Writes the robot as a robot file (.yaml): a POE file, or a D-H file when it was read from one (the\n"
@@ -254,14 +268,7 @@ void exposeRobot(py::module_& m) {
   m.def(
       "load",
       [](const py::object& path_arg, std::optional<std::string> tip, std::optional<std::string> base) {
-        // a str or any os.PathLike (pathlib.Path), as open() takes
-        if (!py::isinstance<py::str>(path_arg) && !py::hasattr(path_arg, "__fspath__")) {
-          throw UsageError("path", "expected a str or os.PathLike, got " +
-                                       py::str(py::type::handle_of(path_arg).attr("__name__")).cast<std::string>());
-        }
-        const py::object fs_path = py::module_::import("os").attr("fspath")(path_arg);
-        if (!py::isinstance<py::str>(fs_path)) throw UsageError("path", "expected a text path (str), got bytes");
-        const std::string path = fs_path.cast<std::string>();
+        const std::string path = pathArgument(path_arg);
         io::RobotFile file;
         pendingNotes().clear();
         {

@@ -201,8 +201,12 @@ def test_fk_inputs_read_in_place_or_converted():
     assert np.array_equal(robot.fk([0, 0, 0, 0, 0, 0]), robot.fk(np.zeros(6)))  # integers
     unaligned = np.frombuffer(b"\0" + np.ascontiguousarray(Q).tobytes(), dtype=np.float64, offset=1).reshape(40, 6)
     assert np.array_equal(robot.fk(unaligned), expected)
-    with pytest.raises(TypeError, match="q: expected an array of numbers"):
+    # text is not numbers: an array of it is refused naming its dtype (numpy would parse '0.1'); a lone str is
+    # not an array (TypeError)
+    with pytest.raises(lowpair.Error, match=r"q: expected real numbers, got an array of dtype <U1"):
         robot.fk(["a"] * 6)
+    with pytest.raises(TypeError, match="q: expected an array of numbers"):
+        robot.fk("a")
 
 
 def _documented(doc, name):
