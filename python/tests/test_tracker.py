@@ -477,7 +477,7 @@ def test_simulate_frame_as_a_4x4_rigid_motion_equals_the_6_numbers(tracker_robot
     a = lowpair.simulate(robot, poses=20, seed=3, frame=T)
     b = lowpair.simulate(robot, poses=20, seed=3, frame=[0, 0, theta] + t)
     assert np.abs(a.positions - b.positions).max() <= 64 * np.finfo(float).eps * 4000.0
-    for bad, message in [(np.eye(3), "expected a (4, 4) array"), (np.diag([1.0, 1, 2, 1]), "rigid motion"),
+    for bad, message in [(np.eye(3), "or a (4, 4) rigid motion, got shape (3, 3)"), (np.diag([1.0, 1, 2, 1]), "rigid motion"),
                          ([1.0, 2.0], "expected 6 numbers")]:
         with pytest.raises(lowpair.Error, match=re.escape(message)):
             lowpair.simulate(robot, poses=2, frame=bad)
