@@ -53,16 +53,16 @@ double scoreOf(const std::vector<HeldOut>& held, CrossValidationScore kind, doub
     for (const HeldOut& h : held) sum += (h.rows / 3.0) * unit * unit * loss.rho(h.u / unit);
     return std::sqrt(sum / static_cast<double>(held.size()));
   }
-  std::vector<HeldOut> sorted = held;
-  std::sort(sorted.begin(), sorted.end(), [](const HeldOut& a, const HeldOut& b) { return a.u < b.u; });
   if (kind == CrossValidationScore::Trimmed) {
+    std::vector<HeldOut> sorted = held;
+    std::sort(sorted.begin(), sorted.end(), [](const HeldOut& a, const HeldOut& b) { return a.u < b.u; });
     const size_t kept = sorted.size() - static_cast<size_t>(kTrimmedFraction * static_cast<double>(sorted.size()));
     for (size_t k = 0; k < kept; ++k) sum += (sorted[k].rows / 3.0) * sorted[k].u * sorted[k].u;
     return std::sqrt(sum / static_cast<double>(kept));
   }
   // |r| sqrt(rows / median chi^2(rows)): the RMS of |r| for Gaussian noise
   std::vector<double> scaled;
-  for (const HeldOut& h : sorted) {
+  for (const HeldOut& h : held) {
     scaled.push_back(h.u * std::sqrt(h.rows / 3.0) * std::sqrt(h.rows / (h.rows == 6 ? kChiSquareMedian6 : kChiSquareMedian3)));
   }
   std::sort(scaled.begin(), scaled.end());
