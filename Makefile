@@ -3,7 +3,7 @@
 PACKAGES := cmake g++ make libeigen3-dev libmujoco-dev libqhull-dev liburdfdom-dev libyaml-cpp-dev \
             googletest libgtest-dev libbenchmark-dev liborocos-kdl-dev libcli11-dev nlohmann-json3-dev gnuplot-nox python3 \
             valgrind bc libsleef-dev clang libclang-rt-14-dev libtinyxml2-dev \
-            pybind11-dev python3-numpy python3-pytest ninja-build
+            pybind11-dev python3-numpy python3-pytest ninja-build lld
 BUILD ?= build
 JOBS ?= $(shell nproc)
 # CMAKE_ARGS: extra configure arguments for build/ and the sanitizer build, e.g. CMAKE_ARGS=-DLOWPAIR_WERROR=ON (CI:
@@ -66,7 +66,8 @@ bench: configure
 # (float-cast-overflow included, no recovery), the test suite except the tests tests/sanitize_skip.txt lists
 # with their reasons: three that cannot run under them, the statistical ones whose every code path a
 # lighter test runs under them, and those that repeat another's run. The test programs' own code is not
-# instrumented (tests/CMakeLists.txt); lowpair's code they call is. LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their
+# instrumented; lowpair's code they call is: the sanitizer tree links the test objects $(BUILD) compiled (it
+# builds $(BUILD) first; tests/CMakeLists.txt, LOWPAIR_TEST_OBJECTS_FROM) and links with lld. LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their
 # robots (tests/common/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
@@ -77,10 +78,10 @@ SAN_OPT := -O1 -gline-tables-only -DNDEBUG
 SAN_SKIP_MORE ?=
 SAN_SKIP := ^($(shell sed -n 's/^\([A-Za-z_][A-Za-z0-9_.]*\).*/\1/p' tests/sanitize_skip.txt | paste -sd'|')$(SAN_SKIP_MORE))$$
 .PHONY: sanitize sanitize-build
-sanitize-build: deps
+sanitize-build: build
 	@test -f $(SAN_BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) $(call new_tree_generator,$(SAN_BUILD)) \
 	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DLOWPAIR_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)" \
-	  $(CMAKE_ARGS)
+	  -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DLOWPAIR_TEST_OBJECTS_FROM=$(abspath $(BUILD)) $(CMAKE_ARGS)
 	cmake --build $(SAN_BUILD) -j$(JOBS)
 sanitize: sanitize-build
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \

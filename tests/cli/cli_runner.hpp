@@ -1,7 +1,7 @@
 #pragma once
 // Running the `lowpair` CLI from tests: exit status, stdout and stderr of one call, a per-process
 // scratch folder removed at exit, and the rejection contract (exit 2, one "error: ..." line, no stdout).
-// The including target defines LOWPAIR_CLI (the binary) and LOWPAIR_MODELS (models/).
+// The including target defines LOWPAIR_CLI (the binary, cli_path.hpp) and LOWPAIR_MODELS (models/).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -12,6 +12,8 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+
+#include "cli_path.hpp"
 
 namespace lowpair_test {
 
@@ -45,7 +47,7 @@ inline const std::string& scratch() {
 
 inline CliRun runCli(const std::string& args) {
   const std::string err_path = scratch() + "/stderr.txt";
-  const std::string cmd = std::string(LOWPAIR_CLI) + " " + args + " 2>" + err_path;
+  const std::string cmd = cliCommand() + " " + args + " 2>" + err_path;
   CliRun r;
   FILE* pipe = popen(cmd.c_str(), "r");
   char buf[4096];

@@ -107,7 +107,7 @@ TEST(HostileInput, ThreadThatCannotBeCreatedDoesNotAbort) {
   const std::string scenario = std::string(LOWPAIR_SCENARIOS) + "/elbow_mls.yaml";
   const std::string args = "validate " + shellQuote(scenario) + " --samples 100000 --json";
   const std::string err = scratch() + "/threads_stderr.txt";
-  const std::string cmd = limits + "exec " + std::string(LOWPAIR_CLI) + " " + args + " --threads 64 2>" + shellQuote(err);
+  const std::string cmd = limits + "exec " + cliCommand() + " " + args + " --threads 64 2>" + shellQuote(err);
   std::string out;
   FILE* pipe = popen(cmd.c_str(), "r");
   ASSERT_NE(pipe, nullptr);
@@ -138,7 +138,7 @@ TEST(HostileInput, ReportThatCannotBeWrittenIsNotWritten) {
   const std::string scenario = std::string(LOWPAIR_SCENARIOS) + "/elbow_mls.yaml";
   const std::string err = scratch() + "/full_disk_stderr.txt";
   const std::string cmd = "cd " + shellQuote(dir) + " && trap '' XFSZ && ulimit -f 64 && exec " +
-                          std::string(LOWPAIR_CLI) + " validate " + shellQuote(scenario) +
+                          cliCommand() + " validate " + shellQuote(scenario) +
                           " --samples 2000 --report report 2>" + shellQuote(err);
   const int status = std::system(cmd.c_str());
   std::ifstream err_in(err);
@@ -160,7 +160,7 @@ TEST(HostileInput, MujocoErrorsAreOneLineAndLeaveNoLogFile) {
   const std::string model = writeScratchFile(
       "unknown_attribute.xml",
       "<mujoco>\n<worldbody>\n<body name=\"a\">\n<joint type=\"hinge\" foo=\"1\"/>\n</body>\n</worldbody>\n</mujoco>\n");
-  const std::string cmd = "cd " + shellQuote(dir) + " && " + std::string(LOWPAIR_CLI) + " fk " + shellQuote(model) +
+  const std::string cmd = "cd " + shellQuote(dir) + " && " + cliCommand() + " fk " + shellQuote(model) +
                           " --tip a --q 0 --json";
   const CliRun r = runCli("fk " + shellQuote(model) + " --tip a --q 0 --json");
   EXPECT_EQ(r.status, 2);
@@ -355,7 +355,7 @@ TEST(HostileInput, StdoutThatCannotBeWrittenFails) {
   const std::string robot = modelPath("puma560_okamura_nominal.yaml");
   for (const std::string& args : {"poe2dh " + shellQuote(robot) + " --json", "fk " + shellQuote(robot) + " --q 0,0,0,0,0,0",
                                  "simulate " + shellQuote(robot) + " --poses 1000"}) {
-    const std::string cmd = std::string(LOWPAIR_CLI) + " " + args + " >/dev/full 2>" + shellQuote(err);
+    const std::string cmd = cliCommand() + " " + args + " >/dev/full 2>" + shellQuote(err);
     const int status = std::system(cmd.c_str());
     std::ifstream in(err);
     const std::string text((std::istreambuf_iterator<char>(in)), {});
@@ -428,7 +428,7 @@ TEST(HostileInput, OutOfMemoryIsOneLine) {
   const std::string robot = std::string(LOWPAIR_MODELS) + "/puma560_okamura_nominal.yaml";
   const std::string err = scratch() + "/oom_stderr.txt";
   // 10,000 poses need a 60,000 x 36 Jacobian (17 MB) and its SVD: more than 60 MB of address space allows
-  const std::string cmd = "ulimit -v 60000 && exec " + std::string(LOWPAIR_CLI) + " identifiability " +
+  const std::string cmd = "ulimit -v 60000 && exec " + cliCommand() + " identifiability " +
                           shellQuote(robot) + " --poses 10000 >/dev/null 2>" + shellQuote(err);
   const int status = std::system(cmd.c_str());
   std::ifstream err_in(err);

@@ -97,7 +97,7 @@ TEST(OutputFiles, DescriptorPathReachesTheDescriptor) {
   EXPECT_EQ(kindOf(stdout_link), static_cast<mode_t>(S_IFLNK));
   // standard output redirected to a file: the CSV follows what was written to it before, the note follows it
   const std::string file = scratch() + "/redirected.csv";
-  const std::string command = "(echo first; " + std::string(LOWPAIR_CLI) + " " + kSimulate + " --out " +
+  const std::string command = "(echo first; " + lowpair_test::cliCommand() + " " + kSimulate + " --out " +
                               shellQuote(stdout_link) + ") > " + shellQuote(file);
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   EXPECT_EQ(slurp(file), "first\n" + runCli(kSimulate).out + note);

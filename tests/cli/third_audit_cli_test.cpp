@@ -73,7 +73,7 @@ long rowsIn(const std::string& out) {
 // ended it (std::bad_alloc escaping as SIGABRT)
 CliRun runWithin(int megabytes, const std::string& args) {
   const std::string err = scratch() + "/within_stderr.txt";
-  const std::string cmd = "ulimit -v " + std::to_string(megabytes * 1024) + " && exec " + std::string(LOWPAIR_CLI) + " " +
+  const std::string cmd = "ulimit -v " + std::to_string(megabytes * 1024) + " && exec " + cliCommand() + " " +
                           args + " 2>" + shellQuote(err);
   CliRun r;
   FILE* pipe = popen(cmd.c_str(), "r");

@@ -2,6 +2,7 @@
 // formatDhRobotFile (export --format dh) and read back by readRobotFile equals the calibrated POE to 1e-12 L,
 // in rad and in deg files; a standard table is written without beta; beta with a nonfinite value is refused.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -48,7 +49,9 @@ io::RobotFile writeAndRead(const DhModel& dh, const std::string& angle_unit, std
   like.angle_unit = angle_unit;
   const std::string yaml = io::formatDhRobotFile(dh, like, "ur", "", {});
   if (text) *text = yaml;
-  const auto path = std::filesystem::temp_directory_path() / ("hayati_file_test_" + angle_unit + ".yaml");
+  // the process id in the name: ctest runs this program's tests as processes side by side
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("hayati_file_test_" + std::to_string(::getpid()) + "_" + angle_unit + ".yaml");
   std::ofstream(path) << yaml;
   io::RobotFile back = io::readRobotFile(path.string());
   std::filesystem::remove(path);

@@ -4,8 +4,10 @@
 // sample stream (bit for bit std::mt19937_64), the bounded plot subsample, and the worker pool when a
 // thread cannot be created.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <atomic>
@@ -15,6 +17,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "cli_path.hpp"
 #include "io/measurements.hpp"
 #include "lowpair/se3.hpp"
 #include "validation/calibration_scenario.hpp"
@@ -28,6 +31,11 @@ using namespace lowpair::commands;
 using namespace lowpair::validation;
 
 namespace {
+
+// A file in the temporary folder named with this process's id: ctest runs this program's tests side by side.
+std::string scratchName(const std::string& name) {
+  return testing::TempDir() + "/validate_test_" + std::to_string(::getpid()) + "_" + name;
+}
 
 using namespace lowpair;
 
@@ -311,10 +319,10 @@ TEST(Sampling, SimulateAndCalibrationCaseDrawTheSamePoses) {
     const std::vector<size_t> blunders = addBlunders(c.seed, c.blunders, c.blunder_size, expected.measurements);
     EXPECT_EQ(static_cast<long long>(blunders.size()), c.blunders);
 
-    const std::string csv = testing::TempDir() + "/sampling_" + name + ".csv";
+    const std::string csv = scratchName(std::string("sampling_") + name + ".csv");
     std::ostringstream command;
     command.precision(17);
-    command << LOWPAIR_CLI << " simulate " << scenario.model << " --tip " << scenario.tip
+    command << lowpair_test::cliCommand() << " simulate " << scenario.model << " --tip " << scenario.tip
             << (scenario.joint_variables.empty() ? "" : " --joint-variables " + scenario.joint_variables)
             << " --poses " << kPoses << " --seed " << c.seed << " --noise-position " << c.noise_position
             << " --measure " << measureName(c.measure());
@@ -327,6 +335,7 @@ TEST(Sampling, SimulateAndCalibrationCaseDrawTheSamePoses) {
     command << " --out " << csv << " > /dev/null";
     ASSERT_EQ(std::system(command.str().c_str()), 0) << command.str();
     const MeasurementFile simulated = readMeasurements(csv);
+    std::remove(csv.c_str());
     ASSERT_EQ(simulated.measurements.size(), expected.measurements.size()) << name;
     for (size_t k = 0; k < expected.measurements.size(); ++k) {
       const Measurement& a = expected.measurements[k];
@@ -463,20 +472,22 @@ TEST(CalibrationLoop, PlannedCaseIsPlanThenSimulateQFile) {
     EXPECT_EQ(r.report->validation->measurements[k].q, q) << k;
   }
   // the command line: plan on the nominal, then simulate the actual robot at its q-file
-  const std::string q_file = testing::TempDir() + "/planned_case_q.csv", csv = testing::TempDir() + "/planned_case.csv";
+  const std::string q_file = scratchName("planned_case_q.csv"), csv = scratchName("planned_case.csv");
   std::ostringstream plan, simulate;
   plan.precision(17);
   simulate.precision(17);
-  plan << LOWPAIR_CLI << " plan " << c.nominal << " --poses " << c.poses << " --candidates " << c.plan->candidates
+  plan << lowpair_test::cliCommand() << " plan " << c.nominal << " --poses " << c.poses << " --candidates " << c.plan->candidates
        << " --seed " << c.seed << (c.free_pitch ? " --free-pitch" : "") << " --out " << q_file << " > /dev/null";
   ASSERT_EQ(std::system(plan.str().c_str()), 0) << plan.str();
-  simulate << LOWPAIR_CLI << " simulate " << f.scenario.model << " --tip " << f.scenario.tip << " --joint-variables "
+  simulate << lowpair_test::cliCommand() << " simulate " << f.scenario.model << " --tip " << f.scenario.tip << " --joint-variables "
            << f.scenario.joint_variables << " --q-file " << q_file << " --seed " << c.seed << " --noise-position "
            << c.noise_position << " --noise-rotation " << c.noise_rotation;
   for (size_t k = 0; k < 6; ++k) simulate << (k ? "," : " --frame ") << (*c.frame)[k];
   simulate << " --out " << csv << " > /dev/null";
   ASSERT_EQ(std::system(simulate.str().c_str()), 0) << simulate.str();
   const MeasurementFile simulated = readMeasurements(csv);
+  std::remove(q_file.c_str());
+  std::remove(csv.c_str());
   ASSERT_EQ(simulated.measurements.size(), fit.measurements.size());
   for (size_t k = 0; k < fit.measurements.size(); ++k) {
     EXPECT_EQ(simulated.measurements[k].q, fit.measurements[k].q) << k;

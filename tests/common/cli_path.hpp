@@ -1,0 +1,19 @@
+#pragma once
+// The lowpair binary a test runs: the environment's LOWPAIR_TEST_CLI when it is set, else LOWPAIR_CLI, the binary
+// of the build tree the including target was built in. `make sanitize` links the test programs build/ compiled
+// (their own code is not instrumented either way, tests/CMakeLists.txt) and sets LOWPAIR_TEST_CLI to the sanitized
+// binary. The path is single-quoted for /bin/sh, as every argument the tests put on a command line.
+#include <cstdlib>
+#include <string>
+
+namespace lowpair_test {
+
+inline std::string cliCommand() {
+  const char* env = std::getenv("LOWPAIR_TEST_CLI");
+  const std::string path = env != nullptr && *env != '\0' ? std::string(env) : std::string(LOWPAIR_CLI);
+  std::string quoted = "'";
+  for (const char ch : path) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return quoted + "'";
+}
+
+}  // namespace lowpair_test
