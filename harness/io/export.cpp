@@ -190,14 +190,33 @@ std::array<double, 2> sorted(double a, double b) { return {std::min(a, b), std::
 
 // ---- URDF -------------------------------------------------------------------------------------------
 
-void urdfLink(tinyxml2::XMLElement* robot, const std::string& name) {
+// A link's inertial: its mass at its centre of mass in the link's frame, or the placeholder (kExportMass at
+// the origin); nullopt: no inertial (a tool link without a payload when the file gives masses).
+std::optional<PointMass> placeholderMass() { return PointMass{kExportMass, Vec3::Zero()}; }
+
+// Link i's inertial from the file's masses: the mass at its centre of mass, moved from the base frame at the
+// reference configuration into the link's frame there (F_link); a massless moving link keeps the placeholder.
+std::optional<PointMass> linkMass(const std::optional<MassModel>& masses, size_t i, const Pose& F_link) {
+  if (!masses || masses->links.empty() || masses->links[i].mass <= 0.0) return placeholderMass();
+  return PointMass{masses->links[i].mass, F_link.inverse() * masses->links[i].com};
+}
+
+// The payload's inertial (its centre of mass is given in the tool frame), when the file gives one.
+std::optional<PointMass> payloadMass(const std::optional<MassModel>& masses) {
+  if (!masses) return placeholderMass();
+  if (masses->payload.mass <= 0.0) return std::nullopt;
+  return masses->payload;
+}
+
+void urdfLink(tinyxml2::XMLElement* robot, const std::string& name, const std::optional<PointMass>& mass) {
   tinyxml2::XMLElement* link = child(robot, "link");
   link->SetAttribute("name", name.c_str());
+  if (!mass) return;
   tinyxml2::XMLElement* inertial = child(link, "inertial");
   tinyxml2::XMLElement* origin = child(inertial, "origin");
-  origin->SetAttribute("xyz", "0 0 0");
+  origin->SetAttribute("xyz", num3(mass->com).c_str());
   origin->SetAttribute("rpy", "0 0 0");
-  child(inertial, "mass")->SetAttribute("value", num(kExportMass).c_str());
+  child(inertial, "mass")->SetAttribute("value", num(mass->mass).c_str());
   tinyxml2::XMLElement* inertia = child(inertial, "inertia");
   for (const char* k : {"ixx", "iyy", "izz"}) inertia->SetAttribute(k, num(kExportInertia).c_str());
   for (const char* k : {"ixy", "ixz", "iyz"}) inertia->SetAttribute(k, "0");
@@ -227,10 +246,10 @@ void urdfLimit(tinyxml2::XMLElement* joint, const std::array<double, 2>& range) 
 
 // ---- MJCF -------------------------------------------------------------------------------------------
 
-void mjcfInertial(tinyxml2::XMLElement* body) {
+void mjcfInertial(tinyxml2::XMLElement* body, const PointMass& mass) {
   tinyxml2::XMLElement* inertial = child(body, "inertial");
-  inertial->SetAttribute("pos", "0 0 0");
-  inertial->SetAttribute("mass", num(kExportMass).c_str());
+  inertial->SetAttribute("pos", num3(mass.com).c_str());
+  inertial->SetAttribute("mass", num(mass.mass).c_str());
   const std::string I = num(kExportInertia);
   inertial->SetAttribute("diaginertia", (I + " " + I + " " + I).c_str());
 }
@@ -324,7 +343,8 @@ ExportFrames exportFrames(const PoeModel& motion_model) {
 }
 
 
-std::string formatUrdf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments) {
+std::string formatUrdf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments,
+                       const std::optional<MassModel>& masses) {
   const PoeModel motion = motionModel(model);
   const ExportFrames frames = exportFrames(motion);
   const std::vector<ExportNames> names = exportNames(motion);
@@ -333,12 +353,14 @@ std::string formatUrdf(const PoeModel& model, const std::string& name, const std
   startDocument(doc, comments);
   tinyxml2::XMLElement* robot = child(&doc, "robot");
   robot->SetAttribute("name", xmlText(name).c_str());
-  urdfLink(robot, "base");
+  urdfLink(robot, "base", placeholderMass());
   std::string parent = "base";
+  Pose F_link;  // the moved link's frame in the base frame at the reference configuration
   for (int i = 0; i < motion.dof(); ++i) {
     const Joint& j = motion.joint(i);
     const ExportNames& n = names[static_cast<size_t>(i)];
     const Pose& origin = i == 0 ? frames.T_base_first : frames.T_link[static_cast<size_t>(i - 1)];
+    F_link = F_link * origin;
     const bool helical = j.type == JointType::Helical;
     const std::string& moved = helical ? n.screw_link : n.link;
     if (j.type == JointType::Prismatic) {
@@ -348,7 +370,7 @@ std::string formatUrdf(const PoeModel& model, const std::string& name, const std
       tinyxml2::XMLElement* e = urdfJoint(robot, n.joint, j.range ? "revolute" : "continuous", parent, moved, origin);
       if (j.range) urdfLimit(e, *j.range);
     }
-    urdfLink(robot, moved);
+    urdfLink(robot, moved, helical ? placeholderMass() : linkMass(masses, static_cast<size_t>(i), F_link));
     if (helical) {
       // the screw's slide: on the same axis, slide = pitch * turn (urdf_reader.hpp reads it back as one joint)
       tinyxml2::XMLElement* e = urdfJoint(robot, n.slide, "prismatic", moved, n.link, Pose());
@@ -359,16 +381,17 @@ std::string formatUrdf(const PoeModel& model, const std::string& name, const std
       mimic->SetAttribute("joint", n.joint.c_str());
       mimic->SetAttribute("multiplier", num(j.pitch).c_str());
       mimic->SetAttribute("offset", "0");
-      urdfLink(robot, n.link);
+      urdfLink(robot, n.link, linkMass(masses, static_cast<size_t>(i), F_link));
     }
     parent = n.link;
   }
   urdfJoint(robot, "tool_joint", "fixed", parent, "tool", frames.T_link.back() * frames.T_last_tool);
-  urdfLink(robot, "tool");
+  urdfLink(robot, "tool", payloadMass(masses));
   return printed(doc);
 }
 
-std::string formatMjcf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments) {
+std::string formatMjcf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments,
+                       const std::optional<MassModel>& masses) {
   const PoeModel motion = motionModel(model);
   const ExportFrames frames = exportFrames(motion);
   const std::vector<ExportNames> names = exportNames(motion);
@@ -377,18 +400,21 @@ std::string formatMjcf(const PoeModel& model, const std::string& name, const std
   tinyxml2::XMLElement* mujoco = child(&doc, "mujoco");
   mujoco->SetAttribute("model", xmlText(name).c_str());
   child(mujoco, "compiler")->SetAttribute("angle", "radian");
-  child(mujoco, "option")->SetAttribute("gravity", "0 0 0");
+  child(mujoco, "option")->SetAttribute("gravity", masses ? num3(masses->gravity).c_str() : "0 0 0");
   tinyxml2::XMLElement* body = child(child(mujoco, "worldbody"), "body");
   body->SetAttribute("name", "base");
-  mjcfInertial(body);
+  mjcfInertial(body, *placeholderMass());
+  Pose F_link;
   tinyxml2::XMLElement* equality = nullptr;
   for (int i = 0; i < motion.dof(); ++i) {
     const Joint& j = motion.joint(i);
     const ExportNames& n = names[static_cast<size_t>(i)];
     body = child(body, "body");
     body->SetAttribute("name", n.link.c_str());
-    mjcfPlace(body, i == 0 ? frames.T_base_first : frames.T_link[static_cast<size_t>(i - 1)]);
-    mjcfInertial(body);
+    const Pose& origin = i == 0 ? frames.T_base_first : frames.T_link[static_cast<size_t>(i - 1)];
+    mjcfPlace(body, origin);
+    F_link = F_link * origin;
+    mjcfInertial(body, *linkMass(masses, static_cast<size_t>(i), F_link));
     mjcfJoint(body, n.joint, j.type == JointType::Prismatic ? "slide" : "hinge", j.range);
     if (j.type == JointType::Helical) {
       mjcfJoint(body, n.slide, "slide", std::nullopt);  // driven by the equality below
@@ -401,7 +427,14 @@ std::string formatMjcf(const PoeModel& model, const std::string& name, const std
   }
   tinyxml2::XMLElement* site = child(body, "site");
   site->SetAttribute("name", "tool");
-  mjcfPlace(site, frames.T_link.back() * frames.T_last_tool);
+  const Pose T_last_tool = frames.T_link.back() * frames.T_last_tool;
+  mjcfPlace(site, T_last_tool);
+  if (masses && masses->payload.mass > 0.0) {  // welded at the tool: MuJoCo counts it with the last link
+    tinyxml2::XMLElement* payload = child(body, "body");
+    payload->SetAttribute("name", "payload");
+    mjcfPlace(payload, T_last_tool);
+    mjcfInertial(payload, masses->payload);
+  }
   return printed(doc);
 }
 
@@ -463,7 +496,20 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
                            "helical joints; urdfdom can, and the MJCF export (--format mjcf) has the same frames");
   }
   result.mujoco_readable = !(format == ExportFormat::Urdf && helical);
-  result.text = format == ExportFormat::Urdf ? formatUrdf(model, name, header) : formatMjcf(model, name, header);
+  if (file.masses) {
+    header.push_back(std::string("Masses: each link's <inertial> is its mass (kg) at its centre of mass, the ") +
+                     (format == ExportFormat::Urdf ? "tool link's the payload; gravity (a world property, not in URDF): "
+                                                   : "payload a body welded at the tool; <option gravity> (m/s^2): ") +
+                     num3(file.masses->gravity) + " in the base frame.");
+  }
+  if (!file.deflection.empty()) {
+    header.push_back("Joint compliance and backlash (" + file.path + ") have no " +
+                     (format == ExportFormat::Urdf ? "URDF" : "MJCF") +
+                     " element: they are in the robot file lowpair export writes beside this one as "
+                     "<stem>.joint_variables.yaml.");
+  }
+  result.text = format == ExportFormat::Urdf ? formatUrdf(model, name, header, file.masses)
+                                             : formatMjcf(model, name, header, file.masses);
   if (format == ExportFormat::Mjcf) {
     // one nested body per joint: a long chain nests deeper than the 100 elements tinyxml2 reads (lowpair's
     // readers and its kinematics-only copy for MuJoCo): refuse what could not be read back
@@ -474,11 +520,15 @@ ExportedRobot exportRobot(const RobotFile& file, ExportFormat format, const std:
                            " elements lowpair reads back (about 95 joints at most); export it as a URDF (flat)");
     }
   }
-  if (mapped) {
+  if (mapped || !file.deflection.empty()) {  // the file of q, and of the deflections the format cannot hold
     std::vector<std::string> jv = comments;
     jv.push_back(std::string("The joint variables q of the exported ") + (format == ExportFormat::Urdf ? "URDF" : "MJCF") +
                  ", whose joint variable is the motion x = scale (q + offset).");
-    result.joint_variables = formatPoeRobotFile(model, file, name, file.description, jv);
+    result.joint_variables =
+        file.deflection.empty()
+            ? formatPoeRobotFile(model, file, name, file.description, jv)
+            : formatPoeRobotFile(model, file, name, file.description, jv,
+                                 RobotFileExtras{{}, std::nullopt, ToolFrame::Defined, file.masses, file.deflection});
   }
   return result;
 }

@@ -80,9 +80,14 @@ ExportFrames exportFrames(const PoeModel& motion_model);
 
 
 /// URDF of `model` (file comment above); lengths in the model's unit. `comments` become one XML comment.
-std::string formatUrdf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments);
-/// MJCF of `model` (file comment above), `<compiler angle="radian"/>`, zero gravity.
-std::string formatMjcf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments);
+/// With `masses` (the robot file's, in the model's length unit): each link's <inertial> holds its mass at its
+/// centre of mass (a massless moving link keeps kExportMass), the tool link the payload (none without one).
+std::string formatUrdf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments,
+                       const std::optional<MassModel>& masses = std::nullopt);
+/// MJCF of `model` (file comment above), `<compiler angle="radian"/>`, zero gravity. With `masses`: the
+/// links' inertials as formatUrdf's, the payload a body welded at the tool, and the file's gravity.
+std::string formatMjcf(const PoeModel& model, const std::string& name, const std::vector<std::string>& comments,
+                       const std::optional<MassModel>& masses = std::nullopt);
 
 /// What `lowpair export` writes.
 struct ExportedRobot {

@@ -243,9 +243,10 @@ PlanResult dispatch(const PlanCandidates& c, std::vector<int> start, int N, cons
     const PlanValue v = evaluatePlan(c, set);
     return finish(c, std::move(set), v, 0, 0, options.criterion);
   }
-  switch (c.rows_per_pose) {
+  switch (c.rows_per_pose) {  // fixed sizes: a position, a pose, three SMRs (a tracker's usual nest)
     case 3: return runPlan<3>(c, std::move(start), N, options);
     case 6: return runPlan<6>(c, std::move(start), N, options);
+    case 9: return runPlan<9>(c, std::move(start), N, options);
     default: return runPlan<Eigen::Dynamic>(c, std::move(start), N, options);
   }
 }
