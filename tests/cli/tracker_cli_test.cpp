@@ -358,12 +358,15 @@ TEST(TrackerSimulate, BadOptionsExitTwoWithOneLine) {
   }
 }
 
-// The shipped tracker cases pass: the PUMA's SMRs 3 m away with 3 % blunders (each flagged, nothing else),
-// the Stanford arm's poses in a turned frame.
-TEST(TrackerScenario, ShippedCasesPass) {
-  const std::string dir = scratch() + "/tracker_report";
-  const CliRun r = runCli("validate " + std::string(LOWPAIR_SCENARIOS) + "/puma560_okamura_actual.yaml " +
-                          std::string(LOWPAIR_SCENARIOS) + "/stanford_corke_actual.yaml --samples 100 --json --report " + dir);
+namespace {
+
+// The tracker cases of `puma_scenario` and the Stanford arm's shipped scenario pass: the PUMA's SMRs 3 m away with
+// 3 % blunders (each flagged, nothing else), the Stanford arm's poses in a turned frame, and the loop cases.
+// `residuals`: the report's files of the tracker case's residuals (.png, .dat).
+void expectTrackerCasesPass(const std::string& puma_scenario, const std::string& report, const std::string& residuals) {
+  const std::string dir = scratch() + "/" + report;
+  const CliRun r = runCli("validate " + puma_scenario + " " + std::string(LOWPAIR_SCENARIOS) +
+                          "/stanford_corke_actual.yaml --samples 100 --json --report " + dir);
   ASSERT_EQ(r.status, 0) << r.err << r.out.substr(0, 2000);
   const auto doc = nlohmann::json::parse(r.out);
   std::map<std::string, nlohmann::json> cases;
@@ -386,8 +389,8 @@ TEST(TrackerScenario, ShippedCasesPass) {
   const std::string md = slurp(dir + "/summary.md");
   EXPECT_NE(md.find("Blunders (5 mm): 9 of 9 flagged."), std::string::npos) << md.substr(0, 3000);
   EXPECT_NE(md.find("| worst | measurement | position error | normalized | weight | flagged | blunder |"), std::string::npos);
-  EXPECT_TRUE(fs::exists(dir + "/puma560-okamura-actual_calibration_3_residuals.png"));
-  const std::string dat = slurp(dir + "/puma560-okamura-actual_calibration_3_residuals.dat");
+  EXPECT_TRUE(fs::exists(dir + "/" + residuals + ".png"));
+  const std::string dat = slurp(dir + "/" + residuals + ".dat");
   EXPECT_EQ(std::count(dat.begin(), dat.end(), '\n'), 301) << "a header and 300 measurements";
 
   // the loop cases (issue 26): planned, far frame, SMRs, blunders, huber, base frame, compensated, MuJoCo's actual
@@ -409,6 +412,20 @@ TEST(TrackerScenario, ShippedCasesPass) {
   EXPECT_EQ(cases["tracker-loop-known"]["compensation"]["measure"], "pose");
   EXPECT_FALSE(cases["tracker-loop"]["compensation"]["tool_determined"].get<bool>());
   EXPECT_EQ(cases["tracker-loop"]["compensation"]["target"], "smr_a");
+}
+
+}  // namespace
+
+TEST(TrackerScenario, ShippedCasesPass) {
+  expectTrackerCasesPass(std::string(LOWPAIR_SCENARIOS) + "/puma560_okamura_actual.yaml", "tracker_report",
+                         "puma560-okamura-actual_calibration_3_residuals");
+}
+
+// The same cases on less work (300 plan candidates, 60 validation poses: tests/data/scenarios/
+// puma560_tracker_light.yaml), the same assertions: what the sanitizer build runs (tests/sanitize_skip.txt).
+TEST(TrackerScenario, LightCasesPass) {
+  expectTrackerCasesPass(std::string(LOWPAIR_SCENARIOS) + "/../tests/data/scenarios/puma560_tracker_light.yaml",
+                         "tracker_light_report", "puma560-tracker-light_calibration_1_residuals");
 }
 
 // Scenario keys of a tracker case: bad values are one line, exit 2.
