@@ -152,17 +152,18 @@ std::vector<int> feasibleCandidates(const io::RobotFile& file, const std::vector
     return kept;
   }
   const auto start = std::chrono::steady_clock::now();
-  // the robot given as the model was loaded already: its notes are not repeated
+  // the chain's kinematics copy: its notes (what kinematics does not need) do not concern the collision check,
+  // whose copy gives its own
   const bool same = request.model == file.path;
-  const mujoco::NoteSink sink = same ? mujoco::setNoteSink([](const std::string&) {}) : nullptr;
+  const mujoco::NoteSink sink = mujoco::setNoteSink([](const std::string&) {});
   std::unique_ptr<mujoco::MujocoRobot> loaded;
   try {
     loaded = std::make_unique<mujoco::MujocoRobot>(request.model, request.tip, request.base);
   } catch (...) {
-    if (same) mujoco::setNoteSink(sink);
+    mujoco::setNoteSink(sink);
     throw;
   }
-  if (same) mujoco::setNoteSink(sink);
+  mujoco::setNoteSink(sink);
   const mujoco::MujocoRobot& robot = *loaded;
   const PoeModel model = mujoco::matchingModel(file, robot, request.model, request.tip);
   // a robot file beside the model: its lengths in metres, MuJoCo's unit (an extracted robot is the model's own)
@@ -171,6 +172,10 @@ std::vector<int> feasibleCandidates(const io::RobotFile& file, const std::vector
   r.model = request.model;
   r.floor = request.floor;
   mujoco::CollisionChecker checker(robot, request.floor ? std::optional<double>(*request.floor * metres) : std::nullopt);
+  // the robot given as the model gave its load's notes already; only the collision copy's own are new
+  for (const std::string& n : checker.notes()) {
+    if (!same || n.find("not checked") != std::string::npos) mujoco::emitNote(n);
+  }
   r.collision_geoms = checker.collisionGeoms();
   if (r.collision_geoms == 0) {
     r.note = request.model + ": no geom can collide (none, or contype and conaffinity 0 on every one): nothing was "

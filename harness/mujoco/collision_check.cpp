@@ -78,9 +78,6 @@ void writeWithFloor(const std::string& copy, const std::string& model, const std
   if (doc.SaveFile(out.c_str()) != tinyxml2::XML_SUCCESS) io::failFile(model, "cannot write the floor copy");
 }
 
-// the notes of the collision copy that the kinematics copy (MujocoRobot's) has not given already
-bool collisionNote(const std::string& note) { return note.find("not checked") != std::string::npos; }
-
 }  // namespace
 
 void CollisionChecker::ModelDeleter::operator()(mjModel_* m) const { mj_deleteModel(m); }
@@ -123,8 +120,9 @@ CollisionChecker::CollisionChecker(const MujocoRobot& robot, std::optional<doubl
   for (int g = 0; g < m->ngeom; ++g) {
     if (g != floor_geom_ && (m->geom_contype[g] || m->geom_conaffinity[g])) ++collision_geoms_;
   }
+  // the summary of what a kinematics copy drops does not describe this copy
   for (const std::string& n : notes) {
-    if (collisionNote(n)) emitNote(n);
+    if (n.find(": not needed for kinematics, dropped:") == std::string::npos) notes_.push_back(n);
   }
 }
 

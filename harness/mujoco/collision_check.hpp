@@ -48,6 +48,9 @@ class CollisionChecker {
   /// A body's name for messages: its MJCF name, or "body N" when it has none; "floor" for the floor's body
   /// when the floor is meant (ContactKind::Floor pairs use -1 for the floor).
   std::string bodyName(int body) const;
+  /// The collision copy's notes (mesh files not found, attributes MuJoCo 2.2.2 does not know), without "note: ";
+  /// not emitted: the caller knows which the robot's own load gave already.
+  const std::vector<std::string>& notes() const { return notes_; }
 
  private:
   struct ModelDeleter {
@@ -57,6 +60,7 @@ class CollisionChecker {
   std::unique_ptr<mjModel_, ModelDeleter> model_;
   std::unique_ptr<mjData_, void (*)(mjData_*)> data_;
   int floor_geom_ = -1, collision_geoms_ = 0;
+  std::vector<std::string> notes_;
 };
 
 }  // namespace lowpair::mujoco

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <random>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -111,12 +112,27 @@ TEST(PlanFeasible, EveryPlannedPoseIsContactFreeInAnIndependentMujocoCheck) {
   EXPECT_LT(idx.back(), 800);
 }
 
-TEST(PlanFeasible, TheJudgeSeesContactsWhereTheArmFoldsIntoTheColumn) {
-  // the test's own check must be able to fail: a pose that folds the arm back through the column
+TEST(PlanFeasible, TheJudgeRejectsWhatTheCommandRejects) {
   Judge judge;
   ASSERT_TRUE(judge.loaded());
-  EXPECT_GT(judge.at({0.0, 0.0, 2.8, 0.0})->ncon, 0) << "forearm folded onto the upper arm's start and the shoulder";
-  EXPECT_GT(judge.at({0.6, 0.0, 0.0, 0.0})->ncon, 0) << "the upper arm through the fixture";
+  // the judge can fail: the stretched arm turned towards the fixture goes through it, turned away it is free
+  EXPECT_GT(judge.at({0.567, 0.0, 0.0, 0.0})->ncon, 0);
+  EXPECT_EQ(judge.at({-1.5, 0.0, 0.0, 0.0})->ncon, 0);
+  // the fraction of uniform draws in contact, by the judge (its own stream) and by the command (its candidates)
+  std::mt19937_64 rng(20261128);
+  int in_contact = 0;
+  const int draws = 4000;
+  for (int k = 0; k < draws; ++k) {
+    std::vector<double> q(4);
+    for (int i = 0; i < 4; ++i) q[static_cast<size_t>(i)] = std::uniform_real_distribution<double>(kRanges[i][0], kRanges[i][1])(rng);
+    in_contact += judge.at(q)->ncon > 0;
+  }
+  const json j = planJson(kArm + " --tip tool --collisions --poses 6 --candidates 4000 --seed 11");
+  const double judged = static_cast<double>(in_contact) / draws;
+  const double rejected = j["feasibility"]["rejected"]["total"].get<double>() / 4000;
+  EXPECT_GT(judged, 0.05);
+  EXPECT_LT(judged, 0.6);
+  EXPECT_NEAR(rejected, judged, 0.03);  // two binomial estimates of one fraction: standard deviation about 0.007 each
 }
 
 TEST(PlanFeasible, FloorKeepsEveryPlannedPoseAboveIt) {
@@ -166,8 +182,18 @@ TEST(PlanFeasible, RangeMarginShrinksEveryRange) {
   EXPECT_DOUBLE_EQ(j["feasibility"]["ranges"][3]["hi"].get<double>(), 2.75);
 }
 
+// The arm as a robot file (lowpair export of the MJCF: the same joints, names and ranges).
+std::string armRobotFile() {
+  const std::string robot = scratch() + "/feasible_arm.yaml";
+  const lowpair_test::CliRun e = runCli("export " + kArm + " --tip tool --format poe --out " + robot);
+  EXPECT_EQ(e.status, 0) << e.err;
+  return robot;
+}
+
 TEST(PlanFeasible, BadRangesExitTwoWithOneLine) {
-  const std::string plan = "plan " + kArm + " --tip tool --poses 5 --candidates 100 ";
+  // the robot file beside the model: an MJCF robot's load gives a note of what kinematics did not need first
+  const std::string robot = armRobotFile();
+  const std::string plan = "plan " + robot + " --model " + kArm + " --tip tool --poses 5 --candidates 100 ";
   expectRejected(plan + "--range 2:-3:2", "joint 2 (j2): [-3, 2] rad is outside the file's range [-2.5, 2.5] rad",
                  "--range");
   expectRejected(plan + "--range 2:1:0", "LO must be below HI", "--range");
@@ -178,27 +204,36 @@ TEST(PlanFeasible, BadRangesExitTwoWithOneLine) {
   expectRejected(plan + "--range 2:1", "expected J:LO:HI", "--range");
   expectRejected(plan + "--range 2:0:1 --range j2:0:0.5", "given twice", "--range");
   expectRejected(plan + "--range-margin 3", "leaves nothing", "--range-margin");
+  expectRejected(plan + "--range-margin -1", "must be a finite number >= 0", "--range-margin");
+  // the MJCF as the robot: the same error, last
+  const lowpair_test::CliRun r = runCli("plan " + kArm + " --tip tool --poses 5 --range 2:-3:2");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("\nerror: --range: joint 2 (j2): [-3, 2] rad is outside"), std::string::npos) << r.err;
   expectRejected("plan " + lowpair_test::modelPath("puma560_okamura_nominal.yaml") + " --poses 5 --floor 0",
                  "needs a model", "--floor");
 }
 
 TEST(PlanFeasible, NoFeasibleCandidateExitsOneAndWritesNothing) {
+  const std::string robot = armRobotFile();
   const std::string out = scratch() + "/infeasible.csv";
   std::filesystem::remove(out);
-  // a floor above the shoulder: the upper arm starts below it in every configuration
-  const lowpair_test::CliRun r =
-      runCli("plan " + kArm + " --tip tool --floor 0.5 --poses 5 --candidates 200 --out " + out);
+  // a floor above the shoulder: the shoulder link lies below it in every configuration
+  const lowpair_test::CliRun r = runCli("plan " + robot + " --model " + kArm +
+                                        " --tip tool --floor 0.5 --poses 5 --candidates 200 --out " + out);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_EQ(r.err.rfind("error: no candidate of 200 is free of contacts", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find("floor 200"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'floor' with 'shoulder' (200 candidates)"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--floor"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
   EXPECT_FALSE(std::filesystem::exists(out));
-  // fewer kept than asked for: the same exit
-  const lowpair_test::CliRun few = runCli("plan " + kArm + " --tip tool --collisions --range 3:2.7:2.9 --poses 5 --candidates 50");
+  // fewer kept than asked for: the same exit, and the counts add up to the candidates
+  const lowpair_test::CliRun few =
+      runCli("plan " + robot + " --model " + kArm + " --tip tool --poses 60 --candidates 60 --out " + out);
   EXPECT_EQ(few.status, 1) << few.err;
-  EXPECT_NE(few.err.find("free of contacts"), std::string::npos) << few.err;
+  EXPECT_EQ(few.err.rfind("error: only ", 0), 0u) << few.err;
+  EXPECT_NE(few.err.find(" of 60 are free of contacts"), std::string::npos) << few.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST(PlanFeasible, ModelWithoutCollisionGeometryGivesANote) {
@@ -219,9 +254,7 @@ TEST(PlanFeasible, WithoutTheNewOptionsTheJsonHasNoNewField) {
 }
 
 TEST(PlanFeasible, ModelBesideARobotFileKeepsTheSameCandidates) {
-  const std::string robot = scratch() + "/feasible_arm.yaml";
-  const lowpair_test::CliRun e = runCli("export " + kArm + " --tip tool --format poe --out " + robot);
-  ASSERT_EQ(e.status, 0) << e.err;
+  const std::string robot = armRobotFile();
   const json own = planJson(kArm + " --tip tool --collisions --poses 6 --candidates 300 --seed 9");
   const json beside = planJson(robot + " --model " + kArm + " --tip tool --poses 6 --candidates 300 --seed 9");
   EXPECT_EQ(beside["feasibility"]["kept"], own["feasibility"]["kept"]);
