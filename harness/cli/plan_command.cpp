@@ -110,7 +110,7 @@ void printFeasibility(std::ostream& out, const PlanReport& r) {
       out << "nothing checked (no geom can collide)\n";
     } else {
       out << f.collision_geoms << " collision geom(s)";
-      if (f.floor) out << ", floor at z = " << significant(*f.floor, 6) << " " << u;
+      if (f.floor) out << ", floor at z = " << significant(*f.floor, 6) << (r.file.length_unit.empty() ? "" : " " + u);
       out << " (" << fixed(f.seconds, 3) << " s)\n";
     }
   }
