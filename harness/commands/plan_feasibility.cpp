@@ -117,7 +117,7 @@ std::vector<Range> narrowedRanges(const io::RobotFile& file, const FeasibilityRe
                            number(ranges[k][0] / factor) + ", " + number(ranges[k][1] / factor) + "] " + unit);
     }
     ranges[k] = {std::max(q[0], ranges[k][0]), std::min(q[1], ranges[k][1])};
-    from[k] = spelling.name("range");
+    from[k] = "--range";  // the CLI's name in both front ends: the JSON the Python tests compare
   }
   const double margin = request.range_margin;
   if (!std::isfinite(margin) || margin < 0) {
