@@ -31,9 +31,9 @@ Spread spread(std::vector<double> x) {
 void checkEnoughFeasible(const FeasibilityReport& f, int poses, const ArgumentSpelling& spelling) {
   if (f.kept >= poses) return;
   std::string s = (f.kept == 0 ? "no candidate" : "only " + std::to_string(f.kept)) + " of " + std::to_string(f.drawn) +
-                  (f.kept <= 1 ? " is" : " are") + " free of contacts in " + f.model + " (" + std::to_string(poses) + " poses asked for); rejected: " +
-                  "self-collision " + std::to_string(f.self_collision) + ", world geometry " + std::to_string(f.world) +
-                  ", floor " + std::to_string(f.floor_contact);
+                  (f.kept <= 1 ? " is" : " are") + " free of contacts in " + f.model + " (" + std::to_string(poses) +
+                  " poses asked for); rejected: self-collision " + std::to_string(f.self_collision) +
+                  ", world geometry " + std::to_string(f.world) + ", floor " + std::to_string(f.floor_contact);
   if (!f.pairs.empty()) {
     s += "; most often '" + f.pairs.front().body1 + "' with '" + f.pairs.front().body2 + "' (" +
          std::to_string(f.pairs.front().candidates) + " candidates)";
