@@ -1,13 +1,15 @@
 // lowpair plan's feasible candidates (docs/plan.md "Feasible plans"): the planned poses checked independently
 // in MuJoCo (the MJCF loaded here as it is, mj_forward, ncon), the rejected counts, --range and
 // --range-margin honoured exactly, bad ranges (exit 2), no feasible candidate (exit 1, nothing written), a
-// model without collision geometry (a note), and --model beside a robot file.
+// model without collision geometry (a note), --model beside a robot file, and a robot file's floor in mm.
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <random>
 #include <nlohmann/json.hpp>
@@ -261,4 +263,20 @@ TEST(PlanFeasible, ModelBesideARobotFileKeepsTheSameCandidates) {
   EXPECT_EQ(beside["feasibility"]["rejected"], own["feasibility"]["rejected"]);
   expectRejected("plan " + kArm + " --tip tool --model " + kArm + " --poses 5", "goes with a robot file", "--model");
   expectRejected("plan " + robot + " --model " + kArm + " --poses 5", "--tip NAME is required", "--model");
+}
+
+TEST(PlanFeasible, TheFloorOfARobotFileInMillimetresIsConvertedToTheModelsMetres) {
+  // the robot file's lengths only matter to the check through the floor (the arm has no prismatic joint)
+  std::ifstream in(armRobotFile());
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t at = text.find("angle_unit: rad");
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at, "length_unit: mm\n");
+  const std::string mm = lowpair_test::writeScratchFile("feasible_arm_mm.yaml", text);
+  const json in_mm = planJson(mm + " --model " + kArm + " --tip tool --floor 100 --poses 6 --candidates 1000");
+  const json in_m = planJson(kArm + " --tip tool --floor 0.1 --poses 6 --candidates 1000");
+  EXPECT_EQ(in_mm["feasibility"]["floor"], 100.0);
+  EXPECT_GT(in_m["feasibility"]["rejected"]["floor"].get<int>(), 0);
+  EXPECT_EQ(in_mm["feasibility"]["rejected"], in_m["feasibility"]["rejected"]);
+  EXPECT_EQ(in_mm["feasibility"]["kept"], in_m["feasibility"]["kept"]);
 }
