@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <sstream>
 #include <random>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -108,10 +109,23 @@ TEST(PlanFeasible, EveryPlannedPoseIsContactFreeInAnIndependentMujocoCheck) {
   }
   // the plan against random sets of the kept candidates
   EXPECT_GE(j["planned"]["log_det"].get<double>(), j["random"]["log_det"]["best"].get<double>());
-  // the indices are the drawn candidates' and increase
+  // the indices are the drawn candidates' (sample i of the stream, as simulate draws it) and increase
   const auto idx = j["indices"].get<std::vector<int>>();
   EXPECT_TRUE(std::is_sorted(idx.begin(), idx.end()));
-  EXPECT_LT(idx.back(), 800);
+  ASSERT_LT(idx.back(), 800);
+  const std::string m = scratch() + "/feasible_samples.csv";
+  ASSERT_EQ(runCli("simulate " + kArm + " --tip tool --poses 800 --seed 3 --out " + m).status, 0);
+  std::ifstream in(m);
+  std::vector<std::vector<double>> samples;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#' || line[0] == 'q') continue;
+    std::vector<double> row;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',') && row.size() < 4;) row.push_back(std::stod(cell));
+    samples.push_back(row);
+  }
+  ASSERT_EQ(samples.size(), 800u);
+  for (size_t k = 0; k < idx.size(); ++k) EXPECT_EQ(q[k], samples[static_cast<size_t>(idx[k])]) << k;
 }
 
 TEST(PlanFeasible, TheJudgeRejectsWhatTheCommandRejects) {
