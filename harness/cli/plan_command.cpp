@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -30,6 +31,12 @@ struct Options {
   long long seed = 1;
   bool free_pitch = false, as_json = false;
   std::optional<double> noise_position, noise_rotation;
+  // feasible plans (docs/plan.md "Feasible plans")
+  std::string model;
+  bool collisions = false;
+  std::optional<double> floor;
+  std::vector<std::string> ranges;
+  double range_margin = 0.0;
 };
 
 std::string lengthUnit(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
@@ -67,6 +74,11 @@ std::string qFileText(const PlanReport& r) {
                    " (best of " + std::to_string(kPlanRandomSets) + " random sets: log det " +
                    logDetText(r.random_log_det.best) + "); rank " + std::to_string(r.plan.rank.rank) + " of " +
                    std::to_string(r.plan.expected.total()));
+  if (r.feasibility && !r.feasibility->model.empty()) {
+    const FeasibilityReport& f = *r.feasibility;
+    s += commentLine("feasible: " + std::to_string(f.kept) + " of " + std::to_string(f.drawn) + " candidates " +
+                     (f.checked ? "free of contacts in " + f.model : "kept, nothing checked in " + f.model));
+  }
   s += commentLine("q: the robot file's joint variables (rad for revolute and helical joints, " + lengthUnit(r.file) +
                    " for prismatic ones)");
   for (int i = 0; i < n; ++i) s += (i ? ",q" : "q") + std::to_string(i + 1);
@@ -81,6 +93,37 @@ std::string qFileText(const PlanReport& r) {
   return s;
 }
 
+// The ranges sampled, what the collision check rejected and kept (plan with --range, --model, ...).
+void printFeasibility(std::ostream& out, const PlanReport& r) {
+  const FeasibilityReport& f = *r.feasibility;
+  const std::string u = lengthUnit(r.file);
+  out << "sampled ranges (rad for revolute/helical joints, " << u << " for prismatic):";
+  for (size_t i = 0; i < f.ranges.size(); ++i) {
+    out << (i ? "," : "") << " q" << i + 1 << " [" << significant(f.ranges[i][0], 6) << ", "
+        << significant(f.ranges[i][1], 6) << "]";
+    if (f.range_source[i] != "file" && f.range_source[i] != "default") out << " (" << f.range_source[i] << ")";
+  }
+  out << "\n";
+  if (!f.model.empty()) {
+    out << "collision check in " << f.model << ": ";
+    if (!f.checked) {
+      out << "nothing checked (no geom can collide)\n";
+    } else {
+      out << f.collision_geoms << " collision geom(s)";
+      if (f.floor) out << ", floor at z = " << significant(*f.floor, 6) << (r.file.length_unit.empty() ? "" : " " + u);
+      out << " (" << fixed(f.seconds, 3) << " s)\n";
+    }
+  }
+  out << "candidates: " << f.drawn << " drawn, " << f.rejected() << " rejected (self-collision " << f.self_collision
+      << ", world geometry " << f.world << ", floor " << f.floor_contact << "), " << f.kept << " kept\n";
+  if (!f.pairs.empty()) {
+    out << "most frequent contacts:";
+    for (size_t k = 0; k < f.pairs.size() && k < 3; ++k) {
+      out << (k ? "," : "") << " '" << f.pairs[k].body1 << "'-'" << f.pairs[k].body2 << "' in " << f.pairs[k].candidates;
+    }
+    out << " candidates\n";
+  }
+}
 
 void printPlan(std::ostream& out, const PlanReport& r, const std::string& out_path) {
   const PlanResult& p = r.plan;
@@ -91,6 +134,7 @@ void printPlan(std::ostream& out, const PlanReport& r, const std::string& out_pa
       << (r.measure == Measure::Targets ? ", " + std::to_string(r.file.targets.size()) + " targets each" : std::string())
       << ") of " << robotLabel(r.file)
       << " (" << r.file.path << ") from " << r.candidates << " random candidates (seed " << r.seed << ")\n";
+  if (r.feasibility) printFeasibility(out, r);
   out << "criterion " << planCriterionName(r.criterion)
       << (r.criterion == PlanCriterion::D ? " (log det of the information)"
                                           : " (Sun & Hollerbach: geometric mean of the singular values / sqrt(N))")
@@ -108,6 +152,7 @@ void printPlan(std::ostream& out, const PlanReport& r, const std::string& out_pa
   row("random sets of " + std::to_string(p.indices.size()) + ", median (" + std::to_string(kPlanRandomSets) + ")",
       r.random_log_det.median, r.random_o1.median);
   row("random sets, best", r.random_log_det.best, r.random_o1.best);
+  if (r.feasibility) out << "(the random sets are drawn from the " << r.feasibility->kept << " kept candidates)\n";
   if (std::isfinite(p.value.log_det) && std::isfinite(r.random_log_det.median)) {
     out << "the planned information's determinant is " << significant(std::exp(p.value.log_det - r.random_log_det.median), 3)
         << " times the median random set's (O1 " << significant(p.value.o1 / r.random_o1.median, 3) << " times)\n";
@@ -153,6 +198,34 @@ void printPlan(std::ostream& out, const PlanReport& r, const std::string& out_pa
       << fixed(r.seconds_uncertainty, 3) << " s\n";
 }
 
+// The feasibility options as a request; the model's --tip/--base move from `robot` to it (--model).
+FeasibilityRequest feasibilityRequest(const Options& o, RobotSource& robot) {
+  FeasibilityRequest f;
+  for (const std::string& text : o.ranges) f.ranges.push_back(parseRangeOverride(text, cliSpelling()));
+  f.range_margin = o.range_margin;
+  f.floor = o.floor;
+  const std::string ext = std::filesystem::path(robot.path).extension().string();
+  const bool model_robot = ext == ".xml" || ext == ".urdf";
+  if (!o.model.empty()) {
+    if (model_robot) throw UsageError("--model", "goes with a robot file (.yaml); " + robot.path + " is a model: give --collisions");
+    if (robot.tip.empty()) throw UsageError("--model", "--tip NAME is required with --model (the chain's tip)");
+    f.model = o.model;
+    f.tip = robot.tip;
+    f.base = robot.base;
+    robot.tip.clear();
+    robot.base.clear();
+  } else if (o.collisions || o.floor) {
+    if (!model_robot) {
+      throw UsageError(o.collisions ? "--collisions" : "--floor",
+                       "needs a model: the robot as MJCF/URDF, or --model FILE --tip NAME beside a robot file");
+    }
+    f.model = robot.path;
+    f.tip = robot.tip;
+    f.base = robot.base;
+  }
+  return f;
+}
+
 }  // namespace
 
 void addPlanCommand(CLI::App& app, Commands& commands) {
@@ -180,6 +253,17 @@ void addPlanCommand(CLI::App& app, Commands& commands) {
   sub->add_flag("--free-pitch", o->free_pitch, "give revolute joints a pitch parameter");
   sub->add_option("--out", o->out, "write the planned joint vectors (CSV q1..qn; lowpair fk/simulate --q-file)");
   sub->add_flag("--json", o->as_json, "print JSON");
+  sub->add_option("--model", o->model, "keep only candidates free of contacts in this MJCF/URDF (its chain: --tip NAME "
+                                       "[--base NAME]) beside a robot file");
+  sub->add_flag("--collisions", o->collisions, "keep only candidates free of contacts in the robot's own model "
+                                               "(ROBOT an MJCF/URDF)");
+  sub->add_option("--floor", o->floor, "a floor plane z = Z of the base frame (robot file's length unit) the robot "
+                                       "must stay above (checks collisions)");
+  sub->add_option("--range", o->ranges, "J:LO:HI: sample joint J (index 1..n or name) in [LO, HI] (robot file's "
+                                        "units; inside the file's range); repeatable")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sub->add_option("--range-margin", o->range_margin, "shrink every joint's range by X at both ends (robot file's units)");
   commands.emplace_back(sub, [o] {
     PlanRequest request;
     request.measure = parseMeasure(o->measure, cliSpelling());
@@ -190,7 +274,17 @@ void addPlanCommand(CLI::App& app, Commands& commands) {
     request.free_pitch = o->free_pitch;
     request.noise_position = o->noise_position;
     request.noise_rotation = o->noise_rotation;
-    const PlanReport r = makePlanReport(loadRobot(o->robot, cliSpelling()), request, cliSpelling());
+    RobotSource robot = o->robot;
+    request.feasibility = feasibilityRequest(*o, robot);
+    std::optional<PlanReport> report;
+    try {
+      report.emplace(makePlanReport(loadRobot(robot, cliSpelling()), request, cliSpelling()));
+    } catch (const InfeasiblePlan& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return 1;
+    }
+    const PlanReport& r = *report;
+    if (r.feasibility && !r.feasibility->note.empty()) std::cerr << "note: " << r.feasibility->note << "\n";
     if (!o->out.empty()) writeFileAtomically(o->out, qFileText(r));
     if (o->as_json) {
       std::cout << jsonText(planJson(r, o->out)) << "\n";

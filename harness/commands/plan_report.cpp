@@ -27,6 +27,44 @@ Spread spread(std::vector<double> x) {
   return {n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]), x.back()};
 }
 
+// Fewer kept candidates than poses: what was rejected, and what to look at.
+void checkEnoughFeasible(const FeasibilityReport& f, int poses, const ArgumentSpelling& spelling) {
+  if (f.kept >= poses) return;
+  std::string s = (f.kept == 0 ? "no candidate" : "only " + std::to_string(f.kept)) + " of " + std::to_string(f.drawn) +
+                  (f.kept <= 1 ? " is" : " are") + " free of contacts in " + f.model + " (" + std::to_string(poses) +
+                  " poses asked for); rejected: self-collision " + std::to_string(f.self_collision) +
+                  ", world geometry " + std::to_string(f.world) + ", floor " + std::to_string(f.floor_contact);
+  if (!f.pairs.empty()) {
+    s += "; most often '" + f.pairs.front().body1 + "' with '" + f.pairs.front().body2 + "' (" +
+         std::to_string(f.pairs.front().candidates) + " candidates)";
+  }
+  throw InfeasiblePlan(s + ": look at the joint ranges (" + spelling.name("range") + ", " + spelling.name("range_margin") +
+                       ")" + (f.floor ? ", the floor's height (" + spelling.name("floor") + ")" : std::string()) +
+                       " and the model's collision geometry (contype/conaffinity, <exclude>); or draw more " +
+                       spelling.name("candidates"));
+}
+
+json feasibilityJson(const FeasibilityReport& f) {
+  json pairs = json::array();
+  for (const BodyPairCount& p : f.pairs) pairs.push_back({{"bodies", {p.body1, p.body2}}, {"candidates", p.candidates}});
+  json ranges = json::array();
+  for (size_t i = 0; i < f.ranges.size(); ++i) {
+    ranges.push_back({{"lo", f.ranges[i][0]}, {"hi", f.ranges[i][1]}, {"source", f.range_source[i]}});
+  }
+  return {{"model", f.model.empty() ? json(nullptr) : json(f.model)},
+          {"checked", f.checked},
+          {"collision_geoms", f.collision_geoms},
+          {"floor", f.floor ? json(*f.floor) : json(nullptr)},
+          {"note", f.note.empty() ? json(nullptr) : json(f.note)},
+          {"ranges", ranges},
+          {"drawn", f.drawn},
+          {"kept", f.kept},
+          {"rejected", {{"total", f.rejected()}, {"self_collision", f.self_collision}, {"world", f.world},
+                        {"floor", f.floor_contact}}},
+          {"pairs", pairs},
+          {"seconds", f.seconds}};
+}
+
 }  // namespace
 
 PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request, const ArgumentSpelling& spelling) {
@@ -72,11 +110,24 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
   options.validate();
 
   // candidates: the sampling convention (commands/sampling.hpp), stream `seed`, samples 0..M-1
-  const auto ranges = samplingRanges(model);
+  std::vector<std::string> range_source;
+  const auto ranges = request.feasibility.any() ? narrowedRanges(r.file, request.feasibility, spelling, &range_source)
+                                                : samplingRanges(model);
   std::vector<VecX> candidates(static_cast<size_t>(request.candidates), VecX(model.dof()));
   for (int i = 0; i < request.candidates; ++i) {
     randomSample(static_cast<unsigned long long>(request.seed), static_cast<unsigned long long>(i), ranges,
                  candidates[static_cast<size_t>(i)]);
+  }
+  std::vector<int> drawn_index;  // of each kept candidate (feasibility only)
+  if (request.feasibility.any()) {
+    r.feasibility.emplace();
+    r.feasibility->ranges = ranges;
+    r.feasibility->range_source = range_source;
+    drawn_index = feasibleCandidates(r.file, candidates, request.feasibility, spelling, *r.feasibility);
+    checkEnoughFeasible(*r.feasibility, request.poses, spelling);
+    std::vector<VecX> kept;
+    for (const int i : drawn_index) kept.push_back(candidates[static_cast<size_t>(i)]);
+    candidates = std::move(kept);
   }
   auto clock = [] { return std::chrono::steady_clock::now(); };
   auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
@@ -98,6 +149,9 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
   auto t2 = clock();
   r.seconds_random = seconds(t1, t2);
   for (const int i : r.plan.indices) r.q.push_back(candidates[static_cast<size_t>(i)]);
+  if (r.feasibility) {
+    for (int& i : r.plan.indices) i = drawn_index[static_cast<size_t>(i)];  // the drawn sample's index
+  }
 
   // the noise of the standard deviations: as stated (the other derived as calibrate does), else the default
   std::optional<double> sigma_position = request.noise_position, sigma_rotation = request.noise_rotation;
@@ -182,6 +236,7 @@ json planJson(const PlanReport& r, const std::string& out_path) {
                 {"rotation", r.measure == Measure::Pose ? json(c.sigma_rotation) : json(nullptr)},
                 {"source", r.noise_source}};
   o["standard_deviations"] = {{"parameters", parameters}, {"dh", dhUncertaintyJson(r.expected->dh)}};
+  if (r.feasibility) o["feasibility"] = feasibilityJson(*r.feasibility);
   o["out"] = out_path.empty() ? json(nullptr) : json(out_path);
   o["seconds"] = {{"plan", r.seconds_plan}, {"random", r.seconds_random}, {"uncertainty", r.seconds_uncertainty}};
   return o;

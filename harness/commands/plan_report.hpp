@@ -14,6 +14,7 @@
 #include "lowpair/plan.hpp"
 #include "commands/arguments.hpp"
 #include "commands/limits.hpp"
+#include "commands/plan_feasibility.hpp"
 
 namespace lowpair::commands {
 
@@ -34,6 +35,7 @@ struct PlanRequest {
   long long seed = 1;
   bool free_pitch = false;
   std::optional<double> noise_position, noise_rotation;  ///< length per coordinate, rad per axis
+  FeasibilityRequest feasibility;  ///< narrowed ranges, a model checked for contacts (nothing: as before)
 };
 
 /// A value over the random sets: the median and the best (largest).
@@ -55,11 +57,16 @@ struct PlanReport {
   std::optional<ExpectedUncertainty> expected;
   std::string noise_source;  ///< stated, derived or the default, in words
   double seconds_plan = 0.0, seconds_random = 0.0, seconds_uncertainty = 0.0;
+  /// Set when the request narrows ranges or checks a model: the plan's indices are then still the drawn
+  /// candidates' (samples 0..M-1), and the random sets are drawn from the kept candidates.
+  std::optional<FeasibilityReport> feasibility;
 };
 
 /// Checks the request against the robot (targets to measure, poses <= candidates, the noise, the size limit),
 /// then plans: candidates are samples 0..M-1 of the stream `seed` (commands/sampling.hpp), the random sets
-/// come from the same seed. @throws UsageError naming the argument as `spelling` spells it, or the robot file
+/// come from the same seed. With a feasibility request the candidates are drawn in the narrowed ranges and
+/// only those free of contacts are planned on (plan_feasibility.hpp). @throws UsageError naming the argument
+/// as `spelling` spells it, or the robot file; InfeasiblePlan when fewer candidates than poses are kept
 PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request, const ArgumentSpelling& spelling);
 
 /// The JSON of `plan --json`; `out_path`: where the planned joint vectors were written ("" for none: null).

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "io/robot_file.hpp"
+#include "mujoco/collision_copy.hpp"
 #include "mujoco/messages.hpp"
 #include "io/urdf_reader.hpp"
 
@@ -93,7 +94,10 @@ const std::set<std::string> kNonKinematicElements = {"option", "flag", "size", "
 class Copier {
  public:
   Copier(const std::string& path, std::vector<std::string>* notes, CopyContent content)
-      : path_(path), notes_(notes), keep_inertials_(content == CopyContent::Inertials) {}
+      : path_(path),
+        notes_(notes),
+        keep_inertials_(content == CopyContent::Inertials),
+        collision_(content == CopyContent::Collision) {}
 
   // the bodies whose mass MuJoCo would take from their (dropped) geoms; only for an inertials copy
   const std::vector<std::string>& massFromGeoms() const { return mass_from_geoms_; }
@@ -111,6 +115,7 @@ class Copier {
       mergeCompiler(root, /*urdf=*/false);
     } else if (kind == "robot") {
       checkUrdf(path_);  // MuJoCo 2.2.2's URDF parser crashes on trees urdfdom rejects
+      if (collision_) detail::keepUrdfCollisionGeometry(root, fs::absolute(path_).parent_path(), origin(), *notes_);
       pruneUrdf(root);
     } else {
       fail(path_, "the root element is <" + kind + ">: expected <mujoco> (MJCF) or <robot> (URDF)");
@@ -176,6 +181,10 @@ class Copier {
  private:
   [[noreturn]] static void fail(const std::string& file, const std::string& what) {
     throw RobotFileError(file + ": " + what);
+  }
+
+  detail::ElementOrigin origin() const {
+    return [this](const XMLElement* e) { return where(e); };
   }
 
   std::string where(const XMLElement* e) const {
@@ -282,11 +291,13 @@ class Copier {
         }
       }
     }
+    if (collision_) detail::keepMjcfCollisionGeometry(root, folder_, origin(), *notes_);
     for (XMLElement* e = root->FirstChildElement(); e;) {
       XMLElement* next = e->NextSiblingElement();
       const std::string name = e->Name();
       // tendons stay only when a tendon equality needs them (MujocoRobot checks what they couple)
-      if (kDroppedSections.count(name) || (name == "tendon" && !tendon_equality)) {
+      const bool collision_section = collision_ && (name == "asset" || name == "contact");
+      if ((kDroppedSections.count(name) && !collision_section) || (name == "tendon" && !tendon_equality)) {
         drop(e);
       } else if (name == "default") {
         pruneDefaults(e);
@@ -299,12 +310,14 @@ class Copier {
     }
   }
 
-  // Defaults of what is kept; geom, mesh, material, camera, light, pair and actuator classes go.
+  // Defaults of what is kept; geom, mesh, material, camera, light, pair and actuator classes go (a collision
+  // copy keeps geom, mesh and pair).
   void pruneDefaults(XMLElement* def) {
     static const std::set<std::string> kKept = {"default", "joint", "site", "equality", "tendon"};
+    static const std::set<std::string> kCollision = {"geom", "mesh", "pair"};
     for (XMLElement* c = def->FirstChildElement(); c;) {
       XMLElement* next = c->NextSiblingElement();
-      if (!kKept.count(c->Name())) {
+      if (!kKept.count(c->Name()) && !(collision_ && kCollision.count(c->Name()))) {
         drop(c, /*count=*/false);
       } else if (named(c, "default")) {
         pruneDefaults(c);
@@ -320,7 +333,7 @@ class Copier {
     if (keep_inertials_ && named(e, "body")) noteMassFromGeoms(e);
     for (XMLElement* c = e->FirstChildElement(); c;) {
       XMLElement* next = c->NextSiblingElement();
-      if (kDropped.count(c->Name())) {
+      if (kDropped.count(c->Name()) && !(collision_ && named(c, "geom"))) {
         drop(c);
       } else if (named(c, "inertial") && !keep_inertials_ && (!global_coordinates_ || e->Attribute("pos"))) {
         // masses never enter kinematics, but MuJoCo's Jacobian is taken about the subtree's centre of
@@ -373,7 +386,7 @@ class Copier {
         XMLElement* next = c->NextSiblingElement();
         // masses never enter kinematics, but MuJoCo's Jacobian is taken about the subtree's centre of
         // mass: a non-finite inertial origin (urdfdom accepts one) made every Jacobian NaN
-        if (named(c, "visual") || named(c, "collision")) {
+        if (named(c, "visual") || (named(c, "collision") && !collision_)) {
           drop(c);
         } else if (named(c, "inertial") && !keep_inertials_) {
           drop(c, /*count=*/false);
@@ -429,6 +442,8 @@ class Copier {
     last->SetAttribute("fusestatic", "false");
     setBound("boundmass", kBoundMass);
     setBound("boundinertia", kBoundInertia);
+    // a collision copy's mesh files are absolute paths, which strippath would cut
+    if (collision_) last->SetAttribute("strippath", "false");
     if (urdf) {
       setIfAbsent("discardvisual", "true");
       setIfAbsent("strippath", "false");
@@ -535,6 +550,7 @@ class Copier {
   bool global_coordinates_ = false;  // <compiler coordinate="global"> (MuJoCo 2.2.2 still reads it)
   std::vector<std::string>* notes_;
   bool keep_inertials_ = false;       // CopyContent::Inertials
+  bool collision_ = false;            // CopyContent::Collision
   std::string inertia_from_geom_ = "auto";  // <compiler inertiafromgeom>, MuJoCo's default "auto"
   std::vector<std::string> mass_from_geoms_;
   XMLDocument doc_;

@@ -38,6 +38,13 @@
 /// file's. Geometry is still dropped: a body whose mass MuJoCo would compute from its geoms (no `<inertial>`
 /// and `inertiafromgeom` not "false", or any body with geoms under `inertiafromgeom="true"`) weighs only
 /// the mass bound in the copy; massFromGeoms() names those bodies.
+///
+/// A copy with CopyContent::Collision (CollisionChecker, collision_check.hpp) keeps what MuJoCo's collision
+/// detection reads: every `<geom>` (except height fields), geom/mesh/pair defaults, `<contact>` (`<pair>`,
+/// `<exclude>`) and the `<mesh>` assets, each mesh file made absolute (meshdir/assetdir of the file); a mesh
+/// whose file is missing goes with its geoms, one note each. URDF: `<collision>` stays (a relative mesh
+/// made absolute; a `package://` or missing mesh dropped with a note), `<visual>` goes. Materials, textures
+/// and skins go; `strippath="false"`.
 
 #include <string>
 #include <vector>
@@ -52,6 +59,7 @@ inline constexpr double kCopyBoundMass = 1e-6;
 enum class CopyContent {
   Kinematics,  ///< no `<inertial>` (MujocoRobot)
   Inertials,   ///< every `<inertial>` kept: the masses are the file's
+  Collision,   ///< collision geoms, contact pairs/excludes and meshes kept (no `<inertial>`)
 };
 
 /// A temporary kinematics-only copy (a unique file in the temp folder, made with mkstemps); the file is

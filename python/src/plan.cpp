@@ -1,4 +1,5 @@
 // lowpair.plan (`lowpair plan`) and the class Plan.
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -24,7 +25,9 @@ struct PlanOutcome {
 
 PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::string& measure_text,
                  const std::string& criterion_text, long long seed, std::optional<double> noise_position,
-                 std::optional<double> noise_rotation, bool free_pitch) {
+                 std::optional<double> noise_rotation, bool free_pitch, const std::optional<py::object>& model,
+                 std::optional<std::string> tip, std::optional<std::string> base, std::optional<double> floor,
+                 const std::optional<py::dict>& ranges, double range_margin) {
   // the checks the CLI's parser makes (CLI::Range, CLI::IsMember); the rest are the report's
   if (poses < 1 || poses > commands::kMaxPlanPoses) {
     throw UsageError("poses", "must be in [1, " + std::to_string(commands::kMaxPlanPoses) + "], got " +
@@ -47,11 +50,40 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
   request.free_pitch = free_pitch;
   request.noise_position = noise_position;
   request.noise_rotation = noise_rotation;
+  commands::FeasibilityRequest& f = request.feasibility;
+  if (model && !model->is_none()) {
+    f.model = pathArgument(*model);
+    if (!tip) throw UsageError("tip", "is required with model= (the chain's tip: a site or body / a link)");
+    f.tip = *tip;
+    f.base = base.value_or("");
+  } else if (tip || base) {
+    throw UsageError(tip ? "tip" : "base", "goes with model= (the model checked for contacts)");
+  }
+  f.floor = floor;
+  f.range_margin = range_margin;
+  if (ranges) {
+    // {joint: (lo, hi)}: joint a 1-based index or a joint's name, as the CLI's --range J:LO:HI
+    for (const auto& [key, value] : *ranges) {
+      commands::RangeOverride o;
+      o.joint = py::isinstance<py::str>(key) ? key.cast<std::string>() : std::to_string(key.cast<long long>());
+      const auto bounds = value.cast<std::pair<double, double>>();
+      if (!(std::isfinite(bounds.first) && std::isfinite(bounds.second))) {
+        throw UsageError("ranges", o.joint + ": LO and HI must be finite numbers");
+      }
+      if (!(bounds.first < bounds.second)) throw UsageError("ranges", o.joint + ": LO must be below HI");
+      o.lo = bounds.first;
+      o.hi = bounds.second;
+      f.ranges.push_back(o);
+    }
+  }
   PlanOutcome o;
+  takeLoaderNotes();
   {
     py::gil_scoped_release release;
     o.report = commands::makePlanReport(r.file, request, pythonSpelling());
   }
+  for (const std::string& note : takeLoaderNotes()) warnUser(note);
+  if (o.report.feasibility && !o.report.feasibility->note.empty()) warnUser(o.report.feasibility->note);
   o.j = commands::planJson(o.report, "");
   return o;
 }
@@ -111,15 +143,22 @@ void exposePlan(py::module_& m) {
       });
   m.def("plan", &plan, py::arg("robot"), py::arg("poses"), py::arg("candidates") = 5000, py::arg("measure") = "pose",
         py::arg("criterion") = "D", py::arg("seed") = 1, py::arg("noise_position") = py::none(),
-        py::arg("noise_rotation") = py::none(), py::arg("free_pitch") = false,
+        py::arg("noise_rotation") = py::none(), py::arg("free_pitch") = false, py::kw_only(),
+        py::arg("model") = py::none(), py::arg("tip") = py::none(), py::arg("base") = py::none(),
+        py::arg("floor") = py::none(), py::arg("ranges") = py::none(), py::arg("range_margin") = 0.0,
         "plan(robot, poses, candidates=5000, measure='pose', criterion='D', seed=1, noise_position=None,\n"
-        "     noise_rotation=None, free_pitch=False) -> Plan\n\n"
+        "     noise_rotation=None, free_pitch=False, *, model=None, tip=None, base=None, floor=None, ranges=None,\n"
+        "     range_margin=0.0) -> Plan\n\n"
         "`lowpair plan`: choose `poses` (N <= 1000) calibration poses of `candidates` (M <= 100000) random joint\n"
         "vectors (samples 0..M-1 of the stream `seed`) maximizing log det of the identification information\n"
         "(greedy, then exchanges; criterion 'D' or 'O1' only changes the number reported), compare with 100\n"
         "random sets of N, and predict every parameter's and D-H number's standard deviation after calibrating\n"
         "on the plan with the given noise (length_unit, rad; default 1e-5 L and 1e-5 rad). measure: 'pose',\n"
-        "'position' or 'targets' (the robot file's targets). The GIL is released while planning.");
+        "'position' or 'targets' (the robot file's targets). The GIL is released while planning.\n\n"
+        "Feasible plans (docs/plan.md): model (an MJCF/URDF path; tip, base its chain) keeps only candidates\n"
+        "MuJoCo finds free of contacts, floor (z of the base frame, length_unit) adds a floor plane; ranges\n"
+        "{joint: (lo, hi)} (joint a 1-based index or a name; the robot file's units) and range_margin narrow\n"
+        "the sampled ranges. Too few feasible candidates raise lowpair.Error (the CLI's exit 1).");
 }
 
 }  // namespace lowpair::python

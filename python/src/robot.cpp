@@ -46,6 +46,12 @@ void collectNote(const std::string& text) { pendingNotes().push_back(text); }
 // Robot.transformed(T): the same robot seen from another frame (every twist Ad(T) xi, the tool T exp(xi_T)).
 }  // namespace
 
+std::vector<std::string> takeLoaderNotes() {
+  std::vector<std::string> notes;
+  notes.swap(pendingNotes());
+  return notes;
+}
+
 Pose rigidMotionArgument(const InArray& T, const std::string& subject) {
   requireAccepted(T, "", subject);
   if (T.ndim() != 2 || T.shape(0) != 4 || T.shape(1) != 4) {

@@ -54,6 +54,10 @@ using RobotPtr = std::shared_ptr<Robot>;  // immutable by convention: no method 
 /// `subject`.
 Pose rigidMotionArgument(const InArray& T, const std::string& subject);
 
+/// The loader's notes gathered on this thread since the last call (MuJoCo's warnings, what a model copy dropped),
+/// for a call that loads a model besides `load` (plan's model=); the caller issues them as warnings.
+std::vector<std::string> takeLoaderNotes();
+
 // The model fk(model=...) evaluates: 'poe' or 'dh' (None: the file's own).
 inline std::string kindOf(const Robot& r, const std::optional<std::string>& model) {
   const std::string kind = model.value_or("file");

@@ -319,7 +319,10 @@ def compensate(calibrated: Robot, nominal: Robot, q: ArrayLike,
                measure: Literal["pose", "position"] = "pose") -> IkSolutions: ...
 def plan(robot: Robot, poses: int, candidates: int = 5000, measure: Measure = "pose",
          criterion: Literal["D", "O1"] = "D", seed: int = 1, noise_position: Optional[float] = None,
-         noise_rotation: Optional[float] = None, free_pitch: bool = False) -> Plan: ...
+         noise_rotation: Optional[float] = None, free_pitch: bool = False, *,
+         model: "Optional[str | os.PathLike[str]]" = None, tip: Optional[str] = None, base: Optional[str] = None,
+         floor: Optional[float] = None, ranges: Optional[Dict[Union[int, str], Tuple[float, float]]] = None,
+         range_margin: float = 0.0) -> Plan: ...
 def simulate(robot: Robot, poses: Optional[int] = None, q: Optional[ArrayLike] = None, seed: int = 1,
              measure: Measure = "pose", targets: Optional[Sequence[str]] = None,
              frame: Optional[ArrayLike] = None, noise_position: float = 0.0, noise_rotation: float = 0.0,
