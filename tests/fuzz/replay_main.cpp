@@ -128,11 +128,22 @@ int main(int argc, char** argv) {
   const char* mutants_env = std::getenv("LOWPAIR_FUZZ_MUTANTS");
   const char* seed_env = std::getenv("LOWPAIR_FUZZ_SEED");
   const char* last_prefix = std::getenv("LOWPAIR_FUZZ_LAST");
-  const std::string last = last_prefix ? std::string(last_prefix) + "." + fs::path(argv[0]).filename().string() : "";
+  // LOWPAIR_FUZZ_SHARD=K/N: only the inputs i with i % N == K (and their mutants, which depend on i, not on the
+  // shard): the N shards together replay exactly what one run does (tests/fuzz/CMakeLists.txt)
+  const char* shard_env = std::getenv("LOWPAIR_FUZZ_SHARD");
+  unsigned long shard = 0, shards = 1;
+  if (shard_env && (std::sscanf(shard_env, "%lu/%lu", &shard, &shards) != 2 || shards == 0 || shard >= shards)) {
+    std::fprintf(stderr, "LOWPAIR_FUZZ_SHARD: expected K/N with 0 <= K < N, got '%s'\n", shard_env);
+    return 2;
+  }
+  const std::string last = last_prefix ? std::string(last_prefix) + "." + fs::path(argv[0]).filename().string() +
+                                             (shards > 1 ? ".shard" + std::to_string(shard) : std::string())
+                                       : "";
   const long long mutants = mutants_env ? std::atoll(mutants_env) : 0;
   const unsigned long long seed = seed_env ? std::strtoull(seed_env, nullptr, 10) : 1;
   long long runs = 0;
   for (size_t i = 0; i < files.size(); ++i) {
+    if (i % shards != shard) continue;
     std::fprintf(stderr, "replay %s\n", files[i].c_str());
     const std::vector<char> bytes = readBytes(files[i]);
     LLVMFuzzerTestOneInput(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
@@ -150,6 +161,7 @@ int main(int argc, char** argv) {
       ++runs;
     }
   }
-  std::printf("replayed %zu inputs%s (%lld runs)\n", files.size(), mutants > 0 ? " and their mutants" : "", runs);
+  std::printf("replayed %zu inputs%s (%lld runs; shard %lu of %lu)\n", files.size(), mutants > 0 ? " and their mutants" : "",
+              runs, shard + 1, shards);
   return 0;
 }
