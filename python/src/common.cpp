@@ -1,6 +1,8 @@
 // What the topics of the Python module share (common.hpp).
 #include "common.hpp"
 
+#include <Eigen/SVD>
+
 #include <cmath>
 #include <string>
 
@@ -203,6 +205,19 @@ Mat3 quaternionRotation(double w, double x, double y, double z, const std::strin
                                   io::shortest(norm) + ")");
   }
   return *R;
+}
+
+bool singlePrecision(const py::handle& a) {
+  if (!py::isinstance<py::array>(a)) return false;
+  const auto array = py::reinterpret_borrow<py::array>(a);
+  return array.dtype().kind() == 'f' && array.itemsize() < 8;
+}
+
+void roundFromSinglePrecision(Pose& T) {
+  constexpr double kSingleRounding = 64.0 * 1.1920928955078125e-07;
+  if (!((T.R.transpose() * T.R - Mat3::Identity()).norm() <= kSingleRounding) || !(T.R.determinant() > 0.0)) return;
+  const Eigen::JacobiSVD<Mat3> svd(T.R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  T.R = svd.matrixU() * svd.matrixV().transpose();
 }
 
 }  // namespace lowpair::python

@@ -202,6 +202,15 @@ struct type_caster<lowpair::python::InArray> {
 
 namespace lowpair::python {
 
+/// True for a numpy array of floats narrower than float64 (float32, float16).
+bool singlePrecision(const py::handle& a);
+
+/// A rotation given in single precision (float32 arrays: rounding of about 6e-8 in |R^T R - I|, above the
+/// double-precision rule kRotationOrthonormal) taken as the nearest rotation (polar factor U V^T) when it is one
+/// to float32 rounding: 64 float32 epsilons, 7.6e-6. Beyond, or with det R <= 0, T is left as it is, for the
+/// caller's own refusal. (ik's targets and rotations, Robot.transformed(T), simulate(frame=(4, 4)).)
+void roundFromSinglePrecision(Pose& T);
+
 /// An argument taken as a py::object (one that may be an array or something else) read through InArray's caster
 /// (py::cast<InArray> would bypass it: InArray is a py::object), refused as requireAccepted refuses.
 inline InArray arrayArgument(const py::handle& x, const std::string& what) {

@@ -67,7 +67,7 @@ Simulation simulate(const Robot& r, std::optional<int> poses, const std::optiona
   if (frame) {  // the frame's pose in the base: 6 numbers (the CLI's --frame) or a (4, 4) rigid motion
     const InArray f = arrayArgument(*frame, "frame");
     if (f.ndim() == 2 && f.shape(0) == 4 && f.shape(1) == 4) {
-      setup.T_frame_base = rigidMotionArgument(f, "frame").inverse();
+      setup.T_frame_base = rigidMotionArgument(f, "frame", singlePrecision(*frame)).inverse();
     } else {
       if (f.ndim() != 1 || f.shape(0) != 6) {
         throw UsageError("frame", "expected 6 numbers rx, ry, rz, x, y, z (rotation vector in rad, translation) or a "

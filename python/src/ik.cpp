@@ -130,23 +130,6 @@ std::optional<MatX> seedRows(const Robot& r, const std::optional<InArray>& q0, s
 
 // `lowpair ik`: one problem per target, from q0 (the CSV's q columns) or from up to `seeds` random seeds (sample
 // k * seeds + s of the stream `seed`, the sampling convention), the first ok kept, else the best attempt.
-// A rotation given in single precision (float32 arrays: rounding of about 6e-8 in |R^T R - I|, above the solver's
-// double-precision rule) taken as the nearest rotation (polar factor U V^T) when it is one to float32 rounding:
-// 64 float32 epsilons, 7.6e-6; beyond, it is left to the solver's refusal.
-void roundFromSinglePrecision(std::vector<Pose>& poses) {
-  constexpr double kSingleRounding = 64.0 * 1.1920928955078125e-07;
-  for (Pose& T : poses) {
-    if (!((T.R.transpose() * T.R - Mat3::Identity()).norm() <= kSingleRounding) || !(T.R.determinant() > 0.0)) continue;
-    const Eigen::JacobiSVD<Mat3> svd(T.R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    T.R = svd.matrixU() * svd.matrixV().transpose();
-  }
-}
-
-bool singlePrecision(const py::object& a) {
-  if (!py::isinstance<py::array>(a)) return false;
-  const auto array = py::reinterpret_borrow<py::array>(a);
-  return array.dtype().kind() == 'f' && array.itemsize() < 8;
-}
 
 IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optional<py::object>& rotations_obj,
                const std::optional<InArray>& q0, int seeds, long long seed) {
@@ -161,7 +144,9 @@ IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optiona
   checkRowCount(targets_arg, "targets");
   bool pose = false;
   std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
-  if (singlePrecision(targets_obj) || (rotations_obj && singlePrecision(*rotations_obj))) roundFromSinglePrecision(targets);
+  if (singlePrecision(targets_obj) || (rotations_obj && singlePrecision(*rotations_obj))) {
+    for (Pose& T : targets) roundFromSinglePrecision(T);  // the solver's refusal stays for a matrix that is no rotation
+  }
   // the solver's work bounded before any row is solved (commands/limits.hpp), as the CLI's
   if (const auto problem = commands::ikWorkProblem(targets.size(), q0 ? 1 : seeds, r.dof(), !q0)) {
     throw UsageError(q0 ? "targets" : "seeds", *problem);

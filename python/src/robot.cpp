@@ -52,7 +52,7 @@ std::vector<std::string> takeLoaderNotes() {
   return notes;
 }
 
-Pose rigidMotionArgument(const InArray& T, const std::string& subject) {
+Pose rigidMotionArgument(const InArray& T, const std::string& subject, bool single_precision) {
   requireAccepted(T, "", subject);
   if (T.ndim() != 2 || T.shape(0) != 4 || T.shape(1) != 4) {
     throw UsageError(subject, "expected a (4, 4) array, got " + shapeText(T));
@@ -69,7 +69,8 @@ Pose rigidMotionArgument(const InArray& T, const std::string& subject) {
       }
     }
   }
-  const Pose P = Pose::fromMatrix(M);
+  Pose P = Pose::fromMatrix(M);
+  if (single_precision) roundFromSinglePrecision(P);  // float32: the nearest rotation, as ik's
   if (M.row(3) != Eigen::RowVector4d(0, 0, 0, 1) ||
       !((P.R.transpose() * P.R - Mat3::Identity()).norm() <= kRotationOrthonormal) || P.R.determinant() <= 0) {
     throw UsageError(subject, "expected a rigid motion [R p; 0 0 0 1] with R a rotation");
@@ -79,8 +80,8 @@ Pose rigidMotionArgument(const InArray& T, const std::string& subject) {
 
 namespace {
 
-RobotPtr transformedRobot(const Robot& r, const InArray& T) {
-  const Pose P = rigidMotionArgument(T, "T");
+RobotPtr transformedRobot(const Robot& r, const py::object& T_obj) {
+  const Pose P = rigidMotionArgument(arrayArgument(T_obj, "T"), "T", singlePrecision(T_obj));
   io::RobotFile f = r.file;
   f.dh.reset();
   f.path.clear();

@@ -52,7 +52,7 @@ using RobotPtr = std::shared_ptr<Robot>;  // immutable by convention: no method 
 
 /// A (4, 4) rigid motion [R p; 0 0 0 1] argument (R a rotation to kRotationOrthonormal), or lowpair.Error naming
 /// `subject`.
-Pose rigidMotionArgument(const InArray& T, const std::string& subject);
+Pose rigidMotionArgument(const InArray& T, const std::string& subject, bool single_precision = false);
 
 /// The loader's notes gathered on this thread since the last call (MuJoCo's warnings, what a model copy dropped),
 /// for a call that loads a model besides `load` (plan's model=); the caller issues them as warnings.

@@ -124,8 +124,7 @@ SLOTS = [
          [WRONG_COUNT, SHAPE_3D, ("row of a batch", lambda x: x[None], None)]),
     Slot("transformed.T", "T", lambda a: puma.transformed(a).fk(QN), T1, T01, r"\[0, 1\]: '-?(nan|inf)' is not finite",
          [("(4, 3)", _drop_col, None), SHAPE_3D, ("(16,)", lambda x: x.reshape(-1), None)],
-         f32="xfail:transformed(T) refuses a float32 rotation (|R^T R - I| ~ 6e-8 > the double-precision rule), "
-             "where ik takes float32 rotations as the nearest rotation"),
+         f32="round"),
     Slot("with_targets.point", "targets", lambda a: puma.with_targets({"smr": a}).targets["smr"],
          np.array([0.01, -0.02, 0.05]), np.array([1.0, 0.0, 1.0]), r"target smr: the point is not finite",
          [("(2,)", _drop_col, None), ("(1, 3)", lambda x: x[None], None)]),
@@ -154,8 +153,7 @@ SLOTS = [
          [("(5,)", _drop_col, None), ("(1, 6)", lambda x: x[None], None), ("(1, 1, 6)", lambda x: x[None, None], None)]),
     Slot("simulate.frame(4,4)", "frame", lambda a: sim_result(lowpair.simulate(puma, q=QN, frame=a)), T1, T01,
          r"\[0, 1\]: '-?(nan|inf)' is not finite", [("(4, 3)", _drop_col, None), SHAPE_3D],
-         f32="xfail:simulate(frame=(4, 4) float32) refuses the float32 rotation, where ik takes float32 "
-             "rotations as the nearest rotation"),
+         f32="round"),
     Slot("calibrate.q", "q", quiet(lambda a: cal_result(lowpair.calibrate(puma, a, SIM.positions, SIM.rotations))),
          SIM.q, Q01_12, r"\[0, 1\]: '-?(nan|inf)' is not finite",
          [WRONG_COUNT, SHAPE_3D, ("(6,)", lambda x: x[0], None)]),
