@@ -203,6 +203,9 @@ FeasibilityRequest feasibilityRequest(const Options& o, RobotSource& robot) {
   FeasibilityRequest f;
   for (const std::string& text : o.ranges) f.ranges.push_back(parseRangeOverride(text, cliSpelling()));
   f.range_margin = o.range_margin;
+  if (o.floor && !std::isfinite(*o.floor)) {  // (CLI11 reads 1e309 as inf; nan would reach MuJoCo's XML as 'nan')
+    throw UsageError("--floor", "must be a finite number, got " + significant(*o.floor, 6));
+  }
   f.floor = o.floor;
   const std::string ext = std::filesystem::path(robot.path).extension().string();
   const bool model_robot = ext == ".xml" || ext == ".urdf";

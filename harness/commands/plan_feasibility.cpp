@@ -143,6 +143,9 @@ std::vector<int> feasibleCandidates(const io::RobotFile& file, const std::vector
                                     const FeasibilityRequest& request, const ArgumentSpelling& spelling,
                                     FeasibilityReport& r) {
   r.drawn = static_cast<int>(candidates.size());
+  if (request.floor && !std::isfinite(*request.floor)) {
+    throw UsageError(spelling.name("floor"), "must be a finite number, got " + number(*request.floor));
+  }
   std::vector<int> kept;
   if (request.model.empty()) {
     if (request.floor) throw UsageError(spelling.name("floor"), "needs a model to check (a robot given as MJCF/URDF, or " +

@@ -45,6 +45,9 @@ def test_feasible_plan_errors():
         lowpair.plan(robot, poses=5, candidates=100, model=ARM)
     with pytest.raises(lowpair.Error, match="^floor: needs a model"):
         lowpair.plan(robot, poses=5, candidates=100, floor=0.0)
+    for floor in (float("nan"), float("inf")):  # not a plane at nan or inf in MuJoCo's XML
+        with pytest.raises(lowpair.Error, match="^floor: must be a finite number"):
+            lowpair.plan(robot, poses=5, candidates=100, model=ARM, tip="tool", floor=floor)
 
 
 def test_model_without_collision_geometry_warns():

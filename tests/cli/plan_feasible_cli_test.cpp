@@ -227,6 +227,11 @@ TEST(PlanFeasible, BadRangesExitTwoWithOneLine) {
   EXPECT_NE(r.err.find("\nerror: --range: joint 2 (j2): [-3, 2] rad is outside"), std::string::npos) << r.err;
   expectRejected("plan " + lowpair_test::modelPath("puma560_okamura_nominal.yaml") + " --poses 5 --floor 0",
                  "needs a model", "--floor");
+  // a floor that is not a finite number: refused before the model is loaded (one line), not a plane at nan or inf
+  // in MuJoCo's XML (nan: exit 1 with MuJoCo's parse error; 1e309, read as inf: exit 1, "no candidate is free")
+  for (const char* floor : {"nan", "inf", "-inf", "1e309"}) {
+    expectRejected("plan " + kArm + " --tip tool --poses 5 --floor " + floor, "must be a finite number", "--floor");
+  }
 }
 
 TEST(PlanFeasible, NoFeasibleCandidateExitsOneAndWritesNothing) {
