@@ -190,20 +190,21 @@ std::array<double, 2> sorted(double a, double b) { return {std::min(a, b), std::
 
 // ---- URDF -------------------------------------------------------------------------------------------
 
-// A link's inertial: its mass at its centre of mass in the link's frame, or the placeholder (kExportMass at
-// the origin); nullopt: no inertial (a tool link without a payload when the file gives masses).
-std::optional<PointMass> placeholderMass() { return PointMass{kExportMass, Vec3::Zero()}; }
+// The token mass of a link the file gives no mass (kExportMass at the link's origin): simulators refuse a
+// massless moving body, and kinematics does not depend on it.
+const PointMass kTokenMass{kExportMass, Vec3::Zero()};
 
 // Link i's inertial from the file's masses: the mass at its centre of mass, moved from the base frame at the
-// reference configuration into the link's frame there (F_link); a massless moving link keeps the placeholder.
-std::optional<PointMass> linkMass(const std::optional<MassModel>& masses, size_t i, const Pose& F_link) {
-  if (!masses || masses->links.empty() || masses->links[i].mass <= 0.0) return placeholderMass();
+// reference configuration into the link's frame there (F_link); a link without a mass gets the token mass.
+PointMass linkMass(const std::optional<MassModel>& masses, size_t i, const Pose& F_link) {
+  if (!masses || masses->links.empty() || masses->links[i].mass <= 0.0) return kTokenMass;
   return PointMass{masses->links[i].mass, F_link.inverse() * masses->links[i].com};
 }
 
-// The payload's inertial (its centre of mass is given in the tool frame), when the file gives one.
+// The tool link's inertial: the token mass without masses (as before), the payload (its centre of mass is given
+// in the tool frame) with them, and none when they give no payload.
 std::optional<PointMass> payloadMass(const std::optional<MassModel>& masses) {
-  if (!masses) return placeholderMass();
+  if (!masses) return kTokenMass;
   if (masses->payload.mass <= 0.0) return std::nullopt;
   return masses->payload;
 }
@@ -353,7 +354,7 @@ std::string formatUrdf(const PoeModel& model, const std::string& name, const std
   startDocument(doc, comments);
   tinyxml2::XMLElement* robot = child(&doc, "robot");
   robot->SetAttribute("name", xmlText(name).c_str());
-  urdfLink(robot, "base", placeholderMass());
+  urdfLink(robot, "base", kTokenMass);
   std::string parent = "base";
   Pose F_link;  // the moved link's frame in the base frame at the reference configuration
   for (int i = 0; i < motion.dof(); ++i) {
@@ -370,7 +371,7 @@ std::string formatUrdf(const PoeModel& model, const std::string& name, const std
       tinyxml2::XMLElement* e = urdfJoint(robot, n.joint, j.range ? "revolute" : "continuous", parent, moved, origin);
       if (j.range) urdfLimit(e, *j.range);
     }
-    urdfLink(robot, moved, helical ? placeholderMass() : linkMass(masses, static_cast<size_t>(i), F_link));
+    urdfLink(robot, moved, helical ? kTokenMass : linkMass(masses, static_cast<size_t>(i), F_link));
     if (helical) {
       // the screw's slide: on the same axis, slide = pitch * turn (urdf_reader.hpp reads it back as one joint)
       tinyxml2::XMLElement* e = urdfJoint(robot, n.slide, "prismatic", moved, n.link, Pose());
@@ -403,7 +404,7 @@ std::string formatMjcf(const PoeModel& model, const std::string& name, const std
   child(mujoco, "option")->SetAttribute("gravity", masses ? num3(masses->gravity).c_str() : "0 0 0");
   tinyxml2::XMLElement* body = child(child(mujoco, "worldbody"), "body");
   body->SetAttribute("name", "base");
-  mjcfInertial(body, *placeholderMass());
+  mjcfInertial(body, kTokenMass);
   Pose F_link;
   tinyxml2::XMLElement* equality = nullptr;
   for (int i = 0; i < motion.dof(); ++i) {
@@ -414,7 +415,7 @@ std::string formatMjcf(const PoeModel& model, const std::string& name, const std
     const Pose& origin = i == 0 ? frames.T_base_first : frames.T_link[static_cast<size_t>(i - 1)];
     mjcfPlace(body, origin);
     F_link = F_link * origin;
-    mjcfInertial(body, *linkMass(masses, static_cast<size_t>(i), F_link));
+    mjcfInertial(body, linkMass(masses, static_cast<size_t>(i), F_link));
     mjcfJoint(body, n.joint, j.type == JointType::Prismatic ? "slide" : "hinge", j.range);
     if (j.type == JointType::Helical) {
       mjcfJoint(body, n.slide, "slide", std::nullopt);  // driven by the equality below

@@ -60,12 +60,7 @@ inline CliRun runCli(const std::string& args) {
   return r;
 }
 
-// runCli's command line goes through /bin/sh (popen): single-quote an argument for it.
-inline std::string shellQuote(const std::string& text) {
-  std::string out = "'";
-  for (const char ch : text) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  return out + "'";
-}
+// (shellQuote: cli_path.hpp)
 
 inline std::string modelPath(const std::string& name) { return std::string(LOWPAIR_MODELS) + "/" + name; }
 

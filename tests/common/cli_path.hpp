@@ -8,12 +8,16 @@
 
 namespace lowpair_test {
 
+// A command line goes through /bin/sh (popen, system): single-quote an argument for it.
+inline std::string shellQuote(const std::string& text) {
+  std::string out = "'";
+  for (const char ch : text) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return out + "'";
+}
+
 inline std::string cliCommand() {
   const char* env = std::getenv("LOWPAIR_TEST_CLI");
-  const std::string path = env != nullptr && *env != '\0' ? std::string(env) : std::string(LOWPAIR_CLI);
-  std::string quoted = "'";
-  for (const char ch : path) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
-  return quoted + "'";
+  return shellQuote(env != nullptr && *env != '\0' ? std::string(env) : std::string(LOWPAIR_CLI));
 }
 
 }  // namespace lowpair_test

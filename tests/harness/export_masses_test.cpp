@@ -6,7 +6,7 @@
 //
 // Bound of the gravity comparison: 64 eps sum_k m_k |g| 2L, the rounding of sums of products of that size (as
 // mujoco_dynamics_test.cpp). models/puma560_masses.yaml gives joint 1's link no mass: the export puts the
-// placeholder kExportMass at that link's frame origin, on joint 1's vertical axis, where its weight has no
+// token mass kExportMass at that link's frame origin, on joint 1's vertical axis, where its weight has no
 // moment about any joint axis it loads (joint 1's alone).
 #include <gtest/gtest.h>
 
@@ -47,7 +47,7 @@ void expectSameLoads(const RobotFile& file, ExportFormat format, const std::stri
   const size_t last = stated.links.size() - 1;
   for (size_t j = 0; j < stated.links.size(); ++j) {
     if (stated.links[j].mass == 0.0) {
-      EXPECT_EQ(read.links[j].mass, kExportMass) << j;  // the placeholder a moving body needs
+      EXPECT_EQ(read.links[j].mass, kExportMass) << j;  // the token mass a moving body needs
       continue;
     }
     const double m = stated.links[j].mass + (j == last ? stated.payload.mass : 0.0);
@@ -92,7 +92,7 @@ TEST(ExportMasses, MjcfCarriesTheFilesGravity) {
   expectSameLoads(file, ExportFormat::Mjcf, "puma_sideways.xml");
 }
 
-// A file without masses exports as before: placeholder inertials, zero gravity in the MJCF.
+// A file without masses exports as before: token-mass inertials, zero gravity in the MJCF.
 TEST(ExportMasses, WithoutMassesThePlaceholdersAndZeroGravityStay) {
   const RobotFile file = readRobotFile(std::string(LOWPAIR_MODELS) + "/puma560_corke.yaml");
   ASSERT_FALSE(file.masses.has_value());
