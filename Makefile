@@ -2,8 +2,10 @@
 # and build into build/, then run. `make bench` builds in Release and runs the benchmarks.
 PACKAGES := cmake g++ make libeigen3-dev libmujoco-dev libqhull-dev liburdfdom-dev libyaml-cpp-dev \
             googletest libgtest-dev libbenchmark-dev liborocos-kdl-dev libcli11-dev nlohmann-json3-dev gnuplot-nox python3 \
-            valgrind bc libsleef-dev clang libclang-rt-14-dev libtinyxml2-dev \
+            libsleef-dev clang libclang-rt-14-dev libtinyxml2-dev \
             pybind11-dev python3-numpy python3-pytest ninja-build lld
+# bench/callgrind.sh's instruction counts (`make callgrind`) alone need valgrind: not installed for the tests
+CALLGRIND_PACKAGES := valgrind
 BUILD ?= build
 JOBS ?= $(shell nproc)
 # CMAKE_ARGS: extra configure arguments for build/ and the sanitizer build, e.g. CMAKE_ARGS=-DLOWPAIR_WERROR=ON (CI:
@@ -15,7 +17,7 @@ CMAKE_ARGS ?=
 all: build
 
 deps:
-	@missing=""; for p in $(PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	@missing=""; for p in $(PACKAGES) $(EXTRA_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
 	if [ -n "$$missing" ]; then \
 	  if [ "$$(id -u)" = 0 ]; then \
 	    echo "installing Debian packages:$$missing"; \
@@ -58,9 +60,15 @@ BENCH_OUT ?= $(BUILD)/bench.json
 BENCH_FILTER ?=
 BENCH_ROBOT ?=
 export BENCH_OUT BENCH_FILTER BENCH_ROBOT
-.PHONY: bench
+.PHONY: bench callgrind
 bench: configure
 	BUILD='$(BUILD)' bash bench/run.sh
+
+# instructions per call on the PUMA 560 under callgrind (bench/README.md); installs valgrind when missing
+callgrind: EXTRA_PACKAGES := $(CALLGRIND_PACKAGES)
+callgrind: configure
+	cmake --build $(BUILD) --target lowpair_callgrind_calls -j$(JOBS)
+	BUILD='$(BUILD)' bash bench/callgrind.sh
 
 # Sanitizers (CI runs this after `make check`): clang with AddressSanitizer and UndefinedBehaviorSanitizer
 # (float-cast-overflow included, no recovery), the test suite except the tests tests/sanitize_skip.txt lists

@@ -16,5 +16,5 @@ for op in fk_poe fk_dh jacobian_spatial jacobian_geometric batch_poe fk_kdl jaco
   valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$tmp/$op.out" "$exe" "$op" "$CALLS" \
     >/dev/null 2>"$tmp/$op.log" || { cat "$tmp/$op.log" >&2; exit 1; }
   ir=$(sed -n 's/^totals: *\([0-9]*\).*/\1/p' "$tmp/$op.out")
-  printf '%-20s %14.1f\n' "$op" "$(echo "$ir / $CALLS" | bc -l)"
+  awk -v op="$op" -v ir="$ir" -v calls="$CALLS" 'BEGIN { printf "%-20s %14.1f\n", op, ir / calls }'
 done
