@@ -75,7 +75,9 @@ callgrind: configure
 # with their reasons: three that cannot run under them, the statistical ones whose every code path a
 # lighter test runs under them, and those that repeat another's run. The test programs' own code is not
 # instrumented; lowpair's code they call is: the sanitizer tree links the test objects $(BUILD) compiled (it
-# builds $(BUILD) first; tests/CMakeLists.txt, LOWPAIR_TEST_OBJECTS_FROM) and links with lld. LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their
+# builds $(BUILD) first; tests/CMakeLists.txt, LOWPAIR_TEST_OBJECTS_FROM) and links with lld. The examples are
+# not built there: `make check` runs them, and every library call they make runs under the sanitizers in the
+# library's tests. LOWPAIR_SANITIZE=1: the random-robot property tests run a tenth of their
 # robots (tests/common/random_robot.hpp robotCount); tests/lsan.supp: urdfdom's own leak on a looped URDF.
 SAN_BUILD ?= build-sanitize
 SAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer
@@ -88,7 +90,7 @@ SAN_SKIP := ^($(shell sed -n 's/^\([A-Za-z_][A-Za-z0-9_.]*\).*/\1/p' tests/sanit
 .PHONY: sanitize sanitize-build
 sanitize-build: build
 	@test -f $(SAN_BUILD)/CMakeCache.txt -a -z '$(CMAKE_ARGS)' || CC=clang CXX=clang++ cmake -S . -B $(SAN_BUILD) $(call new_tree_generator,$(SAN_BUILD)) \
-	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DLOWPAIR_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)" \
+	  -DCMAKE_BUILD_TYPE=None -DLOWPAIR_BUILD_BENCH=OFF -DLOWPAIR_BUILD_PYTHON=OFF -DLOWPAIR_BUILD_EXAMPLES=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_OPT)" \
 	  -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DLOWPAIR_TEST_OBJECTS_FROM=$(abspath $(BUILD)) $(CMAKE_ARGS)
 	cmake --build $(SAN_BUILD) -j$(JOBS)
 sanitize: sanitize-build
