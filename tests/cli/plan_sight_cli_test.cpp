@@ -252,3 +252,35 @@ TEST(PlanSight, NormalsAreNormalisedOnLoad) {
   ASSERT_FALSE(j.empty());
   checkPlanInMujoco(kPuma, j, true);  // the judge uses unit normals: [0, 0, -1] for smr_b
 }
+
+TEST(PlanSight, LoopPlannedPosesCalibrateTheActualCell) {
+  // the actual cell: the elbow's axis moved 0.3 mm along x, wrist 1's tilted 1 mrad (twists kept revolute)
+  std::ifstream in(kCellYaml);
+  std::string actual((std::istreambuf_iterator<char>(in)), {});
+  const auto swap = [&](const std::string& from, const std::string& to) {
+    ASSERT_NE(actual.find(from), std::string::npos) << from;
+    actual.replace(actual.find(from), from.size(), to);
+  };
+  swap("-0.51400000000000001, 0, 0]", "-0.51400000000000001, 0, 0.0003]");
+  swap("[0, 1, 0, -0.90600000000000003", "[0, 1, 0.001, -0.90600000000000003");
+  const std::string actual_path = writeScratchFile("cell_actual.yaml", actual);
+  const std::string q = scratch() + "/cell_plan.csv", meas = scratch() + "/cell_meas.csv", val = scratch() + "/cell_val.csv";
+  const std::string planned = "plan " + kCellYaml + " --model " + kCellXml + " --tip tool --measure targets --tracker " +
+                              trackerText(kCell) + " " + kCell.extra + " --poses 20 --out " + q;
+  ASSERT_EQ(runCli(planned).status, 0);
+  // sigma = 1e-5 m per coordinate: the planned poses measured, and 30 held-out poses
+  ASSERT_EQ(runCli("simulate " + actual_path + " --q-file " + q + " --measure targets --noise-position 1e-5 --seed 3 "
+                   "--out " + meas).status, 0);
+  ASSERT_EQ(runCli("simulate " + actual_path + " --poses 30 --measure targets --noise-position 1e-5 --seed 4 --out " + val)
+                .status, 0);
+  const lowpair_test::CliRun cal = runCli("calibrate " + kCellYaml + " --measurements " + meas + " --validation " + val +
+                                          " --noise-position 1e-5 --json");
+  ASSERT_EQ(cal.status, 0) << cal.err;
+  const json j = json::parse(cal.out);
+  EXPECT_TRUE(j["converged"].get<bool>());
+  const double before = j["validation"]["before"]["rms_position"], after = j["validation"]["after"]["rms_position"];
+  // a held-out point's noise is sqrt(3) sigma (RMS over three coordinates); the fitted model's own error at
+  // 60 rows per 30-odd parameters adds about as much again: 3 sqrt(3) sigma leaves a factor 1.5 beyond both
+  EXPECT_LT(after, 3.0 * std::sqrt(3.0) * 1e-5);
+  EXPECT_GT(before, 10.0 * after);  // the 0.3 mm / 1 mrad errors were there, and the plan's poses removed them
+}
