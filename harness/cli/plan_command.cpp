@@ -82,6 +82,12 @@ std::string qFileText(const PlanReport& r) {
     const FeasibilityReport& f = *r.feasibility;
     s += commentLine("feasible: " + std::to_string(f.kept) + " of " + std::to_string(f.drawn) + " candidates " +
                      (f.checked ? "free of contacts in " + f.model : "kept, nothing checked in " + f.model));
+    if (f.tracker) {
+      s += commentLine("line of sight from the tracker at (" + significant((*f.tracker)[0], 17) + ", " +
+                       significant((*f.tracker)[1], 17) + ", " + significant((*f.tracker)[2], 17) + "): " +
+                       (f.partial ? "--partial, each pose measures the targets plan --json lists under measured"
+                                  : "every pose sees every target"));
+    }
   }
   s += commentLine("q: the robot file's joint variables (rad for revolute and helical joints, " + lengthUnit(r.file) +
                    " for prismatic ones)");

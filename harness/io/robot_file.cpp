@@ -155,8 +155,7 @@ namespace {
 Vec3 readTargetNormal(const YamlReader& in, const YAML::Node& node, const std::string& where) {
   const auto n = in.vector(node, 3, where);
   const Vec3 v(n[0], n[1], n[2]);
-  const double norm = v.norm();
-  // (a norm that underflows or overflows has no direction the division can recover)
+  const double norm = v.stableNorm();  // scaled: a subnormal or a huge vector keeps its direction
   if (!v.allFinite() || !(norm > 0.0) || !std::isfinite(norm) || !(v / norm).allFinite()) {
     yamlError(in.path(), node, where + " must be a finite nonzero direction (x, y, z in the tool frame)");
   }

@@ -1,5 +1,5 @@
-// lowpair plan --tracker (docs/plan.md "Line of sight"): on the PUMA 560 with capsule geometry and on a
-// Menagerie-style arm on a table with a fixture, every planned pose is checked here, independently, in MuJoCo
+// lowpair plan --tracker (docs/plan.md "Line of sight"): on the PUMA 560 and the Stanford arm with capsule
+// geometry and on a Menagerie-style arm on a table with a fixture, every planned pose is checked here, independently, in MuJoCo
 // (the MJCF loaded as it is: mj_forward, ncon, mj_ray from the tracker to each SMR at the tool site, the angle
 // to its normal); --partial's measured lists are checked both ways (listed: seen; not listed: hidden); the
 // plan beats the best of 100 random sets of the feasible candidates; a tracker inside the world's geometry
@@ -36,13 +36,18 @@ constexpr double kDeg = M_PI / 180.0;
 
 struct Case {
   std::string yaml, xml;
-  double metres;               // per robot file length unit
-  std::vector<double> tracker;  // base frame = MuJoCo's world frame in both models, robot file unit
-  std::string extra;            // narrowed ranges
+  double metres;                // per robot file length unit
+  std::vector<double> tracker;  // base frame = MuJoCo's world frame in these models, robot file unit
+  std::string extra;            // narrowed ranges, the floor
+  std::vector<double> normal;   // every target of a file faces this way (tool frame)
 };
 
-const Case kPuma{kPumaYaml, kPumaXml, 1e-3, {800, -200, 0}, "--range 2:0:3.14 --range 5:-1.5:1.5 --candidates 3000"};
-const Case kCell{kCellYaml, kCellXml, 1.0, {1.2, -0.6, 0.8}, "--candidates 3000"};
+const Case kPuma{kPumaYaml, kPumaXml, 1e-3, {800, -200, 0},
+                 "--range 2:0:3.14 --range 5:-1.5:1.5 --candidates 3000", {0, 0, -1}};
+const Case kCell{kCellYaml, kCellXml, 1.0, {1.2, -0.6, 0.8}, "--candidates 3000", {0, 1, 0}};
+// the Stanford arm: its floor at the pedestal's foot (z = 0)
+const Case kStanford{kData + "stanford_smr.yaml", kData + "stanford_capsules.xml", 1.0, {1.2, 0.8, 1.6},
+                     "--floor 0 --candidates 3000", {0, 0, 1}};
 
 std::string trackerText(const Case& c) {
   return std::to_string(c.tracker[0]) + "," + std::to_string(c.tracker[1]) + "," + std::to_string(c.tracker[2]);
@@ -95,6 +100,26 @@ class Judge {
     mju_cross(cross, n, back);
     return std::atan2(mju_norm3(cross), mju_dot3(n, back)) <= angle;
   }
+  // The lowest point of the moving bodies' capsules and boxes (world z; row-major frames, column 2 the z axis):
+  // a capsule's centre height - |R_zz| half length - radius, a box's centre height - sum_k |R_zk| half size k.
+  double lowestMovingPoint() const {
+    double lowest = INFINITY;
+    for (int g = 0; g < m_->ngeom; ++g) {
+      if (m_->body_weldid[m_->geom_bodyid[g]] == 0) continue;
+      const double* R = d_->geom_xmat + 9 * g;
+      const double* size = m_->geom_size + 3 * g;
+      double low = d_->geom_xpos[3 * g + 2];
+      if (m_->geom_type[g] == mjGEOM_CAPSULE) {
+        low -= std::abs(R[8]) * size[1] + size[0];
+      } else if (m_->geom_type[g] == mjGEOM_BOX) {
+        low -= std::abs(R[6]) * size[0] + std::abs(R[7]) * size[1] + std::abs(R[8]) * size[2];
+      } else {
+        ADD_FAILURE() << "geom type " << m_->geom_type[g] << " has no lowest point here";
+      }
+      lowest = std::min(lowest, low);
+    }
+    return lowest;
+  }
 
  private:
   char error_[1000] = "";
@@ -115,9 +140,7 @@ Smrs smrs(const json& j, const Case& c) {
     for (double& x : p) x *= c.metres;
     s.points.push_back(p);
   }
-  // every target of both files faces one direction: the tool's -z (PUMA) or +y (the cell)
-  const std::vector<double> n = c.yaml == kPumaYaml ? std::vector<double>{0, 0, -1} : std::vector<double>{0, 1, 0};
-  s.normals.assign(s.names.size(), n);
+  s.normals.assign(s.names.size(), c.normal);
   return s;
 }
 
@@ -149,36 +172,51 @@ void checkPlanInMujoco(const Case& c, const json& j, bool both_ways) {
   }
 }
 
-// The counts add up, and each reason rejects some candidates on these cases.
-void checkCounts(const json& j) {
+// The counts add up, and each of `reasons` rejects some candidates.
+void checkCounts(const json& j, const std::vector<std::string>& reasons) {
   const json& f = j["feasibility"];
   const json& r = f["rejected"];
   EXPECT_EQ(f["drawn"].get<int>(), f["kept"].get<int>() + r["total"].get<int>());
   EXPECT_EQ(r["total"].get<int>(), r["self_collision"].get<int>() + r["world"].get<int>() + r["floor"].get<int>() +
                                        r["occluded"].get<int>() + r["angle"].get<int>());
-  for (const char* reason : {"self_collision", "world", "occluded", "angle"}) EXPECT_GT(r[reason].get<int>(), 0) << reason;
+  for (const std::string& reason : reasons) EXPECT_GT(r[reason].get<int>(), 0) << reason;
   ASSERT_FALSE(f["line_of_sight"]["occluders"].empty());
   EXPECT_GT(f["line_of_sight"]["occluders"][0]["candidates"].get<int>(), 0);
+}
+
+// A plan without --partial: the counts, every pose in MuJoCo (each measuring every target), and the done-when's
+// criterion: at least the best of 100 random sets drawn from the feasible candidates.
+json checkedPlan(const Case& c, int poses, const std::vector<std::string>& reasons) {
+  const json j = plan(c, "--poses " + std::to_string(poses));
+  if (j.empty()) return j;
+  checkCounts(j, reasons);
+  for (const json& m : j["measured"]) EXPECT_EQ(m.size(), 3u);
+  checkPlanInMujoco(c, j, true);
+  EXPECT_GE(j["planned"]["log_det"].get<double>(), j["random"]["log_det"]["best"].get<double>());
+  return j;
 }
 
 }  // namespace
 
 TEST(PlanSight, PumaCapsulesEveryPlannedPoseIsFreeAndSeesEverySmr) {
-  const json j = plan(kPuma, "--poses 12");
-  ASSERT_FALSE(j.empty());
-  checkCounts(j);
-  for (const json& m : j["measured"]) EXPECT_EQ(m.size(), 3u);  // without --partial every pose measures all
-  checkPlanInMujoco(kPuma, j, true);
-  // the done-when's criterion: at least the best of 100 random sets drawn from the feasible candidates
-  EXPECT_GE(j["planned"]["log_det"].get<double>(), j["random"]["log_det"]["best"].get<double>());
+  EXPECT_FALSE(checkedPlan(kPuma, 12, {"self_collision", "world", "occluded", "angle"}).empty());
 }
 
 TEST(PlanSight, MenagerieCellEveryPlannedPoseIsFreeAndSeesEverySmr) {
-  const json j = plan(kCell, "--poses 20");
+  EXPECT_FALSE(checkedPlan(kCell, 20, {"self_collision", "world", "occluded", "angle"}).empty());
+}
+
+TEST(PlanSight, StanfordCapsulesEveryPlannedPoseIsFreeAndSeesEverySmr) {
+  // the boom and the compact wrist never meet (j5 within +-90 deg): no self-collision in this model
+  const json j = checkedPlan(kStanford, 12, {"world", "floor", "occluded", "angle"});
   ASSERT_FALSE(j.empty());
-  checkCounts(j);
-  checkPlanInMujoco(kCell, j, true);
-  EXPECT_GE(j["planned"]["log_det"].get<double>(), j["random"]["log_det"]["best"].get<double>());
+  EXPECT_EQ(j["feasibility"]["rejected"]["self_collision"].get<int>(), 0);
+  // the floor (not in the judge's model): every moving geom above z = 0 at every planned pose
+  Judge judge(kStanford.xml);
+  for (const auto& q : j["q"].get<std::vector<std::vector<double>>>()) {
+    judge.contactsAt(q);
+    EXPECT_GE(judge.lowestMovingPoint(), 0.0);
+  }
 }
 
 TEST(PlanSight, PartialListsExactlyTheTargetsEachPoseSees) {
@@ -234,7 +272,7 @@ TEST(PlanSight, BadTrackerAngleAndNormalsAreInputErrors) {
   expectRejected("plan " + kPumaYaml + " --poses 3 --measure targets --tracker 800,0,0", "needs a model", "--tracker");
   std::ifstream in(kPumaYaml);
   std::string text((std::istreambuf_iterator<char>(in)), {});
-  for (const std::string bad : {"[0, 0, 0]", "[0, 0, .nan]", "[1e-320, 0, 0]", "[0, 1]"}) {
+  for (const std::string bad : {"[0, 0, 0]", "[0, 0, .nan]", "[-0.0, 0, 0]", "[0, 1]"}) {
     std::string t = text;
     t.replace(t.find("[0, 0, -2]"), 10, bad);
     const std::string path = writeScratchFile("bad_normal.yaml", t);
