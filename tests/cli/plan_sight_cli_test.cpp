@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "plan_sight_helpers.hpp"
 
 using lowpair_test::expectRejected;
 using lowpair_test::runCli;
@@ -27,9 +28,10 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kData = std::string(LOWPAIR_TEST_DATA) + "/collision/";
+using plan_sight::kCellXml;
+using plan_sight::kCellYaml;
+using plan_sight::kData;
 const std::string kPumaXml = kData + "puma560_capsules.xml", kPumaYaml = kData + "puma560_smr_normals.yaml";
-const std::string kCellXml = kData + "menagerie_arm_cell.xml", kCellYaml = kData + "menagerie_arm_cell.yaml";
 // the ray stops this far before an SMR's centre (a 1.5-inch SMR's radius, docs/plan.md), metres
 constexpr double kSmrRadius = 0.01905;
 constexpr double kDeg = M_PI / 180.0;
@@ -292,16 +294,8 @@ TEST(PlanSight, NormalsAreNormalisedOnLoad) {
 }
 
 TEST(PlanSight, LoopPlannedPosesCalibrateTheActualCell) {
-  // the actual cell: the elbow's axis moved 0.3 mm along x, wrist 1's tilted 1 mrad (twists kept revolute)
-  std::ifstream in(kCellYaml);
-  std::string actual((std::istreambuf_iterator<char>(in)), {});
-  const auto swap = [&](const std::string& from, const std::string& to) {
-    ASSERT_NE(actual.find(from), std::string::npos) << from;
-    actual.replace(actual.find(from), from.size(), to);
-  };
-  swap("-0.51400000000000001, 0, 0]", "-0.51400000000000001, 0, 0.0003]");
-  swap("[0, 1, 0, -0.90600000000000003", "[0, 1, 0.001, -0.90600000000000003");
-  const std::string actual_path = writeScratchFile("cell_actual.yaml", actual);
+  const std::string actual_path = plan_sight::actualCell();
+  ASSERT_FALSE(actual_path.empty());
   const std::string q = scratch() + "/cell_plan.csv", meas = scratch() + "/cell_meas.csv", val = scratch() + "/cell_val.csv";
   const std::string planned = "plan " + kCellYaml + " --model " + kCellXml + " --tip tool --measure targets --tracker " +
                               trackerText(kCell) + " " + kCell.extra + " --poses 20 --out " + q;

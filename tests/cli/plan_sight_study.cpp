@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "cli_runner.hpp"
+#include "plan_sight_helpers.hpp"
 
 using lowpair_test::runCli;
 using lowpair_test::scratch;
@@ -20,8 +20,8 @@ using nlohmann::json;
 
 namespace {
 
-const std::string kData = std::string(LOWPAIR_TEST_DATA) + "/collision/";
-const std::string kYaml = kData + "menagerie_arm_cell.yaml", kXml = kData + "menagerie_arm_cell.xml";
+const std::string& kYaml = plan_sight::kCellYaml;
+const std::string& kXml = plan_sight::kCellXml;
 
 json jsonOf(const std::string& args) {
   const lowpair_test::CliRun r = runCli(args);
@@ -54,11 +54,8 @@ double heldOut(const std::string& actual, const std::string& validation, const s
 }  // namespace
 
 TEST(PlanSightStudy, PlannedFeasibleSetCalibratesNoWorseThanTheMedianRandomFeasibleSet) {
-  std::ifstream in(kYaml);
-  std::string actual((std::istreambuf_iterator<char>(in)), {});
-  actual.replace(actual.find("-0.51400000000000001, 0, 0]"), 27, "-0.51400000000000001, 0, 0.0003]");
-  actual.replace(actual.find("[0, 1, 0, -0.90600000000000003"), 30, "[0, 1, 0.001, -0.90600000000000003");
-  const std::string actual_path = writeScratchFile("study_actual.yaml", actual);
+  const std::string actual_path = plan_sight::actualCell();
+  ASSERT_FALSE(actual_path.empty());
   const std::string validation = scratch() + "/study_val.csv";
   ASSERT_EQ(runCli("simulate " + actual_path + " --poses 200 --measure targets --noise-position 1e-5 --seed 99 --out " +
                    validation).status, 0);
