@@ -37,6 +37,10 @@ struct Options {
   std::optional<double> floor;
   std::vector<std::string> ranges;
   double range_margin = 0.0;
+  // line of sight (docs/plan.md "Line of sight")
+  std::string tracker;
+  double smr_angle = kDefaultSmrAngleDeg;
+  bool partial = false;
 };
 
 std::string lengthUnit(const RobotFile& file) { return file.length_unit.empty() ? "length" : file.length_unit; }
@@ -78,6 +82,12 @@ std::string qFileText(const PlanReport& r) {
     const FeasibilityReport& f = *r.feasibility;
     s += commentLine("feasible: " + std::to_string(f.kept) + " of " + std::to_string(f.drawn) + " candidates " +
                      (f.checked ? "free of contacts in " + f.model : "kept, nothing checked in " + f.model));
+    if (f.tracker) {
+      s += commentLine("line of sight from the tracker at (" + significant((*f.tracker)[0], 17) + ", " +
+                       significant((*f.tracker)[1], 17) + ", " + significant((*f.tracker)[2], 17) + "): " +
+                       (f.partial ? "--partial, each pose measures the targets plan --json lists under measured"
+                                  : "every pose sees every target"));
+    }
   }
   s += commentLine("q: the robot file's joint variables (rad for revolute and helical joints, " + lengthUnit(r.file) +
                    " for prismatic ones)");
@@ -114,8 +124,26 @@ void printFeasibility(std::ostream& out, const PlanReport& r) {
       out << " (" << fixed(f.seconds, 3) << " s)\n";
     }
   }
+  if (f.tracker) {
+    out << "line of sight from the tracker at (" << significant((*f.tracker)[0], 6) << ", " << significant((*f.tracker)[1], 6)
+        << ", " << significant((*f.tracker)[2], 6) << ")" << (r.file.length_unit.empty() ? "" : " " + u)
+        << ": rays stop " << significant(kSmrRadiusMetres * 1000.0, 4) << " mm before each SMR's centre, SMR angle "
+        << significant(f.smr_angle_deg, 6) << " deg"
+        << (f.partial ? "; --partial: a pose measures the targets it sees (at least one)" : "") << "\n";
+  }
   out << "candidates: " << f.drawn << " drawn, " << f.rejected() << " rejected (self-collision " << f.self_collision
-      << ", world geometry " << f.world << ", floor " << f.floor_contact << "), " << f.kept << " kept\n";
+      << ", world geometry " << f.world << ", floor " << f.floor_contact;
+  if (f.tracker) out << ", occluded " << f.occluded << ", angle " << f.angle;
+  out << "), " << f.kept << " kept";
+  if (f.partial) out << " (" << f.partial_kept << " of them see only some targets)";
+  out << "\n";
+  if (!f.occluders.empty()) {
+    out << "most frequent occluders:";
+    for (size_t k = 0; k < f.occluders.size() && k < 3; ++k) {
+      out << (k ? "," : "") << " " << f.occluders[k].geom << " in " << f.occluders[k].candidates;
+    }
+    out << " candidates\n";
+  }
   if (!f.pairs.empty()) {
     out << "most frequent contacts:";
     for (size_t k = 0; k < f.pairs.size() && k < 3; ++k) {
@@ -189,6 +217,10 @@ void printPlan(std::ostream& out, const PlanReport& r, const std::string& out_pa
   for (size_t k = 0; k < r.q.size(); ++k) {
     out << "  " << p.indices[k] << ":";
     for (Eigen::Index i = 0; i < r.q[k].size(); ++i) out << " " << significant(r.q[k][i], 6);
+    if (!r.measured.empty()) {
+      out << "   measures:";
+      for (const std::string& name : measuredTargetNames(r.file, r.measured[k])) out << " " << name;
+    }
     out << "\n";
   }
   if (!out_path.empty()) out << r.q.size() << " joint vectors written to " << out_path << "\n";
@@ -196,6 +228,28 @@ void printPlan(std::ostream& out, const PlanReport& r, const std::string& out_pa
       << " pass(es)" << (p.work_limit ? ", ended at the work limit: PlanOptions::max_exchange_work, docs/plan.md" : "")
       << "), random sets " << fixed(r.seconds_random, 3) << " s, standard deviations "
       << fixed(r.seconds_uncertainty, 3) << " s\n";
+}
+
+// --tracker X,Y,Z: three finite numbers.
+Vec3 parseTracker(const std::string& text) {
+  std::vector<double> v;
+  size_t begin = 0;
+  while (v.size() < 4) {
+    const size_t comma = text.find(',', begin);
+    const std::string part = text.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin);
+    double x = 0.0;
+    const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), x);
+    if (part.empty() || ec != std::errc() || end != part.data() + part.size() || !std::isfinite(x)) {
+      throw UsageError("--tracker", "expected X,Y,Z (three finite numbers, the base frame), got " + quotedFileText(text));
+    }
+    v.push_back(x);
+    if (comma == std::string::npos) break;
+    begin = comma + 1;
+  }
+  if (v.size() != 3) {
+    throw UsageError("--tracker", "expected X,Y,Z (three finite numbers, the base frame), got " + quotedFileText(text));
+  }
+  return Vec3(v[0], v[1], v[2]);
 }
 
 // The feasibility options as a request; the model's --tip/--base move from `robot` to it (--model).
@@ -207,6 +261,10 @@ FeasibilityRequest feasibilityRequest(const Options& o, RobotSource& robot) {
     throw UsageError("--floor", "must be a finite number, got " + significant(*o.floor, 6));
   }
   f.floor = o.floor;
+  if (!o.tracker.empty()) f.tracker = parseTracker(o.tracker);
+  f.smr_angle_deg = o.smr_angle;
+  f.partial = o.partial;
+  if (o.partial && !f.tracker) throw UsageError("--partial", "goes with --tracker X,Y,Z");
   const std::string ext = std::filesystem::path(robot.path).extension().string();
   const bool model_robot = ext == ".xml" || ext == ".urdf";
   if (!o.model.empty()) {
@@ -217,9 +275,9 @@ FeasibilityRequest feasibilityRequest(const Options& o, RobotSource& robot) {
     f.base = robot.base;
     robot.tip.clear();
     robot.base.clear();
-  } else if (o.collisions || o.floor) {
+  } else if (o.collisions || o.floor || f.tracker) {
     if (!model_robot) {
-      throw UsageError(o.collisions ? "--collisions" : "--floor",
+      throw UsageError(o.collisions ? "--collisions" : o.floor ? "--floor" : "--tracker",
                        "needs a model: the robot as MJCF/URDF, or --model FILE --tip NAME beside a robot file");
     }
     f.model = robot.path;
@@ -267,6 +325,11 @@ void addPlanCommand(CLI::App& app, Commands& commands) {
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   sub->add_option("--range-margin", o->range_margin, "shrink every joint's range by X at both ends (robot file's units)");
+  sub->add_option("--tracker", o->tracker, "X,Y,Z: a laser tracker there (base frame, robot file's length unit) must "
+                                           "see every measured SMR (--measure targets; checks the model's rays)");
+  sub->add_option("--smr-angle", o->smr_angle, "an SMR's acceptance half-angle about its normal (degrees, default 30; "
+                                               "targets without a normal are not angle-checked)");
+  sub->add_flag("--partial", o->partial, "with --tracker: keep a pose that sees some targets, measuring only those");
   commands.emplace_back(sub, [o] {
     PlanRequest request;
     request.measure = parseMeasure(o->measure, cliSpelling());

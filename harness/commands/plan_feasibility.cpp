@@ -11,7 +11,9 @@
 #include <map>
 #include <memory>
 
+#include "lowpair/kinematics.hpp"
 #include "mujoco/collision_check.hpp"
+#include "mujoco/line_of_sight.hpp"
 #include "mujoco/messages.hpp"
 
 namespace lowpair::commands {
@@ -139,17 +141,121 @@ std::vector<Range> narrowedRanges(const io::RobotFile& file, const FeasibilityRe
   return ranges;
 }
 
+namespace {
+
+// The line of sight of the candidates free of contacts (FeasibilityRequest::tracker): the tracker, the targets
+// (metres) and their normals, and the counts.
+class SightJudge {
+ public:
+  SightJudge(const mujoco::CollisionChecker& checker, const io::RobotFile& file, const PoeModel& model,
+             const FeasibilityRequest& request, double metres, FeasibilityReport& r)
+      : sight_(checker), model_(model), data_(model), metres_(metres), r_(r) {
+    tracker_base_ = *request.tracker * metres;
+    for (size_t t = 0; t < file.targets.size(); ++t) {
+      points_tool_.push_back(*file.targets[t].point_tool * metres);
+      normals_tool_.push_back(t < file.target_normals.size() ? file.target_normals[t] : std::nullopt);
+    }
+    max_angle_ = request.smr_angle_deg * M_PI / 180.0;
+    partial_ = request.partial;
+  }
+
+  // The tracker at the reference configuration: inside the world's geometry is a usage error.
+  void checkTracker(mujoco::CollisionChecker& checker, const std::string& model_path, const ArgumentSpelling& spelling) {
+    checker.contactsAt(VecX::Zero(model_.dof()));
+    const Pose T = sight_.T_world_base();
+    const int g = sight_.worldGeomHolding(T.p + T.R * tracker_base_);
+    if (g >= 0) {
+      throw UsageError(spelling.name("tracker"), "the tracker is inside " + sight_.geomText(g) + " of " + model_path +
+                                                     ": no ray leaves it (give a point in free space, base frame)");
+    }
+  }
+
+  // Which targets candidate q sees (the checker at q); false when it is rejected (counted).
+  bool judge(const VecX& q, std::vector<bool>& seen) {
+    forwardKinematics(model_, data_, q);
+    const Pose& T_base_tool = data_.T_base_tool;
+    const Pose T_world_base = sight_.T_world_base();
+    const Vec3 tracker_world = T_world_base.p + T_world_base.R * tracker_base_;
+    seen.assign(points_tool_.size(), false);
+    bool any_seen = false, any_occluded = false;
+    occluders_.clear();
+    for (size_t t = 0; t < points_tool_.size(); ++t) {
+      const Vec3 p_base = T_base_tool.R * points_tool_[t] + T_base_tool.p * metres_;
+      const int g = sight_.blocker(tracker_world, T_world_base.p + T_world_base.R * p_base, kSmrRadiusMetres);
+      if (g >= 0) {
+        any_occluded = true;
+        const std::pair<std::string, std::string> o{sight_.geomText(g), sight_.geomBody(g)};
+        if (std::find(occluders_.begin(), occluders_.end(), o) == occluders_.end()) occluders_.push_back(o);
+        continue;
+      }
+      if (normals_tool_[t]) {
+        const Vec3 n_base = T_base_tool.R * *normals_tool_[t];
+        const Vec3 to_tracker = tracker_base_ - p_base;
+        if (std::atan2(n_base.cross(to_tracker).norm(), n_base.dot(to_tracker)) > max_angle_) continue;
+      }
+      seen[t] = true;
+      any_seen = true;
+    }
+    for (const auto& o : occluders_) ++occluder_counts_[o];
+    const bool all = std::find(seen.begin(), seen.end(), false) == seen.end();
+    if (all || (partial_ && any_seen)) {
+      if (!all) ++r_.partial_kept;
+      return true;
+    }
+    ++(any_occluded ? r_.occluded : r_.angle);
+    return false;
+  }
+
+  void finish() {
+    for (const auto& [o, n] : occluder_counts_) r_.occluders.push_back({o.first, o.second, n});
+    std::stable_sort(r_.occluders.begin(), r_.occluders.end(),
+                     [](const OccluderCount& a, const OccluderCount& b) { return a.candidates > b.candidates; });
+  }
+
+ private:
+  mujoco::LineOfSight sight_;
+  const PoeModel& model_;
+  Data data_;
+  double metres_;
+  FeasibilityReport& r_;
+  Vec3 tracker_base_;
+  std::vector<Vec3> points_tool_;
+  std::vector<std::optional<Vec3>> normals_tool_;
+  double max_angle_ = 0.0;
+  bool partial_ = false;
+  std::vector<std::pair<std::string, std::string>> occluders_;  // of the candidate being judged
+  std::map<std::pair<std::string, std::string>, int> occluder_counts_;
+};
+
+// The request's own checks before any model is loaded.
+void checkRequest(const io::RobotFile& file, const FeasibilityRequest& request, const ArgumentSpelling& spelling) {
+  if (request.floor && !std::isfinite(*request.floor)) {
+    throw UsageError(spelling.name("floor"), "must be a finite number, got " + number(*request.floor));
+  }
+  const std::string needs_model = "needs a model to check (a robot given as MJCF/URDF, or " + spelling.name("model") + ")";
+  if (request.model.empty() && request.floor) throw UsageError(spelling.name("floor"), needs_model);
+  if (!request.tracker) return;
+  if (!request.tracker->allFinite()) throw UsageError(spelling.name("tracker"), "X, Y and Z must be finite numbers");
+  if (request.model.empty()) throw UsageError(spelling.name("tracker"), needs_model);
+  if (file.targets.empty()) {
+    throw UsageError(spelling.name("tracker"), "needs target measurements (" + spelling.setting("measure", "targets") +
+                                                   " and the robot file's targets: the SMRs it sees)");
+  }
+  // 180 degrees: no angle check; above it the cone means nothing more
+  if (!(request.smr_angle_deg > 0.0 && request.smr_angle_deg <= 180.0)) {
+    throw UsageError(spelling.name("smr_angle"), "must be in (0, 180] degrees, got " + number(request.smr_angle_deg));
+  }
+}
+
+}  // namespace
+
 std::vector<int> feasibleCandidates(const io::RobotFile& file, const std::vector<VecX>& candidates,
                                     const FeasibilityRequest& request, const ArgumentSpelling& spelling,
                                     FeasibilityReport& r) {
   r.drawn = static_cast<int>(candidates.size());
-  if (request.floor && !std::isfinite(*request.floor)) {
-    throw UsageError(spelling.name("floor"), "must be a finite number, got " + number(*request.floor));
-  }
+  checkRequest(file, request, spelling);
   std::vector<int> kept;
   if (request.model.empty()) {
-    if (request.floor) throw UsageError(spelling.name("floor"), "needs a model to check (a robot given as MJCF/URDF, or " +
-                                                                    spelling.name("model") + ")");
     for (int i = 0; i < r.drawn; ++i) kept.push_back(i);
     r.kept = r.drawn;
     return kept;
@@ -174,22 +280,33 @@ std::vector<int> feasibleCandidates(const io::RobotFile& file, const std::vector
   if (!same) metres = io::metresPerUnit(file.length_unit).value_or(1.0);
   r.model = request.model;
   r.floor = request.floor;
+  r.tracker = request.tracker;
+  r.smr_angle_deg = request.smr_angle_deg;
+  r.partial = request.partial;
   mujoco::CollisionChecker checker(robot, request.floor ? std::optional<double>(*request.floor * metres) : std::nullopt);
   // the robot given as the model gave its load's notes already; only the collision copy's own are new
   for (const std::string& n : checker.notes()) {
     if (!same || n.find("not checked") != std::string::npos) mujoco::emitNote(n);
   }
   r.collision_geoms = checker.collisionGeoms();
+  std::optional<SightJudge> sight;
+  if (request.tracker) {
+    sight.emplace(checker, file, model, request, metres, r);
+    sight->checkTracker(checker, request.model, spelling);
+  }
   if (r.collision_geoms == 0) {
     r.note = request.model + ": no geom can collide (none, or contype and conaffinity 0 on every one): nothing was "
                              "checked for collisions" + std::string(request.floor ? ", the floor included" : "");
+  }
+  r.checked = r.collision_geoms > 0;
+  if (!r.checked && !sight) {
     for (int i = 0; i < r.drawn; ++i) kept.push_back(i);
     r.kept = r.drawn;
     return kept;
   }
-  r.checked = true;
   std::map<std::pair<std::string, std::string>, int> pairs;
   VecX x(model.dof());
+  std::vector<bool> seen;
   for (int c = 0; c < r.drawn; ++c) {
     const VecX& q = candidates[static_cast<size_t>(c)];
     for (int i = 0; i < model.dof(); ++i) {
@@ -197,12 +314,15 @@ std::vector<int> feasibleCandidates(const io::RobotFile& file, const std::vector
       x[i] = motion.motion(q[i]) * (motion.type == JointType::Prismatic ? metres : 1.0);
     }
     const mujoco::ContactReport contacts = checker.contactsAt(x);
-    if (contacts.contacts == 0) {
-      kept.push_back(c);
-    } else {
+    if (r.checked && contacts.contacts != 0) {
       tally(contacts, checker, r, pairs);
+      continue;
     }
+    if (sight && !sight->judge(q, seen)) continue;
+    kept.push_back(c);
+    if (sight) r.measured.push_back(seen);
   }
+  if (sight) sight->finish();
   r.kept = static_cast<int>(kept.size());
   for (const auto& [bodies, n] : pairs) r.pairs.push_back({bodies.first, bodies.second, n});
   std::stable_sort(r.pairs.begin(), r.pairs.end(),

@@ -31,15 +31,25 @@ Spread spread(std::vector<double> x) {
 void checkEnoughFeasible(const FeasibilityReport& f, int poses, const ArgumentSpelling& spelling) {
   if (f.kept >= poses) return;
   std::string s = (f.kept == 0 ? "no candidate" : "only " + std::to_string(f.kept)) + " of " + std::to_string(f.drawn) +
-                  (f.kept <= 1 ? " is" : " are") + " free of contacts in " + f.model + " (" + std::to_string(poses) +
-                  " poses asked for); rejected: self-collision " + std::to_string(f.self_collision) +
-                  ", world geometry " + std::to_string(f.world) + ", floor " + std::to_string(f.floor_contact);
+                  (f.kept <= 1 ? " is" : " are") + " free of contacts" +
+                  (f.tracker ? std::string(f.partial ? " and see a target" : " and see every target") : "") + " in " +
+                  f.model + " (" + std::to_string(poses) + " poses asked for); rejected: self-collision " +
+                  std::to_string(f.self_collision) + ", world geometry " + std::to_string(f.world) + ", floor " +
+                  std::to_string(f.floor_contact);
+  if (f.tracker) s += ", occluded " + std::to_string(f.occluded) + ", angle " + std::to_string(f.angle);
   if (!f.pairs.empty()) {
     s += "; most often '" + f.pairs.front().body1 + "' with '" + f.pairs.front().body2 + "' (" +
          std::to_string(f.pairs.front().candidates) + " candidates)";
   }
+  if (!f.occluders.empty()) {
+    s += "; most often hidden by " + f.occluders.front().geom + " (" + std::to_string(f.occluders.front().candidates) +
+         " candidates)";
+  }
   throw InfeasiblePlan(s + ": look at the joint ranges (" + spelling.name("range") + ", " + spelling.name("range_margin") +
                        ")" + (f.floor ? ", the floor's height (" + spelling.name("floor") + ")" : std::string()) +
+                       (f.tracker ? ", the tracker's position (" + spelling.name("tracker") + "), the SMRs' normals and " +
+                                        spelling.name("smr_angle") + (f.partial ? "" : ", " + spelling.name("partial"))
+                                  : std::string()) +
                        " and the model's collision geometry (contype/conaffinity, <exclude>); or draw more " +
                        spelling.name("candidates"));
 }
@@ -51,7 +61,17 @@ json feasibilityJson(const FeasibilityReport& f) {
   for (size_t i = 0; i < f.ranges.size(); ++i) {
     ranges.push_back({{"lo", f.ranges[i][0]}, {"hi", f.ranges[i][1]}, {"source", f.range_source[i]}});
   }
+  json sight = nullptr;
+  if (f.tracker) {
+    json occluders = json::array();
+    for (const OccluderCount& o : f.occluders) {
+      occluders.push_back({{"geom", o.geom}, {"body", o.body}, {"candidates", o.candidates}});
+    }
+    sight = {{"tracker", io::toVector(*f.tracker)}, {"smr_angle_deg", f.smr_angle_deg}, {"partial", f.partial},
+             {"smr_radius_m", kSmrRadiusMetres}, {"partial_kept", f.partial_kept}, {"occluders", occluders}};
+  }
   return {{"model", f.model.empty() ? json(nullptr) : json(f.model)},
+          {"line_of_sight", sight},
           {"checked", f.checked},
           {"collision_geoms", f.collision_geoms},
           {"floor", f.floor ? json(*f.floor) : json(nullptr)},
@@ -60,7 +80,7 @@ json feasibilityJson(const FeasibilityReport& f) {
           {"drawn", f.drawn},
           {"kept", f.kept},
           {"rejected", {{"total", f.rejected()}, {"self_collision", f.self_collision}, {"world", f.world},
-                        {"floor", f.floor_contact}}},
+                        {"floor", f.floor_contact}, {"occluded", f.occluded}, {"angle", f.angle}}},
           {"pairs", pairs},
           {"seconds", f.seconds}};
 }
@@ -85,6 +105,9 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
                                         " needs a `targets:` list in the robot file (docs/file_formats.md)");
     }
     options.targets = r.file.targets;
+  } else if (request.feasibility.tracker) {
+    throw UsageError(spelling.name("tracker"), "needs target measurements (" + spelling.setting("measure", "targets") +
+                                                   ": the robot file's targets are the SMRs the tracker sees)");
   }
   if (request.poses > request.candidates) {
     throw UsageError(spelling.name("poses"), std::to_string(request.poses) + " poses cannot be chosen from " +
@@ -128,6 +151,8 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
     std::vector<VecX> kept;
     for (const int i : drawn_index) kept.push_back(candidates[static_cast<size_t>(i)]);
     candidates = std::move(kept);
+    // the information of each kept candidate: the rows of the targets it sees (all of them without --partial)
+    if (r.feasibility->partial) options.measured = r.feasibility->measured;
   }
   auto clock = [] { return std::chrono::steady_clock::now(); };
   auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
@@ -148,7 +173,10 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
   r.random_o1 = spread(o1);
   auto t2 = clock();
   r.seconds_random = seconds(t1, t2);
-  for (const int i : r.plan.indices) r.q.push_back(candidates[static_cast<size_t>(i)]);
+  for (const int i : r.plan.indices) {
+    r.q.push_back(candidates[static_cast<size_t>(i)]);
+    if (r.feasibility && r.feasibility->tracker) r.measured.push_back(r.feasibility->measured[static_cast<size_t>(i)]);
+  }
   if (r.feasibility) {
     for (int& i : r.plan.indices) i = drawn_index[static_cast<size_t>(i)];  // the drawn sample's index
   }
@@ -167,9 +195,18 @@ PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request,
     r.noise_source = sigma_position ? "position stated, rotation derived: position / L"
                                     : "rotation stated, position derived: rotation x L";
   }
-  r.expected = expectedUncertainty(model, r.q, options, sigma_position, sigma_rotation);
+  r.expected = expectedUncertainty(model, r.q, options, sigma_position, sigma_rotation,
+                                   options.measured.empty() ? std::vector<std::vector<bool>>{} : r.measured);
   r.seconds_uncertainty = seconds(t2, clock());
   return r;
+}
+
+std::vector<std::string> measuredTargetNames(const io::RobotFile& file, const std::vector<bool>& seen) {
+  std::vector<std::string> names;
+  for (size_t t = 0; t < seen.size() && t < file.targets.size(); ++t) {
+    if (seen[t]) names.push_back(file.targets[t].name);
+  }
+  return names;
 }
 
 json planJson(const PlanReport& r, const std::string& out_path) {
@@ -196,6 +233,11 @@ json planJson(const PlanReport& r, const std::string& out_path) {
   }
   json q = json::array();
   for (const VecX& x : r.q) q.push_back(io::toVector(x));
+  json measured = nullptr;  // per planned pose, the names of the targets it measures (with a tracker)
+  if (!r.measured.empty()) {
+    measured = json::array();
+    for (const std::vector<bool>& seen : r.measured) measured.push_back(measuredTargetNames(r.file, seen));
+  }
   json o;
   o["name"] = io::robotLabel(r.file);
   o["source"] = r.file.path;
@@ -232,6 +274,7 @@ json planJson(const PlanReport& r, const std::string& out_path) {
   o["undetermined"] = undetermined;
   o["indices"] = p.indices;
   o["q"] = q;
+  o["measured"] = measured;
   o["noise"] = {{"position", c.sigma_position},
                 {"rotation", r.measure == Measure::Pose ? json(c.sigma_rotation) : json(nullptr)},
                 {"source", r.noise_source}};

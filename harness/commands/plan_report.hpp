@@ -53,6 +53,8 @@ struct PlanReport {
   PlanResult plan;
   std::vector<std::string> parameters;  ///< the columns' names
   std::vector<VecX> q;                  ///< the planned joint vectors, in index order
+  /// With a tracker: per planned pose, per target, whether it measures it (all true without partial).
+  std::vector<std::vector<bool>> measured;
   Spread random_log_det, random_o1;
   std::optional<ExpectedUncertainty> expected;
   std::string noise_source;  ///< stated, derived or the default, in words
@@ -68,6 +70,9 @@ struct PlanReport {
 /// only those free of contacts are planned on (plan_feasibility.hpp). @throws UsageError naming the argument
 /// as `spelling` spells it, or the robot file; InfeasiblePlan when fewer candidates than poses are kept
 PlanReport makePlanReport(const io::RobotFile& file, const PlanRequest& request, const ArgumentSpelling& spelling);
+
+/// The names of the targets `seen` marks, in the file's order.
+std::vector<std::string> measuredTargetNames(const io::RobotFile& file, const std::vector<bool>& seen);
 
 /// The JSON of `plan --json`; `out_path`: where the planned joint vectors were written ("" for none: null).
 nlohmann::json planJson(const PlanReport& report, const std::string& out_path);

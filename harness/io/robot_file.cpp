@@ -151,8 +151,19 @@ YAML::Node loadYamlFile(const std::string& path) {
 
 namespace {
 
-// `targets:`, a list of {name, point} (docs/file_formats.md).
-std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list) {
+// A target's `normal:` (x, y, z in the tool frame): finite, nonzero, returned normalised.
+Vec3 readTargetNormal(const YamlReader& in, const YAML::Node& node, const std::string& where) {
+  const auto n = in.vector(node, 3, where);
+  const Vec3 v(n[0], n[1], n[2]);
+  const double norm = v.stableNorm();  // scaled: a subnormal or a huge vector keeps its direction
+  if (!v.allFinite() || !(norm > 0.0) || !std::isfinite(norm) || !(v / norm).allFinite()) {
+    yamlError(in.path(), node, where + " must be a finite nonzero direction (x, y, z in the tool frame)");
+  }
+  return v / norm;
+}
+
+// `targets:`, a list of {name, point, known, normal} (docs/file_formats.md); the normals in `normals`.
+std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list, std::vector<std::optional<Vec3>>& normals) {
   const std::string& path = in.path();
   if (!list.IsSequence()) yamlError(path, list, "targets must be a list of {name: N, point: [x, y, z]}");
   if (list.size() > static_cast<size_t>(kMaxTargets)) {
@@ -163,7 +174,7 @@ std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list) {
   for (size_t i = 0; i < list.size(); ++i) {
     const YAML::Node t = list[i];
     const std::string where = "targets[" + std::to_string(i) + "]";
-    in.allowOnly(t, where, {"name", "point", "known"});
+    in.allowOnly(t, where, {"name", "point", "known", "normal"});
     if (!t["name"]) yamlError(path, t, where + ": missing 'name'");
     if (!t["point"]) yamlError(path, t, where + ": missing 'point' (x, y, z in the tool frame)");
     Target target;
@@ -181,6 +192,7 @@ std::vector<Target> readTargets(const YamlReader& in, const YAML::Node& list) {
     const std::string point_problem = targetPointProblem(*target.point_tool);
     if (!point_problem.empty()) yamlError(path, t["point"], where + ".point " + point_problem);
     if (t["known"]) target.known = in.boolean(t["known"], where + ".known");
+    normals.push_back(t["normal"] ? std::optional<Vec3>(readTargetNormal(in, t["normal"], where + ".normal")) : std::nullopt);
     targets.push_back(std::move(target));
   }
   return targets;
@@ -333,7 +345,7 @@ RobotFile readRobotFile(const std::string& path) {
       file.dh = readDhSection(in, path, root["dh"], k, file.name, load_keys);
     }
     readLoads(in, root, load_keys, file);
-    if (root["targets"]) file.targets = readTargets(in, root["targets"]);
+    if (root["targets"]) file.targets = readTargets(in, root["targets"], file.target_normals);
     if (root["measurement_frame"]) {
       const Pose T = readPoseRows(root["measurement_frame"], "measurement_frame");
       if (!T.R.allFinite() || !T.p.allFinite() || !(T.p.norm() <= kMaxMagnitude)) {

@@ -83,6 +83,11 @@ struct RobotFile {
   /// `targets:`: points fixed on the tool (a laser tracker's SMRs), in the tool frame and length_unit; names
   /// unique, every point_tool set (at most kMaxTargets).
   std::vector<Target> targets;
+  /// Per target (index as `targets`): its `normal:`, the direction its SMR faces in the tool frame, unit length
+  /// (normalised on load from a finite nonzero vector); none when the file gives none. `plan --tracker` checks
+  /// that the tracker is within `--smr-angle` of it (docs/plan.md "Line of sight"). Not written back by the
+  /// robot-file writers (a calibrated file keeps its points only).
+  std::vector<std::optional<Vec3>> target_normals;
   /// `measurement_frame:` (4 rows): `T_measurement_base`, the pose of the robot's base frame in the frame its
   /// measurements were taken in (a tracker's), as `calibrate --out` records it; FK in that frame is
   /// `T_measurement_base T_base_tool(q)` (`fk --frame measurement`).

@@ -51,6 +51,12 @@ class CollisionChecker {
   /// The collision copy's notes (mesh files not found, attributes MuJoCo 2.2.2 does not know), without "note: ";
   /// not emitted: the caller knows which the robot's own load gave already.
   const std::vector<std::string>& notes() const { return notes_; }
+  /// The collision copy and its data at the configuration last given to contactsAt (line_of_sight.hpp reads them).
+  const mjModel_* model() const { return model_.get(); }
+  const mjData_* data() const { return data_.get(); }
+  /// The floor's geom id; -1 without a floor.
+  int floorGeom() const { return floor_geom_; }
+  const MujocoRobot& robot() const { return robot_; }
 
  private:
   struct ModelDeleter {

@@ -259,6 +259,11 @@ void PlanOptions::validate() const {
     LP_CHECK(t.point_tool, "target " << t.name << " has no point: planning needs every target's point");
     LP_CHECK(t.point_tool->allFinite(), "a target's point is not finite");
   }
+  LP_CHECK(measured.empty() || measure == Measure::Targets, "PlanOptions::measured goes with Measure::Targets only");
+  for (const std::vector<bool>& m : measured) {
+    LP_CHECK(m.size() == targets.size(), "PlanOptions::measured: a candidate has " << m.size() << " flags for "
+                                                                                 << targets.size() << " targets");
+  }
   LP_CHECK(max_exchange_passes >= 0, "max_exchange_passes must be >= 0, got " << max_exchange_passes);
   LP_CHECK(max_exchange_work > 0.0, "max_exchange_work must be positive, got " << max_exchange_work);
 }
@@ -269,6 +274,8 @@ PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& ca
   LP_CHECK(!candidates.empty(), "planning needs at least one candidate pose");
   options.validate();
   for (const VecX& q : candidates) checkJointVector(q, model.dof());
+  LP_CHECK(options.measured.empty() || options.measured.size() == candidates.size(),
+           "PlanOptions::measured has " << options.measured.size() << " candidates' flags for " << candidates.size());
   ErrorModelSpec spec;
   spec.free_pitch = options.free_pitch;
   spec.targets = options.targets;
@@ -290,7 +297,14 @@ PlanCandidates planCandidates(const PoeModel& model, const std::vector<VecX>& ca
   for (int m = 0; m < M; ++m) {
     auto block = candidateRows(c.scaled, m, rows);
     if (options.measure == Measure::Targets) {
-      for (int t = 0; t * 3 < rows; ++t) em.jacobian(candidates[static_cast<size_t>(m)], Measure::Targets, block.middleRows(3 * t, 3), t);
+      for (int t = 0; t * 3 < rows; ++t) {
+        const bool seen = options.measured.empty() || options.measured[static_cast<size_t>(m)][static_cast<size_t>(t)];
+        if (seen) {
+          em.jacobian(candidates[static_cast<size_t>(m)], Measure::Targets, block.middleRows(3 * t, 3), t);
+        } else {
+          block.middleRows(3 * t, 3).setZero();  // a target the pose does not measure: no rows
+        }
+      }
     } else {
       em.jacobian(candidates[static_cast<size_t>(m)], options.measure, block);
     }
@@ -381,9 +395,17 @@ std::vector<std::vector<int>> randomPoseSets(int M, int N, int sets, unsigned lo
 }
 
 ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector<VecX>& q, const PlanOptions& options,
-                                        std::optional<double> sigma_position, std::optional<double> sigma_rotation) {
+                                        std::optional<double> sigma_position, std::optional<double> sigma_rotation,
+                                        const std::vector<std::vector<bool>>& measured) {
   LP_CHECK(sigma_position || sigma_rotation, "expectedUncertainty: state the measurement noise (position, rotation or both)");
   LP_CHECK(!q.empty(), "expectedUncertainty: needs at least one pose");
+  LP_CHECK(measured.empty() || (options.measure == Measure::Targets && measured.size() == q.size()),
+           "expectedUncertainty: measured needs Measure::Targets and one entry per pose (" << q.size() << "), got "
+                                                                                          << measured.size());
+  for (const std::vector<bool>& m : measured) {
+    LP_CHECK(m.size() == options.targets.size(), "expectedUncertainty: measured has " << m.size() << " flags for "
+                                                                                     << options.targets.size() << " targets");
+  }
   options.validate();
   CalibrationOptions co;
   co.measure = options.measure;
@@ -394,7 +416,8 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
   co.targets = options.targets;  // each with its point (validate)
   std::vector<Measurement> measurements;
   Data data(model);
-  for (const VecX& qi : q) {
+  for (size_t k = 0; k < q.size(); ++k) {
+    const VecX& qi = q[k];
     checkJointVector(qi, model.dof());
     forwardKinematics(model, data, qi);
     const Pose& T = data.T_base_tool;
@@ -403,6 +426,7 @@ ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector
       continue;
     }
     for (size_t t = 0; t < options.targets.size(); ++t) {
+      if (!measured.empty() && !measured[k][t]) continue;
       measurements.push_back(Measurement{qi, Pose{Mat3::Identity(), T.R * *options.targets[t].point_tool + T.p}, static_cast<int>(t)});
     }
   }

@@ -27,7 +27,8 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
                  const std::string& criterion_text, long long seed, std::optional<double> noise_position,
                  std::optional<double> noise_rotation, bool free_pitch, const std::optional<py::object>& model,
                  std::optional<std::string> tip, std::optional<std::string> base, std::optional<double> floor,
-                 const std::optional<py::dict>& ranges, double range_margin) {
+                 const std::optional<py::dict>& ranges, double range_margin,
+                 const std::optional<std::vector<double>>& tracker, double smr_angle, bool partial) {
   // the checks the CLI's parser makes (CLI::Range, CLI::IsMember); the rest are the report's
   if (poses < 1 || poses > commands::kMaxPlanPoses) {
     throw UsageError("poses", "must be in [1, " + std::to_string(commands::kMaxPlanPoses) + "], got " +
@@ -61,6 +62,17 @@ PlanOutcome plan(const Robot& r, int poses, int candidate_count, const std::stri
   }
   f.floor = floor;
   f.range_margin = range_margin;
+  if (tracker) {
+    if (tracker->size() != 3) {
+      throw UsageError("tracker", "expected (x, y, z) (base frame, length_unit), got " + std::to_string(tracker->size()) +
+                                      " numbers");
+    }
+    f.tracker = Vec3((*tracker)[0], (*tracker)[1], (*tracker)[2]);
+  } else if (partial) {
+    throw UsageError("partial", "goes with tracker= (the tracker whose line of sight hides targets)");
+  }
+  f.smr_angle_deg = smr_angle;
+  f.partial = partial;
   if (ranges) {
     // {joint: (lo, hi)}: joint a 1-based index or a joint's name, as the CLI's --range J:LO:HI
     for (const auto& [key, value] : *ranges) {
@@ -133,6 +145,9 @@ void exposePlan(py::module_& m) {
                              "dict: the nominal's D-H table with its expected standard deviations.")
       .def_property_readonly("noise", [](const PlanOutcome& p) { return toPython(p.j["noise"]); },
                              "dict position (length_unit), rotation (rad or None), source: the noise assumed.")
+      .def_property_readonly("measured", [](const PlanOutcome& p) { return toPython(p.j["measured"]); },
+                             "list[list[str]] | None: with tracker=, per planned pose the names of the targets it "
+                             "measures (every target unless partial=True).")
       .def_property_readonly("undetermined", [](const PlanOutcome& p) { return toPython(p.j["undetermined"]); },
                              "list of directions the plan does not determine, each a list of {parameter, "
                              "coefficient}.")
@@ -146,9 +161,10 @@ void exposePlan(py::module_& m) {
         py::arg("noise_rotation") = py::none(), py::arg("free_pitch") = false, py::kw_only(),
         py::arg("model") = py::none(), py::arg("tip") = py::none(), py::arg("base") = py::none(),
         py::arg("floor") = py::none(), py::arg("ranges") = py::none(), py::arg("range_margin") = 0.0,
+        py::arg("tracker") = py::none(), py::arg("smr_angle") = commands::kDefaultSmrAngleDeg, py::arg("partial") = false,
         "plan(robot, poses, candidates=5000, measure='pose', criterion='D', seed=1, noise_position=None,\n"
         "     noise_rotation=None, free_pitch=False, *, model=None, tip=None, base=None, floor=None, ranges=None,\n"
-        "     range_margin=0.0) -> Plan\n\n"
+        "     range_margin=0.0, tracker=None, smr_angle=30.0, partial=False) -> Plan\n\n"
         "`lowpair plan`: choose `poses` (N <= 1000) calibration poses of `candidates` (M <= 100000) random joint\n"
         "vectors (samples 0..M-1 of the stream `seed`) maximizing log det of the identification information\n"
         "(greedy, then exchanges; criterion 'D' or 'O1' only changes the number reported), compare with 100\n"
@@ -158,7 +174,10 @@ void exposePlan(py::module_& m) {
         "Feasible plans (docs/plan.md): model (an MJCF/URDF path; tip, base its chain) keeps only candidates\n"
         "MuJoCo finds free of contacts, floor (z of the base frame, length_unit) adds a floor plane; ranges\n"
         "{joint: (lo, hi)} (joint a 1-based index or a name; the robot file's units) and range_margin narrow\n"
-        "the sampled ranges. Too few feasible candidates raise lowpair.Error (the CLI's exit 1).");
+        "the sampled ranges. tracker (x, y, z: base frame, length_unit; measure='targets') keeps only candidates\n"
+        "whose SMRs the tracker sees (no geom on the ray, within smr_angle degrees of a target's normal);\n"
+        "partial=True keeps poses that see some targets and measures only those (Plan.measured).\n"
+        "Too few feasible candidates raise lowpair.Error (the CLI's exit 1).");
 }
 
 }  // namespace lowpair::python

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -175,7 +176,15 @@ TEST(RobotFileTargets, ErrorsNameFileLineAndTarget) {
       {"targets:\n  - {name: a}\n", "line 9: targets[0]: missing 'point' (x, y, z in the tool frame)"},
       {"targets:\n  - {point: [0, 0, 0]}\n", "line 9: targets[0]: missing 'name'"},
       {"targets:\n  - {name: a, point: [0, 0, 0], radius: 1}\n",
-       "line 9: unknown key 'radius' in targets[0] (allowed: known, name, point)"},
+       "line 9: unknown key 'radius' in targets[0] (allowed: known, name, normal, point)"},
+      {"targets:\n  - {name: a, point: [0, 0, 0], normal: [0, 0, 0]}\n",
+       "line 9: targets[0].normal must be a finite nonzero direction (x, y, z in the tool frame)"},
+      {"targets:\n  - {name: a, point: [0, 0, 0], normal: [-0.0, 0, 0]}\n", "targets[0].normal must be a finite nonzero"},
+      {"targets:\n  - {name: a, point: [0, 0, 0], normal: [1e-320, 0, 0]}\n", ""},
+      {"targets:\n  - {name: a, point: [0, 0, 0], normal: [1e300, 1e300, 0]}\n", ""},
+      {"targets:\n  - {name: a, point: [0, 0, 0], normal: [0, .nan, 1]}\n", "targets[0].normal[1] is not finite"},
+      {"targets:\n  - {name: a, point: [0, 0, 0], normal: [0, 1]}\n", "targets[0].normal must have 3 entries, got 2"},
+      {"targets:\n  - {name: a, point: [0, 0, 0], normal: [1e-300, 0, 0]}\n", ""},
       {"targets: {name: a, point: [0, 0, 0]}\n", "line 8: targets must be a list of {name: N, point: [x, y, z]}"},
       {"targets:\n", "targets must be a list of {name: N, point: [x, y, z]}"},
   };
@@ -194,6 +203,26 @@ TEST(RobotFileTargets, ErrorsNameFileLineAndTarget) {
                                          "dh:\n  joints:\n    - {type: revolute, a: 1}\n"
                                          "targets:\n  - {name: a, point: [0, 0, 0]}\n  - {name: a, point: [0, 0, 1]}\n");
   EXPECT_EQ(robotFileError(dh), dh + ": line 6: targets[1].name 'a' repeats targets[0]'s");
+}
+
+// `normal:` (plan --tracker's SMR angle): read as a unit vector, none when absent; a subnormal or huge normal
+// keeps its direction (the norm is computed scaled), exactly for one nonzero entry.
+TEST(RobotFileTargets, NormalsAreUnitVectorsOrNone) {
+  const std::string path = scratch().write(
+      "targets_normals.yaml", kTwoJoints + "targets:\n  - {name: a, point: [1, 0, 0], normal: [0, 0, -2]}\n"
+                                           "  - {name: b, point: [0, 1, 0]}\n"
+                                           "  - {name: c, point: [0, 0, 1], normal: [3, 4, 0]}\n"
+                                           "  - {name: d, point: [0, 0, 2], normal: [0, 1e-320, 0]}\n");
+  const RobotFile f = readRobotFile(path);
+  ASSERT_EQ(f.target_normals.size(), 4u);
+  ASSERT_TRUE(f.target_normals[0] && f.target_normals[2] && f.target_normals[3]);
+  EXPECT_FALSE(f.target_normals[1].has_value());
+  EXPECT_EQ(*f.target_normals[0], Vec3(0, 0, -1));  // exact: one nonzero entry divided by its own magnitude
+  EXPECT_EQ(*f.target_normals[3], Vec3(0, 1, 0));
+  // (0.6, 0.8) to rounding: each entry within an ulp or two of x / 5
+  EXPECT_NEAR((*f.target_normals[2])[0], 0.6, 4 * std::numeric_limits<double>::epsilon());
+  EXPECT_NEAR((*f.target_normals[2])[1], 0.8, 4 * std::numeric_limits<double>::epsilon());
+  EXPECT_NEAR(f.target_normals[2]->norm(), 1.0, 4 * std::numeric_limits<double>::epsilon());
 }
 
 TEST(RobotFileTargets, AtMostAThousand) {

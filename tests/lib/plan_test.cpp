@@ -135,13 +135,19 @@ TEST(PlanPoses, BeatsTheBestOfHundredRandomSets) {
 }
 
 // Targets: 3 SMRs off the tool point; the plan beats random sets as well and reaches the count 5h+4r+2t+n+3k.
+// Three SMRs on the tool (a tracker's usual nest), unknown points.
+PlanOptions threeTargets() {
+  PlanOptions options;
+  options.measure = Measure::Targets;
+  options.targets = {Target{"", Vec3(60, 0, 20)}, Target{"", Vec3(-30, 52, 20)}, Target{"", Vec3(-30, -52, 40)}};
+  return options;
+}
+
 TEST(PlanPoses, TargetsBeatRandomSetsAndReachTheCount) {
   const PoeModel model = pumaLike(0.0, true);
   std::mt19937_64 rng(3);
   const std::vector<VecX> q = sampleInRanges(model, 1000, rng);
-  PlanOptions options;
-  options.measure = Measure::Targets;
-  options.targets = {Target{"", Vec3(60, 0, 20)}, Target{"", Vec3(-30, 52, 20)}, Target{"", Vec3(-30, -52, 40)}};
+  const PlanOptions options = threeTargets();
   const PlanCandidates c = planCandidates(model, q, options);
   EXPECT_EQ(c.rows_per_pose, 9);
   const PlanResult plan = planPoses(c, 12, options);
@@ -478,4 +484,44 @@ TEST(PlanExchange, WorkBudgetEndsTheSearchAndSaysSo) {
   EXPECT_EQ(stopped.start.log_det, free.start.log_det);
   options.max_exchange_work = 0.0;
   EXPECT_THROW(options.validate(), std::invalid_argument);
+}
+
+// PlanOptions::measured (a tracker's line of sight): a target a candidate does not measure has no rows, so a
+// candidate that measures none adds nothing to any set, and expectedUncertainty fits only the measured targets.
+TEST(PlanMeasured, HiddenTargetsAddNoInformation) {
+  const PoeModel model = pumaLike(0.0, true);
+  std::mt19937_64 rng(5);
+  const std::vector<VecX> q = sampleInRanges(model, 300, rng);
+  PlanOptions options = threeTargets();
+  options.measured.assign(q.size(), {true, true, true});
+  options.measured[0] = {false, false, false};
+  options.measured[1] = {true, true, false};
+  const PlanCandidates c = planCandidates(model, q, options);
+  EXPECT_TRUE(c.scaled.topRows(9).isZero(0.0));
+  EXPECT_TRUE(c.scaled.middleRows(9 + 6, 3).isZero(0.0));
+  EXPECT_GT(c.scaled.middleRows(9, 6).norm(), 0.0);
+  PlanResult plan = planPoses(c, 15, options);
+  EXPECT_EQ(std::count(plan.indices.begin(), plan.indices.end(), 0), 0) << "a candidate that measures nothing was planned";
+  std::vector<int> with_blind = plan.indices;
+  with_blind.push_back(0);
+  // the same stacked B with a zero block: the same singular values to rounding (log det ~ 2 sum log s over the
+  // r = 39 directions, each s to a few eps relative)
+  EXPECT_NEAR(evaluatePlan(c, with_blind).log_det, plan.value.log_det, 1e-9 * std::abs(plan.value.log_det));
+  // expectedUncertainty fits the flagged targets only: 2 + 3 + 3 measurements of three poses
+  const std::vector<VecX> poses = {q[1], q[2], q[3]};
+  const std::vector<std::vector<bool>> flags = {{true, true, false}, {true, true, true}, {true, true, true}};
+  PlanOptions plain = options;
+  plain.measured.clear();
+  const ExpectedUncertainty e = expectedUncertainty(model, poses, plain, 0.01, std::nullopt, flags);
+  EXPECT_EQ(e.calibration.residuals.size(), 8u);
+  EXPECT_THROW(expectedUncertainty(model, poses, plain, 0.01, std::nullopt, {{true, true, true}}), std::invalid_argument);
+  PlanOptions wrong = options;
+  wrong.measured[2] = {true, true};  // two flags for three targets
+  EXPECT_THROW(planCandidates(model, q, wrong), std::invalid_argument);
+  wrong.measured.pop_back();  // one candidate short
+  wrong.measured[2] = {true, true, true};
+  EXPECT_THROW(planCandidates(model, q, wrong), std::invalid_argument);
+  PlanOptions pose;
+  pose.measured = {{true}};
+  EXPECT_THROW(planCandidates(model, {q[0]}, pose), std::invalid_argument);
 }

@@ -58,6 +58,10 @@ struct PlanOptions {
   /// Measure::Targets: the targets (as CalibrationOptions::targets), each with its point (tool frame); every pose
   /// measures each (3 rows per target). Their names name the targets' parameters ("1", "2", ... when one is empty).
   std::vector<Target> targets;
+  /// Measure::Targets, optional: per candidate (planCandidates' order), per target, whether the pose measures it
+  /// (a tracker's line of sight, docs/plan.md); empty: every pose measures every target. A target not measured
+  /// contributes no rows: its three rows of the candidate's block are zero.
+  std::vector<std::vector<bool>> measured;
   PlanCriterion criterion = PlanCriterion::D;
   int max_exchange_passes = 100;  ///< each pass tries every pose of the set once
   /// The search's work budget: a trial (a pose against a candidate) costs about rows x (rank + rows)
@@ -161,8 +165,11 @@ struct ExpectedUncertainty {
 
 /// @param sigma_position, sigma_rotation the measurement noise as CalibrationOptions states it (one may be
 /// derived from the other with L); at least one must be given
-/// @throws std::invalid_argument without stated noise, for no pose, or as calibrate
+/// @param measured Measure::Targets, optional: per pose of `q`, per target, whether it is measured (as
+/// PlanOptions::measured, whose own value, per candidate, is not read here); empty: every target of every pose
+/// @throws std::invalid_argument without stated noise, for no pose, a `measured` of the wrong shape, or as calibrate
 ExpectedUncertainty expectedUncertainty(const PoeModel& model, const std::vector<VecX>& q, const PlanOptions& options,
-                                        std::optional<double> sigma_position, std::optional<double> sigma_rotation);
+                                        std::optional<double> sigma_position, std::optional<double> sigma_rotation,
+                                        const std::vector<std::vector<bool>>& measured = {});
 
 }  // namespace lowpair
