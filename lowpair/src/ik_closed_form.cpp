@@ -371,11 +371,19 @@ void solveParallelTriple(const ClosedFormStructure& s, const Pose& G, double L, 
 
 // ---- from motions to checked joint vectors -------------------------------------------------------------------
 
+// x in (-pi, pi]: the subproblems' angles are atan2 values and sums of three of them, within (-5 pi, 5 pi)
+// (std::remainder costs ~100 instructions, a third of a subproblem)
+double wrapAngle(double x) {
+  while (x > M_PI) x -= 2.0 * M_PI;
+  while (x <= -M_PI) x += 2.0 * M_PI;
+  return x;
+}
+
 // q of joint i for motion x: revolute turns in (-pi, pi], then whole turns into the range when possible.
 double jointValue(const PoeModel& model, const ClosedFormStructure& s, int i, double x) {
   const Joint& j = model.joint(i);
   const bool turns = !(i == 2 && s.prismatic_elbow);
-  double q = j.variable(turns ? std::remainder(x, 2.0 * M_PI) : x);
+  double q = j.variable(turns ? wrapAngle(x) : x);
   if (!ik_ranges::inRange(j, q)) ik_ranges::wrapInto(j, q);
   return q;
 }
