@@ -501,6 +501,10 @@ const ClosedFormResult& inverseKinematicsAll(const PoeModel& model, const Pose& 
     sol.out_of_range = firstOutOfRange(model, sol.q);
     ++result.count;
   }
+  // in the order of the branch bits (shoulder, elbow, wrist), whatever order the geometry generated them in
+  auto key = [](const ClosedFormSolution& a) { return 4 * a.branch.shoulder + 2 * a.branch.elbow + a.branch.wrist; };
+  std::sort(result.solutions.begin(), result.solutions.begin() + result.count,
+            [&](const ClosedFormSolution& a, const ClosedFormSolution& b) { return key(a) < key(b); });
   return result;
 }
 
@@ -548,17 +552,26 @@ const ClosedFormSolution* compensateOnBranch(const PoeModel& nominal, const PoeM
   forwardKinematics(nominal, nominal_work.data, q);
   Pose target = nominal_work.data.T_base_tool;
   target.p.noalias() += target.R * options.point_tool;
-  const ClosedFormResult& r = inverseKinematicsAll(calibrated, target, options, calibrated_work);
-  const ClosedFormSolution* best = nullptr;
+  ClosedFormResult& r = calibrated_work.result;
+  inverseKinematicsAll(calibrated, target, options, calibrated_work);
+  ClosedFormSolution* best = nullptr;
   double best_distance = std::numeric_limits<double>::infinity();
   for (int k = 0; k < r.count; ++k) {
-    const ClosedFormSolution& s = r.solutions[static_cast<size_t>(k)];
+    ClosedFormSolution& s = r.solutions[static_cast<size_t>(k)];
     if (s.branch != branch) continue;
     const double d = jointDistance(calibrated, q, s.q);
     if (d < best_distance) {
       best_distance = d;
       best = &s;
     }
+  }
+  // each revolute joint by whole turns to the nominal row's value, where the range allows (the same pose)
+  for (int i = 0; best != nullptr && i < calibrated.dof(); ++i) {
+    const Joint& j = calibrated.joint(i);
+    if (!ik_ranges::periodic(j)) continue;
+    const double P = ik_ranges::period(j);
+    const double moved = best->q[i] - P * std::round((best->q[i] - q[i]) / P);
+    if (ik_ranges::inRange(j, moved)) best->q[i] = moved;
   }
   return best;
 }

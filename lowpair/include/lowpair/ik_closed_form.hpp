@@ -156,7 +156,8 @@ bool branchOf(const PoeModel& model, const Eigen::Ref<const VecX>& q, const IkOp
 
 /// Compensation on the nominal row's branch: the solution of the calibrated model for the nominal model's tool
 /// pose at q (`F_calibrated(q') = F_nominal(q)`, ik.hpp compensate) whose branch flags are those of q in the
-/// nominal model (branchOf), the nearest to q of them (jointDistance) when several share the flags.
+/// nominal model (branchOf), the nearest to q of them (jointDistance) when several share the flags; its revolute
+/// joints moved by whole turns to the nearest of q's values their ranges allow.
 /// @param nominal_work, calibrated_work built from the two models
 /// @return the solution in calibrated_work.result, or nullptr when no calibrated solution has that branch (the
 /// pose is out of the calibrated model's reach, or the row is singular and the branches meet there)
