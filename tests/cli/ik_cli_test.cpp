@@ -361,7 +361,9 @@ TEST(IkAllCli, EverySolutionOfEachTargetWithItsBranch) {
       // up to 8 (the PUMA's random targets have 8; a UR's may have 4 or 6: some planar-arm distances out of reach)
       EXPECT_GE(row["count"].get<int>(), 2) << robot << " row " << k;
       EXPECT_LE(row["count"].get<int>(), 8) << robot << " row " << k;
-      if (robot == kPuma) EXPECT_EQ(row["count"], 8) << " row " << k;
+      if (robot == kPuma) {
+        EXPECT_EQ(row["count"], 8) << " row " << k;
+      }
       std::set<std::string> branches;
       bool own = false;
       for (const json& s : row["solutions"]) {
