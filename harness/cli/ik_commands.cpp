@@ -221,6 +221,8 @@ int runIkAll(const IkCommandOptions& o, const RobotFile& file, const PoeModel& m
   IkOptions options;
   const ClosedFormStructure structure = closedFormStructure(model);
   const bool closed = structure.kind != ClosedFormKind::None;
+  // without a closed form every seed of every row is tried: the work bound counts them all (limits.hpp)
+  if (const auto problem = ikWorkProblem(table.rows(), closed ? 1 : o.seeds, n, !closed)) throw UsageError("--seeds", *problem);
   std::optional<ClosedFormWorkspace> closed_work;
   if (closed) closed_work.emplace(model);
   const std::vector<Range> ranges = samplingRanges(model);
