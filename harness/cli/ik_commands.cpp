@@ -399,8 +399,7 @@ int runCompensate(const CompensateOptions& o) {
       table.q.data(), static_cast<Eigen::Index>(table.rows()), n);
   // the nominal rows' branches kept (closed form), unless --seeded or the models or the task have none
   const std::string no_branch = o.seeded ? "--seeded" : branchUnavailable(nominal, calibrated, options);
-  std::vector<IkRow> rows = no_branch.empty() ? compensateOnBranchRows(nominal, calibrated, q_nominal, table.lines, options)
-                                              : compensateJointRows(nominal, calibrated, q_nominal, table.lines, options);
+  std::vector<IkRow> rows = compensateJointRows(nominal, calibrated, q_nominal, table.lines, options, no_branch.empty());
   const long long kept = std::count_if(rows.begin(), rows.end(), [](const IkRow& r) { return r.branch.has_value(); });
   const std::string method = no_branch.empty() ? "on the nominal row's branch (closed form; " + std::to_string(kept) + " of " +
                                                      std::to_string(rows.size()) + " rows, the others seeded there)"

@@ -39,20 +39,6 @@ IkRow solveFromRandomSeeds(const PoeModel& model, Data& data, const Pose& target
   return best;
 }
 
-std::vector<IkRow> compensateJointRows(const PoeModel& nominal, const PoeModel& calibrated,
-                                       const Eigen::Ref<const MatX>& q_nominal, const std::vector<long long>& lines,
-                                       const IkOptions& options) {
-  Data data(calibrated);
-  IkWorkspace work(calibrated);
-  std::vector<IkRow> rows;
-  rows.reserve(static_cast<size_t>(q_nominal.rows()));
-  for (Eigen::Index k = 0; k < q_nominal.rows(); ++k) {
-    pollInterrupt();
-    rows.push_back({compensate(nominal, calibrated, data, q_nominal.row(k).transpose(), options, work), -1,
-                    lines[static_cast<size_t>(k)], std::nullopt});
-  }
-  return rows;
-}
 
 namespace {
 
@@ -113,13 +99,39 @@ std::string branchUnavailable(const PoeModel& nominal, const PoeModel& calibrate
   return "";
 }
 
-std::vector<IkRow> compensateOnBranchRows(const PoeModel& nominal, const PoeModel& calibrated,
-                                          const Eigen::Ref<const MatX>& q_nominal, const std::vector<long long>& lines,
-                                          const IkOptions& options) {
-  if (!branchUnavailable(nominal, calibrated, options).empty()) {
-    return compensateJointRows(nominal, calibrated, q_nominal, lines, options);
+namespace {
+
+// The row of compensateOnBranch's solution s, its branch named.
+IkRow branchRow(const ClosedFormSolution& s, long long line) {
+  IkRow row;
+  row.line = line;
+  IkResult& r = row.result;
+  r.q = s.q;
+  r.iterations = s.refinement_iterations;
+  r.position_error = s.position_error;
+  r.rotation_error = s.rotation_error;
+  r.converged = true;
+  r.joint = s.out_of_range;
+  r.status = s.out_of_range >= 0 ? IkStatus::OutOfRange : s.singular ? IkStatus::Singular : IkStatus::Ok;
+  if (r.status == IkStatus::OutOfRange) {
+    r.reason = "the solution on the nominal row's branch has joint " + std::to_string(r.joint + 1) + " outside its range";
+  } else if (r.status == IkStatus::Singular) {
+    r.reason = "the solution on the nominal row's branch is singular (a free angle or a double root)";
   }
-  ClosedFormWorkspace nominal_work(nominal), calibrated_work(calibrated);
+  row.branch = s.branch;
+  return row;
+}
+
+}  // namespace
+
+std::vector<IkRow> compensateJointRows(const PoeModel& nominal, const PoeModel& calibrated,
+                                       const Eigen::Ref<const MatX>& q_nominal, const std::vector<long long>& lines,
+                                       const IkOptions& options, bool keep_branch) {
+  std::optional<ClosedFormWorkspace> nominal_work, calibrated_work;
+  if (keep_branch && branchUnavailable(nominal, calibrated, options).empty()) {
+    nominal_work.emplace(nominal);
+    calibrated_work.emplace(calibrated);
+  }
   Data data(calibrated);
   IkWorkspace work(calibrated);
   std::vector<IkRow> rows;
@@ -127,27 +139,10 @@ std::vector<IkRow> compensateOnBranchRows(const PoeModel& nominal, const PoeMode
   for (Eigen::Index k = 0; k < q_nominal.rows(); ++k) {
     pollInterrupt();
     const VecX q = q_nominal.row(k).transpose();
-    IkRow row;
-    row.line = lines[static_cast<size_t>(k)];
-    if (const ClosedFormSolution* s = compensateOnBranch(nominal, calibrated, q, options, nominal_work, calibrated_work)) {
-      IkResult& r = row.result;
-      r.q = s->q;
-      r.iterations = s->refinement_iterations;
-      r.position_error = s->position_error;
-      r.rotation_error = s->rotation_error;
-      r.converged = true;
-      r.joint = s->out_of_range;
-      r.status = s->out_of_range >= 0 ? IkStatus::OutOfRange : s->singular ? IkStatus::Singular : IkStatus::Ok;
-      if (r.status == IkStatus::OutOfRange) {
-        r.reason = "the solution on the nominal row's branch has joint " + std::to_string(r.joint + 1) + " outside its range";
-      } else if (r.status == IkStatus::Singular) {
-        r.reason = "the solution on the nominal row's branch is singular (a free angle or a double root)";
-      }
-      row.branch = s->branch;
-    } else {
-      row.result = compensate(nominal, calibrated, data, q, options, work);
-    }
-    rows.push_back(std::move(row));
+    const long long line = lines[static_cast<size_t>(k)];
+    const ClosedFormSolution* s =
+        nominal_work ? compensateOnBranch(nominal, calibrated, q, options, *nominal_work, *calibrated_work) : nullptr;
+    rows.push_back(s ? branchRow(*s, line) : IkRow{compensate(nominal, calibrated, data, q, options, work), -1, line, std::nullopt});
   }
   return rows;
 }

@@ -47,9 +47,11 @@ IkRow solveFromRandomSeeds(const PoeModel& model, Data& data, const Pose& target
 /// calibrated. `compensate` prints it as a note and JSON `tool_note` (`tool_determined`: whether it is "").
 std::string undeterminedToolNote(const io::RobotFile& calibrated, bool pose);
 
+/// @param keep_branch each row on its nominal row's branch (compensateOnBranch) when branchUnavailable is "";
+/// a row with no calibrated solution on its branch (a singular row), and every row otherwise, seeded at q.
 std::vector<IkRow> compensateJointRows(const PoeModel& nominal, const PoeModel& calibrated,
                                        const Eigen::Ref<const MatX>& q_nominal, const std::vector<long long>& lines,
-                                       const IkOptions& options);
+                                       const IkOptions& options, bool keep_branch);
 
 /// One solution of `ik --all`: from the closed form (with its branch) or, for a model without one, a distinct
 /// converged solution of the numerical solver from one of the random seeds (no branch).
@@ -81,14 +83,8 @@ IkAllRow solveAll(const PoeModel& model, ClosedFormWorkspace* closed, Data& data
                   size_t row, int seeds, unsigned long long seed, const std::vector<Range>& ranges,
                   const IkOptions& options, long long line);
 
-/// `compensate` on the nominal rows' branches (compensateOnBranch) when both models have a closed form and the
-/// task is a pose; a row with no calibrated solution on its branch (a singular row) falls back to the seeded
-/// numerical solver (its IkRow has no branch). Otherwise every row as compensateJointRows.
-std::vector<IkRow> compensateOnBranchRows(const PoeModel& nominal, const PoeModel& calibrated,
-                                          const Eigen::Ref<const MatX>& q_nominal, const std::vector<long long>& lines,
-                                          const IkOptions& options);
-
-/// Whether compensateOnBranchRows keeps branches for these models and options, and if not why ("" when it does).
+/// Whether compensateJointRows can keep branches for these models and options, and if not why ("" when it can):
+/// both robots need a closed form, the task a pose.
 std::string branchUnavailable(const PoeModel& nominal, const PoeModel& calibrated, const IkOptions& options);
 
 /// One row of `ik --all`'s JSON: line, count, dropped, solutions [{q, branch {shoulder, elbow, wrist} or null,

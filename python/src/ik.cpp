@@ -295,8 +295,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
     std::vector<long long> lines(static_cast<size_t>(Q.rows()));
     for (size_t k = 0; k < lines.size(); ++k) lines[k] = static_cast<long long>(k);
     const bool branch = !seeded && commands::branchUnavailable(nominal.poe, calibrated.poe, options).empty();
-    s.rows = branch ? commands::compensateOnBranchRows(nominal.poe, calibrated.poe, Q, lines, options)
-                    : commands::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options);
+    s.rows = commands::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options, branch);
   }
   long long kept = 0;
   for (const commands::IkRow& row : s.rows) kept += row.branch.has_value();
