@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "ik_helpers.hpp"
+#include "ik_closed_form_helpers.hpp"
 #include "lowpair/ik.hpp"
 #include "lowpair/ik_closed_form.hpp"
 #include "lowpair/se3.hpp"
@@ -16,51 +16,7 @@ namespace {
 
 using namespace lowpair;
 using namespace ik_helpers;
-
-// UR5e, UR's published D-H table (tests/data/ur5e.yaml cites it), ranges +-2 pi.
-PoeModel ur5e() {
-  const double r = 2.0 * M_PI;
-  return dhToPoe(dhRobot({{0, 0.1625, M_PI / 2, 0}, {0, 0, 0, -0.425}, {0, 0, 0, -0.3922}, {0, 0.1333, M_PI / 2, 0},
-                          {0, 0.0997, -M_PI / 2, 0}, {0, 0.0996, 0, 0}},
-                         {{-r, r}, {-r, r}, {-r, r}, {-r, r}, {-r, r}, {-r, r}}, "ur5e"));
-}
-
-// The PUMA 560 without its shoulder offset (d3 = 0): the wrist centre can reach axis 1.
-PoeModel pumaNoOffset() {
-  const double r = M_PI;
-  return dhToPoe(dhRobot({{0, 0, M_PI / 2, 0}, {0, 0, 0, 0.4318}, {0, 0, -M_PI / 2, 0.0203}, {0, 0.4318, M_PI / 2, 0},
-                          {0, 0, -M_PI / 2, 0}, {0, 0, 0, 0}},
-                         {{-r, r}, {-r, r}, {-r, r}, {-r, r}, {-r, r}, {-r, r}}, "puma-no-offset"));
-}
-
-// Every joint line moved by a rigid motion of size `size` (rad, and L for the translation): the twist type is
-// kept (Ad preserves w.v), the wrist centre and the shoulder point are missed by about `size` L.
-PoeModel perturbed(const PoeModel& model, double size, std::mt19937_64& rng) {
-  std::normal_distribution<double> normal;
-  const double L = model.lengthScale();
-  std::vector<Joint> joints = model.joints();
-  for (Joint& j : joints) {
-    Vec6 eta;
-    for (int k = 0; k < 6; ++k) eta[k] = size * normal(rng) * (k < 3 ? 1.0 : L);
-    j.twist = adjointApply(expSE3(eta), j.twist);
-  }
-  return PoeModel(joints, model.toolPose(), model.name() + "-perturbed");
-}
-
-// The target of q: the tool frame (point_tool = 0).
-Pose targetOf(const PoeModel& model, const VecX& q) { return poeForwardKinematics(model, q); }
-
-// FK's rounding floor is 16 (n + 1) eps S (S a few L) ~ 1e-13 L; the subproblems divide by sines >= 1e-2 and by
-// distances >= 1e-2 L between the lines they use, so 1e-12 L and rad hold away from singular targets.
-constexpr double kClosedFormAccuracy = 1e-12;
-
-IkOptions exactOptions() {
-  IkOptions o;
-  o.position_tolerance = kClosedFormAccuracy;
-  o.rotation_tolerance = kClosedFormAccuracy;
-  o.max_iterations = 0;  // no refinement: a candidate that misses is dropped, and the tests count drops
-  return o;
-}
+using namespace ik_closed_form_helpers;
 
 TEST(ClosedFormStructure, DetectsTheGeometryFromTheLines) {
   const ClosedFormStructure p = closedFormStructure(puma());
@@ -92,53 +48,6 @@ TEST(ClosedFormStructure, NearlyWithinTheToleranceOnly) {
   EXPECT_NE(b.reason.find("miss"), std::string::npos) << b.reason;
   // the same model is of the geometry for a looser tolerance
   EXPECT_EQ(closedFormStructure(far, 0.1).kind, ClosedFormKind::SphericalWrist);
-}
-
-// Every solution the numerical solver finds from many seeds is one of the closed form's, and every closed-form
-// solution is exact through FK without refinement; the configuration the target came from is among them.
-void everySolutionFound(const PoeModel& model, int targets, int seeds, int expected_max) {
-  std::mt19937_64 rng(2026);
-  ClosedFormWorkspace work(model);
-  Data data(model);
-  IkWorkspace ik(model);
-  IkOptions numeric;
-  numeric.ranges = RangePolicy::Report;
-  numeric.check_singularity = false;
-  const IkOptions exact = exactOptions();
-  const double L = model.lengthScale();
-  int most = 0, numeric_found = 0;
-  for (int t = 0; t < targets; ++t) {
-    const VecX q = sampleQ(model, rng);
-    const Pose target = targetOf(model, q);
-    const ClosedFormResult& r = inverseKinematicsAll(model, target, exact, work);
-    ASSERT_EQ(r.dropped, 0) << model.name() << " target " << t;
-    most = std::max(most, r.count);
-    auto member = [&](const VecX& x) {
-      for (int k = 0; k < r.count; ++k) {
-        if (jointDistance(model, x, r.solutions[static_cast<size_t>(k)].q) <= 1e-6) return true;
-      }
-      return false;
-    };
-    for (int k = 0; k < r.count; ++k) {
-      const ClosedFormSolution& s = r.solutions[static_cast<size_t>(k)];
-      const Pose T = poeForwardKinematics(model, s.q);
-      EXPECT_LE((T.p - target.p).norm(), kClosedFormAccuracy * L);
-      EXPECT_LE(rotationError(T.R, target.R), kClosedFormAccuracy);
-      EXPECT_EQ(s.refinement_iterations, 0);
-    }
-    EXPECT_TRUE(member(q)) << model.name() << " target " << t << ": its own configuration is missing";
-    for (int k = 0; k < seeds; ++k) {
-      const VecX seed = sampleQ(model, rng);
-      const IkResult& n = inverseKinematics(model, data, target, seed, numeric, ik);
-      if (!n.converged) continue;
-      ++numeric_found;
-      // the numerical solution (converged to 1e-10) lies within cond * 1e-10 of an exact one: 1e-6 allows 1e4
-      EXPECT_TRUE(member(n.q)) << model.name() << " target " << t << ": numerical solution " << n.q.transpose()
-                               << " is not among the " << r.count << " closed-form ones";
-    }
-  }
-  EXPECT_EQ(most, expected_max) << model.name();
-  EXPECT_GT(numeric_found, targets * seeds / 4) << model.name();  // the comparison did happen
 }
 
 TEST(InverseKinematicsAll, EverySolutionOfThePuma) { everySolutionFound(puma(), 150, 16, 8); }
