@@ -54,6 +54,38 @@ TEST(InverseKinematicsAll, EverySolutionOfThePuma) { everySolutionFound(puma(), 
 TEST(InverseKinematicsAll, EverySolutionOfTheStanfordArm) { everySolutionFound(stanford(), 150, 16, 8); }
 TEST(InverseKinematicsAll, EverySolutionOfTheUr5e) { everySolutionFound(ur5e(), 150, 16, 8); }
 
+// Joint scales (unnormalized twists) and offsets: the subproblems' motions x become q = x / scale - offset
+// (JointMotion::variable), the slide of the Stanford arm's prismatic joint included.
+TEST(InverseKinematicsAll, JointScalesAndOffsetsApply) {
+  const double scales[6] = {2.0, 0.5, 1.5, 1.0, 3.0, 0.8}, offsets[6] = {0.3, -0.2, 0.1, 0.5, -0.4, 0.25};
+  for (const PoeModel& base : {puma(), stanford(), ur5e()}) {
+    std::vector<JointSpec> specs(6);
+    for (int i = 0; i < 6; ++i) {
+      specs[static_cast<size_t>(i)].type = base.joint(i).type;
+      specs[static_cast<size_t>(i)].twist = base.joint(i).twist * scales[i];
+      specs[static_cast<size_t>(i)].offset = offsets[i];
+    }
+    const PoeModel model(specs, base.toolPose(), base.name() + "-scaled");
+    ClosedFormWorkspace work(model);
+    ASSERT_NE(work.structure.kind, ClosedFormKind::None) << work.structure.reason;
+    std::mt19937_64 rng(9);
+    for (int t = 0; t < 20; ++t) {
+      VecX q = sampleQ(base, rng);  // in the base robot's ranges, as motions; q of the scaled model:
+      for (int i = 0; i < 6; ++i) q[i] = q[i] / scales[i] - offsets[i];
+      const Pose target = targetOf(model, q);
+      const ClosedFormResult& r = inverseKinematicsAll(model, target, exactOptions(), work);
+      ASSERT_GT(r.count, 0) << model.name();
+      bool own = false;
+      for (int k = 0; k < r.count; ++k) {
+        const ClosedFormSolution& sol = r.solutions[static_cast<size_t>(k)];
+        EXPECT_EQ(sol.refinement_iterations, 0) << model.name();
+        own |= jointDistance(model, q, sol.q) <= 1e-6;
+      }
+      EXPECT_TRUE(own) << model.name() << " target " << t;
+    }
+  }
+}
+
 TEST(InverseKinematicsAll, BranchFlagsAreDistinct) {
   std::mt19937_64 rng(3);
   for (const PoeModel& model : {puma(), ur5e()}) {
