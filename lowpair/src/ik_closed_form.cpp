@@ -59,6 +59,15 @@ struct Detection {
     std::snprintf(reason, sizeof reason, text, value);
     return false;
   }
+  // joint i (0-based) is not revolute, nor helical with a pitch within the tolerance
+  bool notRevolute(const Joint& j, int i, double L) {
+    if (j.type == JointType::Helical) {
+      std::snprintf(reason, sizeof reason, "joint %d is helical (pitch %.3g L)", i + 1, j.pitch / L);
+    } else {
+      std::snprintf(reason, sizeof reason, "joint %d is prismatic", i + 1);
+    }
+    return false;
+  }
 };
 
 // Lines i and j (0-based) meet within the tolerance and are not parallel: their nearest point.
@@ -84,12 +93,12 @@ bool meet(const PoeModel& model, int i, int j, double tolerance, Detection& d, V
 bool detectSphericalWrist(const PoeModel& model, double tolerance, ClosedFormStructure& s, Detection& d) {
   const double L = model.lengthScale();
   for (int i : {0, 1, 3, 4, 5}) {
-    if (!revoluteLike(model.joint(i), tolerance, L)) return d.fail("joint %.0f is not revolute", i + 1.0);
+    if (!revoluteLike(model.joint(i), tolerance, L)) return d.notRevolute(model.joint(i), i, L);
     d.deviation = std::max(d.deviation, pitchDeviation(model.joint(i), L));
   }
   const Joint& j3 = model.joint(2);
   s.prismatic_elbow = j3.type == JointType::Prismatic;
-  if (!s.prismatic_elbow && !revoluteLike(j3, tolerance, L)) return d.fail("joint 3 is helical (pitch %.3g L)", j3.pitch / L);
+  if (!s.prismatic_elbow && !revoluteLike(j3, tolerance, L)) return d.notRevolute(j3, 2, L);
   if (!s.prismatic_elbow) d.deviation = std::max(d.deviation, pitchDeviation(j3, L));
   Vec3 unused;
   if (!meet(model, 0, 1, tolerance, d, s.shoulder) || !meet(model, 3, 4, tolerance, d, unused) ||
@@ -117,7 +126,7 @@ bool detectSphericalWrist(const PoeModel& model, double tolerance, ClosedFormStr
 bool detectParallelTriple(const PoeModel& model, double tolerance, ClosedFormStructure& s, Detection& d) {
   const double L = model.lengthScale();
   for (int i = 0; i < 6; ++i) {
-    if (!revoluteLike(model.joint(i), tolerance, L)) return d.fail("joint %.0f is not revolute", i + 1.0);
+    if (!revoluteLike(model.joint(i), tolerance, L)) return d.notRevolute(model.joint(i), i, L);
     d.deviation = std::max(d.deviation, pitchDeviation(model.joint(i), L));
   }
   const Vec3 w2 = model.joint(1).axis();

@@ -52,8 +52,9 @@ namespace lowpair {
 
 /// How far a model's lines may miss the exact geometry and still count as of it: distances in units of the
 /// robot size L, angles in rad, pitches in L per rad. 1e-3 holds the errors calibration corrects on real arms
-/// (a few tenths of a millimetre and milliradian on a 1 m arm; the PUMA of Okamura and Park, Table I, has
-/// axes off by up to 0.06 rad, which is *not* nearly Pieper and goes to the numerical solver). From a candidate
+/// (a few tenths of a millimetre and milliradian on a 1 m arm; the actual PUMA of Okamura and Park, Table I, with
+/// helical joints (joint 6: pitch 0.011 L) and axes 2 and 3 0.18 rad from parallel, is *not* nearly of its nominal's
+/// geometry and goes to the numerical solver). From a candidate
 /// that far from the true solution, the damped Newton iteration converges quadratically in 3-5 steps; much
 /// farther, a candidate may fall into another branch's basin and the numerical solver is the honest tool.
 constexpr double kClosedFormNearly = 1e-3;
