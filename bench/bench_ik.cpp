@@ -1,4 +1,5 @@
-// Inverse kinematics (lowpair/ik.hpp): time per solve from a seed 0.3 rad per joint away from a configuration
+// Inverse kinematics (lowpair/ik.hpp, lowpair/ik_closed_form.hpp) and KDL's position IK solvers on the same
+// targets and seeds (bench_kdl_ik.cpp). Numerical solvers: time per solve from a seed 0.3 rad per joint away from a configuration
 // of the pool (robots.cpp: seeded, within the joint ranges), to the pose or position of that configuration.
 // Counters: `iterations` (steps per solve, averaged) and `ok` (the fraction of solves with status Ok). Before
 // timing, every Ok solution of the pool is checked against the library FK; a solution off by more than the
@@ -11,6 +12,8 @@
 
 #include "lowpair/calibration.hpp"
 #include "lowpair/ik.hpp"
+#include "lowpair/ik_closed_form.hpp"
+#include "kdl_peer.hpp"
 #include "lowpair/kinematics.hpp"
 #include "registration.hpp"
 #include "robots_lowpair.hpp"
@@ -124,6 +127,59 @@ void compensateBench(benchmark::State& state) {
   state.counters["ok"] = static_cast<double>(ok) / kPool;
 }
 
+// Every solution of each pool target in closed form (ik_closed_form.hpp), default tolerances (refinement when the
+// FK check fails). Counters: `solutions` per target (averaged) and `ok`, the fraction of targets whose own
+// configuration is among the solutions (jointDistance <= 1e-6), counted over the pool before timing.
+void closedFormBench(benchmark::State& state, RobotId id) {
+  const PoeModel& model = robotModels(id).poe;
+  static std::vector<IkPool> pools(kRobotIds);
+  IkPool& pool = pools[static_cast<size_t>(id)];
+  if (pool.q.empty()) pool = ikPool(id);
+  ClosedFormWorkspace work(model);
+  const IkOptions o;
+  int ok = 0;
+  for (int k = 0; k < kPool; ++k) {
+    const ClosedFormResult& r = inverseKinematicsAll(model, pool.target[static_cast<size_t>(k)], o, work);
+    bool own = false;
+    for (int s = 0; s < r.count; ++s) own |= jointDistance(model, pool.q[static_cast<size_t>(k)], r.solutions[static_cast<size_t>(s)].q) <= 1e-6;
+    ok += own;
+  }
+  long solutions = 0;
+  int k = 0;
+  for (auto _ : state) {
+    const ClosedFormResult& r = inverseKinematicsAll(model, pool.target[static_cast<size_t>(k)], o, work);
+    solutions += r.count;
+    benchmark::DoNotOptimize(r.solutions.data());
+    k = (k + 1) & (kPool - 1);
+  }
+  state.counters["solutions"] = benchmark::Counter(static_cast<double>(solutions), benchmark::Counter::kAvgIterations);
+  state.counters["ok"] = static_cast<double>(ok) / kPool;
+}
+
+// The pool's problems in KDL's joint space: lowpair's seeds and ranges mapped through the joint-variable map
+// (x = scale (q + offset), linear: x_seed = x_kdl + scale_kdl (seed - q)); no range: +-1e9 (KDL needs one).
+KdlIkProblem kdlProblem(RobotId id) {
+  const RobotCase& r = robotCase(id);
+  const PoeModel& model = robotModels(id).poe;
+  const IkPool pool = ikPool(id);
+  KdlIkProblem p;
+  const size_t n = static_cast<size_t>(r.dof);
+  for (size_t k = 0; k < static_cast<size_t>(kPool); ++k) {
+    for (size_t i = 0; i < n; ++i) {
+      const double delta = pool.seed[k][static_cast<Eigen::Index>(i)] - pool.q[k][static_cast<Eigen::Index>(i)];
+      p.seed.push_back(r.x_kdl[k * n + i] + r.scale_kdl[i] * delta);
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const Joint& j = model.joint(static_cast<int>(i));
+    const double q0 = pool.q[0][static_cast<Eigen::Index>(i)], x0 = r.x_kdl[i];
+    p.lower.push_back(j.range ? x0 + r.scale_kdl[i] * ((*j.range)[0] - q0) : -1e9);
+    p.upper.push_back(j.range ? x0 + r.scale_kdl[i] * ((*j.range)[1] - q0) : 1e9);
+  }
+  p.tolerance = kIkTolerance;
+  return p;
+}
+
 const bool registered = [] {
   using benchmark::RegisterBenchmark;
   RegisterBenchmark("BM_Ik_PoseNoSingularityCheck_Puma560", ikBench, RobotId::Puma560, Measure::Pose, false);
@@ -136,6 +192,10 @@ const bool registered = [] {
 void registerIkBenchmarks(RobotId id, const std::string& name) {
   benchmark::RegisterBenchmark(("BM_Ik_Pose_" + name).c_str(), ikBench, id, Measure::Pose, true);
   benchmark::RegisterBenchmark(("BM_Ik_Position_" + name).c_str(), ikBench, id, Measure::Position, true);
+  if (closedFormStructure(robotModels(id).poe).kind != ClosedFormKind::None) {
+    benchmark::RegisterBenchmark(("BM_Ik_ClosedFormAll_" + name).c_str(), closedFormBench, id);
+  }
+  if (robotCase(id).kdl_unsupported.empty()) registerKdlIkBenchmarks(&robotCase, id, name, kdlProblem(id));
 }
 
 }  // namespace lowpair_bench

@@ -15,11 +15,10 @@
 #include <memory>
 #include <string>
 
+#include "kdl_chain.hpp"
 #include "kdl_peer.hpp"
 
 namespace lowpair_bench {
-
-namespace {
 
 KDL::Chain buildChain(const RobotCase& r) {
   KDL::Chain chain;
@@ -51,6 +50,8 @@ KDL::Chain buildChain(const RobotCase& r) {
   }
   return chain;
 }
+
+namespace {
 
 struct KdlFixture {
   explicit KdlFixture(const RobotCase& robot)

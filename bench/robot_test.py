@@ -23,6 +23,7 @@ NAME = "RrprArm"  # tests/data/bench/rrpr_arm.yaml's name: rrpr-arm, as a benchm
 EXPECTED = {f"BM_{family}_{NAME}" for family in (
     "Fk_Poe", "Fk_Dh", "Jacobian_Spatial", "Jacobian_Body", "Jacobian_Geometric",
     "FkBatch_Scalar", "FkBatch_Soa", "FkBatch_SoaDh", "FkBatch_SoaThreads2", "Ik_Pose", "Ik_Position",
+    "Ik_KdlNrJl", "Ik_KdlLma",  # (no Ik_ClosedFormAll: the RRPR arm has no closed form)
     "Fk_Mujoco", "Jacobian_Mujoco", "Fk_Kdl", "Jacobian_Kdl")}
 
 

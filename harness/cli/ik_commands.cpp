@@ -1,5 +1,6 @@
-// lowpair ik ROBOT --poses POSES.csv [--out Q.csv] [--json] [--seeds K] [--seed S]
+// lowpair ik ROBOT --poses POSES.csv [--out Q.csv] [--json] [--seeds K] [--seed S] [--all]
 // lowpair compensate CALIBRATED --nominal NOMINAL --q-file Q.csv [--out Q2.csv] [--json] [--measure pose|position]
+//                   [--seeded]
 // Inverse kinematics of target poses (or positions) and compensation of a calibrated robot (lowpair/ik.hpp,
 // docs/ik.md), and the reader of their CSV inputs (also `fk --q-file`'s, convert_commands.cpp).
 #include <algorithm>
@@ -26,6 +27,7 @@
 #include "io/measurements.hpp"
 #include "io/output.hpp"
 #include "lowpair/ik.hpp"
+#include "lowpair/ik_closed_form.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/tolerances.hpp"
 #include "commands/ik_rows.hpp"
@@ -173,9 +175,108 @@ struct IkCommandOptions {
   RobotSource robot;
   std::string poses, out;
   bool as_json = false;
+  bool all = false;  // --all: every solution per target
   int seeds = 8;
   long long seed = 1;
 };
+
+// ---- ik --all ------------------------------------------------------------------------------------------------------
+
+// The CSV of --all: `line,solution,q1..qn,shoulder,elbow,wrist,singular,out_of_range,residual,rotation`, one row per
+// solution (branch flags 0/1, empty without a closed form; out_of_range the 1-based joint, 0 for none).
+void writeAllCsv(std::ostream& out, const std::vector<std::string>& comments, int dof, const std::vector<IkAllRow>& rows) {
+  std::string text;
+  for (const std::string& c : comments) text += "# " + c + "\n";
+  text += "line,solution,";
+  for (int i = 0; i < dof; ++i) text += "q" + std::to_string(i + 1) + ",";
+  text += "shoulder,elbow,wrist,singular,out_of_range,residual,rotation\n";
+  out << text;
+  for (const IkAllRow& row : rows) {
+    for (size_t k = 0; k < row.solutions.size(); ++k) {
+      const IkAllSolution& x = row.solutions[k];
+      text = std::to_string(row.line) + "," + std::to_string(k + 1) + ",";
+      for (int i = 0; i < dof; ++i) {
+        appendNumber(text, x.q[i]);
+        text += ',';
+      }
+      text += x.branch ? std::string(x.branch->shoulder ? "1," : "0,") + (x.branch->elbow ? "1," : "0,") + (x.branch->wrist ? "1," : "0,")
+                       : std::string(",,,");
+      text += (x.singular ? "1," : "0,") + std::to_string(x.out_of_range + 1) + ",";
+      appendNumber(text, x.position_error);
+      text += ',';
+      appendNumber(text, x.rotation_error);
+      text += '\n';
+      out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    }
+  }
+}
+
+int runIkAll(const IkCommandOptions& o, const RobotFile& file, const PoeModel& model, const JointTable& table,
+             std::vector<std::string> notes) {
+  if (!table.pose) {
+    throw UsageError("--all", "needs pose targets (x,y,z,qw,qx,qy,qz): a position leaves a 6-joint arm infinitely many solutions");
+  }
+  if (table.dof > 0) notes.push_back("the q1..qn columns of " + o.poses + " are not used: --all needs no seeds");
+  const int n = model.dof();
+  IkOptions options;
+  const ClosedFormStructure structure = closedFormStructure(model);
+  const bool closed = structure.kind != ClosedFormKind::None;
+  // without a closed form every seed of every row is tried: the work bound counts them all (limits.hpp)
+  if (const auto problem = ikWorkProblem(table.rows(), closed ? 1 : o.seeds, n, !closed)) throw UsageError("--seeds", *problem);
+  std::optional<ClosedFormWorkspace> closed_work;
+  if (closed) closed_work.emplace(model);
+  const std::vector<Range> ranges = samplingRanges(model);
+  Data data(model);
+  IkWorkspace work(model);
+  std::vector<IkAllRow> rows;
+  rows.reserve(table.rows());
+  size_t total = 0, without = 0;
+  for (size_t k = 0; k < table.rows(); ++k) {
+    rows.push_back(solveAll(model, closed ? &*closed_work : nullptr, data, work, table.targets[k], k, o.seeds,
+                            static_cast<unsigned long long>(o.seed), ranges, options, table.lines[k]));
+    total += rows.back().solutions.size();
+    without += rows.back().solutions.empty();
+  }
+  const std::string method = closed ? "closed form (" + std::string(closedFormKindName(structure.kind)) + ")"
+                                    : "numerical: the distinct solutions from " + std::to_string(o.seeds) +
+                                          " random seeds per row (sample k*" + std::to_string(o.seeds) + "+s of --seed " +
+                                          std::to_string(o.seed) + "), not proven complete; no closed form: " + structure.reason;
+  std::vector<std::string> comments{
+      "lowpair ik " + o.robot.path + " --poses " + o.poses + " --all" +
+          (closed ? std::string() : " --seeds " + std::to_string(o.seeds) + " --seed " + std::to_string(o.seed)),
+      "every solution of each pose target of " + o.poses + ", " + method,
+      "shoulder, elbow, wrist: the branch flags (docs/ik.md); singular: a free angle or a double root; out_of_range: "
+      "the first joint outside its range (0: none); residual: position error (" + unitName(file) + "), rotation (rad)"};
+  for (const std::string& note : notes) comments.push_back(note);
+  comments.push_back(std::to_string(table.rows()) + " targets: " + std::to_string(total) + " solutions, " +
+                     std::to_string(without) + " targets without one");
+  if (isUnitLabel(file.length_unit)) comments.push_back("length_unit: " + file.length_unit);
+  const StreamWriter csv = [&](std::ostream& out) { writeAllCsv(out, comments, n, rows); };
+  if (!o.out.empty()) writeFileAtomically(o.out, csv);
+  if (o.as_json) {
+    const json head{{"name", file.name},
+                    {"source", file.path},
+                    {"poses", o.poses},
+                    {"length_unit", file.length_unit},
+                    {"task", "pose"},
+                    {"closed_form", closedFormKindName(structure.kind)},
+                    {"closed_form_reason", closed ? json(nullptr) : json(structure.reason)},
+                    {"seeds", closed ? json(nullptr) : json(o.seeds)},
+                    {"seed", o.seed},
+                    {"notes", notes},
+                    {"counts", {{"targets", table.rows()}, {"solutions", total}, {"without_solution", without}}}};
+    writeJsonWithRows(std::cout, head, "rows", rows.size(), [&](size_t k) { return ikAllRowJson(rows[k]); });
+    std::cout << "\n";
+  } else if (!o.out.empty()) {
+    for (const std::string& note : notes) std::cout << "note: " << note << "\n";
+    std::cout << "ik --all: " << table.rows() << " pose targets of " << robotLabel(file) << ", " << method << "\n";
+    std::cout << "  " << total << " solutions, " << without << " targets without one\n";
+    std::cout << "  written to " << o.out << "\n";
+  } else {
+    csv(std::cout);
+  }
+  return without == 0 ? 0 : 1;
+}
 
 int runIk(const IkCommandOptions& o) {
   const RobotFile file = loadRobot(o.robot, cliSpelling());
@@ -192,6 +293,7 @@ int runIk(const IkCommandOptions& o) {
     notes.push_back(note);
   }
   checkJointRows(table, model);  // the seeds
+  if (o.all) return runIkAll(o, file, model, table, notes);
   IkOptions options;
   options.measure = table.pose ? Measure::Pose : Measure::Position;
   options.validate("inverseKinematics");
@@ -203,7 +305,7 @@ int runIk(const IkCommandOptions& o) {
   for (size_t k = 0; k < table.rows(); ++k) {
     const Pose& target = table.targets[k];
     if (table.dof > 0) {
-      rows.push_back({inverseKinematics(model, data, target, table.row(k), options, work), -1, table.lines[k]});
+      rows.push_back({inverseKinematics(model, data, target, table.row(k), options, work), -1, table.lines[k], std::nullopt});
     } else {
       rows.push_back(solveFromRandomSeeds(model, data, target, k, o.seeds, static_cast<unsigned long long>(o.seed), ranges,
                                           options, work, table.lines[k]));
@@ -255,6 +357,7 @@ struct CompensateOptions {
   std::string nominal, q_file, out, measure = "pose";
   std::string approach;  // --approach: the signs of the calibrated file's backlash
   bool as_json = false;
+  bool seeded = false;  // --seeded: the numerical solver seeded at each row, no branch kept
 };
 
 // A robot file, or a model file with the command's --tip/--base.
@@ -294,7 +397,13 @@ int runCompensate(const CompensateOptions& o) {
   // the table's rows, row-major, as the matrix of joint vectors the shared loop takes
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> q_nominal(
       table.q.data(), static_cast<Eigen::Index>(table.rows()), n);
-  std::vector<IkRow> rows = compensateJointRows(nominal, calibrated, q_nominal, table.lines, options);
+  // the nominal rows' branches kept (closed form), unless --seeded or the models or the task have none
+  const std::string no_branch = o.seeded ? "--seeded" : branchUnavailable(nominal, calibrated, options);
+  std::vector<IkRow> rows = compensateJointRows(nominal, calibrated, q_nominal, table.lines, options, no_branch.empty());
+  const long long kept = std::count_if(rows.begin(), rows.end(), [](const IkRow& r) { return r.branch.has_value(); });
+  const std::string method = no_branch.empty() ? "on the nominal row's branch (closed form; " + std::to_string(kept) + " of " +
+                                                     std::to_string(rows.size()) + " rows, the others seeded there)"
+                                               : "seeded there (" + no_branch + ")";
   // a compliance (and a backlash with --approach): the commands whose joints, deflected, stand where the solution puts them
   std::vector<VecX> rows_q;  // (only --approach reads them)
   for (Eigen::Index k = 0; !o.approach.empty() && k < q_nominal.rows(); ++k) rows_q.push_back(q_nominal.row(k).transpose());
@@ -325,7 +434,7 @@ int runCompensate(const CompensateOptions& o) {
   std::vector<std::string> comments{
       command,
       "q1..qn: joint values of " + o.calibrated.path + " that put the tool " + (pose ? "frame" : "origin") + " where " +
-          o.nominal + " puts it at the q of the same row of " + o.q_file + " (seeded there)",
+          o.nominal + " puts it at the q of the same row of " + o.q_file + ", " + method,
       "residual: the position error (" + unitName(calibrated_file) +
           "); status: ok, out_of_range, singular, unreachable or not_converged (docs/ik.md)"};
   for (const std::string& line : summaryComments(s, rows, calibrated_file, pose)) comments.push_back(line);
@@ -345,12 +454,15 @@ int runCompensate(const CompensateOptions& o) {
             {"measure", o.measure},
             {"tool_determined", tool_note.empty()},
             {"tool_note", tool_note.empty() ? json(nullptr) : json(tool_note)},
-            {"counts", ikCountsJson(rows)}};
+            {"counts", ikCountsJson(rows)},
+            {"branch_kept", kept}};
   if (applied.compliance.size() > 0) head["compliance_applied"] = true;  // (only then: other outputs unchanged)
   if (applied.backlash.size() > 0) head["backlash_applied"] = true;
   auto text = [&](std::ostream& out) {
+    // (the branch named only when kept: the seeded summary reads as before, its CSV comment says why)
     printSummary(out, "compensate: " + std::to_string(rows.size()) + " joint vectors of " + o.q_file + " (" + o.measure +
-                          "), " + robotLabel(nominal_file) + " -> " + robotLabel(calibrated_file),
+                          "), " + robotLabel(nominal_file) + " -> " + robotLabel(calibrated_file) +
+                          (no_branch.empty() ? ", " + method : std::string()),
                  s, rows, o.q_file, calibrated_file, pose);
   };
   return emit(o.out, o.as_json, csv, head, rows, false, text, s);
@@ -369,6 +481,9 @@ void addIkCommands(CLI::App& app, Commands& commands) {
   ik->add_flag("--json", ik_options->as_json, "print JSON (every row: q, iterations, errors, status, reason)");
   ik->add_option("--seeds", ik_options->seeds, "random seeds per row without q columns, 1 to 1000 (default 8)")
       ->check(CLI::Range(1, kMaxIkSeeds));
+  ik->add_flag("--all", ik_options->all,
+               "every solution of each pose target (closed form where the geometry allows, else the distinct solutions of "
+               "--seeds random seeds), with branch flags and residuals");
   ik->add_option("--seed", ik_options->seed, "seed of the random seeds, in [0, 2^53] (default 1)")->check(CLI::Range(0LL, kMaxSeed));
   commands.emplace_back(ik, [ik_options] { return runIk(*ik_options); });
 
@@ -384,6 +499,9 @@ void addIkCommands(CLI::App& app, Commands& commands) {
   comp->add_option("--approach", comp_options->approach,
                    "the calibrated file's backlash: each joint's approach sign S1,...,Sn (-1, 0, 1) for every row, or order "
                    "(each joint's last move in the rows' order)");
+  comp->add_flag("--seeded", comp_options->seeded,
+                 "solve each row with the numerical solver seeded at the nominal q (the default keeps the nominal row's "
+                 "branch through the closed form when both robots have one)");
   comp->add_option("--measure", comp_options->measure, "pose (default: the tool frame) or position (the tool origin)")
       ->check(CLI::IsMember({"pose", "position"}));
   commands.emplace_back(comp, [comp_options] { return runCompensate(*comp_options); });

@@ -1,4 +1,5 @@
 #include "lowpair/ik.hpp"
+#include "ik_ranges.hpp"
 #include "linalg.hpp"
 
 #include <algorithm>
@@ -25,22 +26,10 @@ int taskRows(Measure measure) { return rowsPerMeasurement(measure); }
 // q_i = columnScale * u_i: the dimensionless joint variable u of dimensionlessJacobian's columns
 double columnScale(const Joint& joint, double L) { return (joint.type == JointType::Prismatic ? L : 1.0) / joint.scale; }
 
-// A revolute joint repeats its pose every 2 pi / scale in q (a helical one slides on: it never does).
-bool periodic(const Joint& joint) { return joint.type == JointType::Revolute; }
-double period(const Joint& joint) { return 2.0 * M_PI / joint.scale; }
-
-// q moved by whole periods into [lo, hi] when that is possible (false otherwise, q unchanged)
-bool wrapInto(const Joint& joint, double& q) {
-  const auto& range = *joint.range;
-  if (!periodic(joint)) return false;
-  const double P = period(joint);
-  const double moved = q - std::floor((q - range[0]) / P) * P;  // in [lo, lo + P) up to rounding
-  if (!(moved >= range[0] && moved <= range[1])) return false;
-  q = moved;
-  return true;
-}
-
-bool inRange(const Joint& joint, double q) { return !joint.range || (q >= (*joint.range)[0] && q <= (*joint.range)[1]); }
+using ik_ranges::inRange;
+using ik_ranges::period;
+using ik_ranges::periodic;
+using ik_ranges::wrapInto;
 
 // A joint at a limit that the descent direction `g_i` pushes out of its range, where whole turns cannot
 // bring it back in (a revolute joint whose range spans a turn is never blocked).

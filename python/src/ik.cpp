@@ -10,6 +10,7 @@
 #include "io/measurements.hpp"
 #include "io/output.hpp"
 #include "lowpair/ik.hpp"
+#include "lowpair/ik_closed_form.hpp"
 #include "lowpair/kinematics.hpp"
 #include "robot.hpp"
 #include "commands/ik_rows.hpp"
@@ -169,7 +170,7 @@ IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optiona
         if (given) {
           s.rows.push_back({inverseKinematics(model, data, targets[k], given->row(static_cast<Eigen::Index>(k)).transpose(),
                                               options, work),
-                            -1, line});
+                            -1, line, std::nullopt});
         } else {
           s.rows.push_back(commands::solveFromRandomSeeds(model, data, targets[k], k, seeds,
                                                             static_cast<unsigned long long>(seed), ranges, options, work,
@@ -194,9 +195,77 @@ IkSolutions ik(const Robot& r, const py::object& targets_obj, const std::optiona
   return s;
 }
 
+// Every solution of each pose target (`lowpair ik --all`): the rows and the JSON head of its --json.
+struct IkAllSolutions {
+  std::vector<commands::IkAllRow> rows;  // line: the 0-based row
+  json j;
+  Eigen::Index dof = 0;
+};
+
+IkAllSolutions ikAll(const Robot& r, const py::object& targets_obj, const std::optional<py::object>& rotations_obj,
+                     int seeds, long long seed) {
+  const InArray targets_arg = arrayArgument(targets_obj, "targets");
+  std::optional<InArray> rotations;
+  if (rotations_obj) rotations = arrayArgument(*rotations_obj, "rotations");
+  if (seeds < 1 || seeds > commands::kMaxIkSeeds) {
+    throw UsageError("seeds", "must be in [1, " + std::to_string(commands::kMaxIkSeeds) + "], got " + std::to_string(seeds));
+  }
+  checkSeed(seed);
+  checkRowCount(targets_arg, "targets");
+  bool pose = false;
+  std::vector<Pose> targets = ikTargets(targets_arg, rotations, pose);
+  if (!pose) {
+    throw UsageError("targets", "ik_all needs poses ((N, 4, 4) transforms, or positions with rotations): a position "
+                                "leaves a 6-joint arm infinitely many solutions");
+  }
+  if (singlePrecision(targets_obj) || (rotations_obj && singlePrecision(*rotations_obj))) {
+    for (Pose& T : targets) roundFromSinglePrecision(T);
+  }
+  const PoeModel& model = r.poe;
+  const ClosedFormStructure structure = closedFormStructure(model);
+  const bool closed = structure.kind != ClosedFormKind::None;
+  if (const auto problem = commands::ikWorkProblem(targets.size(), closed ? 1 : seeds, r.dof(), !closed)) {
+    throw UsageError(closed ? "targets" : "seeds", *problem);
+  }
+  IkAllSolutions s;
+  size_t total = 0, without = 0;
+  {
+    py::gil_scoped_release release;
+    const std::vector<commands::Range> ranges = commands::samplingRanges(model);
+    std::optional<ClosedFormWorkspace> closed_work;
+    if (closed) closed_work.emplace(model);
+    Data data(model);
+    IkWorkspace work(model);
+    for (size_t k = 0; k < targets.size(); ++k) {
+      try {
+        s.rows.push_back(commands::solveAll(model, closed ? &*closed_work : nullptr, data, work, targets[k], k, seeds,
+                                            static_cast<unsigned long long>(seed), ranges, IkOptions{},
+                                            static_cast<long long>(k)));
+      } catch (const std::invalid_argument& e) {
+        throw UsageError("targets", "[" + std::to_string(k) + "]: " + e.what());
+      }
+      total += s.rows.back().solutions.size();
+      without += s.rows.back().solutions.empty();
+    }
+  }
+  s.j = {{"name", r.file.name},
+         {"source", r.file.path},
+         {"poses", "<arrays>"},
+         {"length_unit", r.file.length_unit},
+         {"task", "pose"},
+         {"closed_form", closedFormKindName(structure.kind)},
+         {"closed_form_reason", closed ? json(nullptr) : json(structure.reason)},
+         {"seeds", closed ? json(nullptr) : json(seeds)},
+         {"seed", seed},
+         {"notes", json::array()},
+         {"counts", {{"targets", targets.size()}, {"solutions", total}, {"without_solution", without}}}};
+  s.dof = r.dof();
+  return s;
+}
+
 // `lowpair compensate`: the joint values of `calibrated` that put the tool where `nominal` puts it at each q.
 IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const InArray& q_arg,
-                           const std::string& measure) {
+                           const std::string& measure, bool seeded) {
   if (measure != "pose" && measure != "position") {
     throw UsageError("measure", "expected 'pose' or 'position', got " + io::quotedFileText(measure));
   }
@@ -225,15 +294,19 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
     py::gil_scoped_release release;
     std::vector<long long> lines(static_cast<size_t>(Q.rows()));
     for (size_t k = 0; k < lines.size(); ++k) lines[k] = static_cast<long long>(k);
-    s.rows = commands::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options);
+    const bool branch = !seeded && commands::branchUnavailable(nominal.poe, calibrated.poe, options).empty();
+    s.rows = commands::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options, branch);
   }
+  long long kept = 0;
+  for (const commands::IkRow& row : s.rows) kept += row.branch.has_value();
   s.j = {{"name", calibrated.file.name},
          {"source", calibrated.file.path},
          {"nominal", nominal.file.path},
          {"q_file", "<arrays>"},
          {"length_unit", calibrated.file.length_unit},
          {"measure", measure},
-         {"counts", commands::ikCountsJson(s.rows)}};
+         {"counts", commands::ikCountsJson(s.rows)},
+         {"branch_kept", kept}};
   const std::string tool_note = commands::undeterminedToolNote(calibrated.file, measure == "pose");
   s.j["tool_determined"] = tool_note.empty();
   s.j["tool_note"] = tool_note.empty() ? json(nullptr) : json(tool_note);
@@ -351,12 +424,58 @@ void exposeIk(py::module_& m) {
         "ok kept, else the closest attempt. Tolerances 1e-10 L and 1e-10 rad (docs/ik.md). A row that is not\n"
         "solved is data (status, reason), not an exception. The GIL is released while solving.");
   m.def("compensate", &compensateRows, py::arg("calibrated"), py::arg("nominal"), py::arg("q"),
-        py::arg("measure") = "pose",
-        "compensate(calibrated, nominal, q, measure='pose') -> IkSolutions\n\n"
+        py::arg("measure") = "pose", py::arg("seeded") = false,
+        "compensate(calibrated, nominal, q, measure='pose', seeded=False) -> IkSolutions\n\n"
         "`lowpair compensate`: for each row of q (N, n) (or one (n,)), nominal joint values, the joint values of\n"
         "the calibrated robot that put its tool frame (measure='pose') or tool origin ('position') where the\n"
-        "nominal puts it at q, solved by inverse kinematics seeded at q. Both robots must have the same joint\n"
-        "count and length unit. The GIL is released while solving.");
+        "nominal puts it at q. When both robots have a closed form (docs/ik.md) and the task is a pose, each row's\n"
+        "solution is on the branch of its nominal q (to_dict() rows name it; a row without one falls back to the\n"
+        "numerical solver seeded at q); seeded=True, or without a closed form: the numerical solver seeded at q\n"
+        "(`compensate --seeded`). Both robots must have the same joint count and length unit. The GIL is released\n"
+        "while solving.");
+  py::class_<IkAllSolutions>(m, "IkAllSolutions",
+                             "lowpair.ik_all(...): every solution of each target, as `lowpair ik --all` lists them.")
+      .def("to_dict",
+           [](const IkAllSolutions& s) {
+             py::dict out = toPython(s.j);
+             py::list rows;
+             for (const commands::IkAllRow& row : s.rows) rows.append(toPython(commands::ikAllRowJson(row)));
+             out["rows"] = std::move(rows);
+             return out;
+           },
+           "to_dict() -> dict: the content of `lowpair ik --all --json` (poses '<arrays>'); `line` the 0-based row.")
+      .def("__len__", [](const IkAllSolutions& s) { return s.rows.size(); })
+      .def_property_readonly(
+          "q",
+          [](const IkAllSolutions& s) {
+            py::list out;
+            for (const commands::IkAllRow& row : s.rows) {
+              out.append(vectorRows(row.solutions, s.dof, [](const commands::IkAllSolution& x) -> const VecX& { return x.q; }));
+            }
+            return out;
+          },
+          "list of (k, n) arrays: target k's solutions (k = 0 when it has none), rad / length_unit.")
+      .def_property_readonly(
+          "count",
+          [](const IkAllSolutions& s) {
+            return perRow<std::int64_t>(s.rows, [](const commands::IkAllRow& row) { return static_cast<std::int64_t>(row.solutions.size()); });
+          },
+          "(N,) int: the solutions of each target.")
+      .def_property_readonly("closed_form", [](const IkAllSolutions& s) { return s.j["closed_form"].get<std::string>(); },
+                             "'spherical_wrist', 'parallel_triple' or 'none' (then: the distinct solutions of the random seeds).")
+      .def("__repr__", [](const IkAllSolutions& s) {
+        long long total = 0;
+        for (const commands::IkAllRow& row : s.rows) total += static_cast<long long>(row.solutions.size());
+        return "<lowpair.IkAllSolutions " + std::to_string(s.rows.size()) + " targets, " + std::to_string(total) + " solutions>";
+      });
+  m.def("ik_all", &ikAll, py::arg("robot"), py::arg("targets"), py::arg("rotations") = py::none(), py::arg("seeds") = 8,
+        py::arg("seed") = 1,
+        "ik_all(robot, targets, rotations=None, seeds=8, seed=1) -> IkAllSolutions\n\n"
+        "`lowpair ik --all`: every solution of each pose target (targets and rotations as lowpair.ik takes them;\n"
+        "positions alone are refused). In closed form when the robot's geometry allows it (a spherical wrist, or\n"
+        "axes 2-4 parallel: docs/ik.md), each solution with its branch flags (shoulder, elbow, wrist) and FK\n"
+        "residual; otherwise the distinct solutions the numerical solver reaches from `seeds` random seeds (sample\n"
+        "k * seeds + s of the stream `seed`), without branch flags. The GIL is released while solving.");
 }
 
 }  // namespace lowpair::python

@@ -192,3 +192,42 @@ def test_ik_takes_float32_transforms_and_rotation_matrices():
     assert np.array_equal(by_matrices.q, lowpair.ik(robot, T, q0=q).q)
     with pytest.raises(lowpair.Error, match=re.escape("(2, 3, 3) (rotation matrices)")):
         lowpair.ik(robot, T[:, :3, 3], rotations=np.zeros((2, 3)))
+
+
+def test_ik_all_equals_cli_json_and_reaches_every_target(puma_targets, tmp_path):
+    robot, q, P, W = puma_targets
+    pose_csv = str(tmp_path / "pose.csv")
+    write_csv(pose_csv, ["x", "y", "z", "qw", "qx", "qy", "qz"], np.hstack([P, W]))
+    expected = json.loads(run_cli("ik", PUMA, "--poses", pose_csv, "--all", "--json")[1])
+    got = lowpair.ik_all(robot, P, rotations=W)
+    assert got.closed_form == "spherical_wrist" and len(got) == len(P)
+    assert without_input_names(got.to_dict(), "poses") == without_input_names(expected, "poses")
+    # every solution reaches its target through FK: the closed form is exact to the FK's rounding, 1e-12 L
+    T = robot.fk(q, model="poe")
+    L = robot.length_scale
+    for k, solutions in enumerate(got.q):
+        assert solutions.shape == (got.count[k], 6) and got.count[k] == 8
+        reached = robot.fk(solutions, model="poe")
+        assert np.linalg.norm(reached[:, :3, 3] - T[k, :3, 3], axis=1).max() <= 1e-12 * L
+        wrapped = np.abs(np.remainder(solutions - q[k] + np.pi, 2 * np.pi) - np.pi)
+        assert wrapped.max(axis=1).min() <= 1e-9  # the configuration the target came from is among them
+    with pytest.raises(lowpair.Error, match="ik_all needs poses"):
+        lowpair.ik_all(robot, P)
+
+
+def test_compensate_keeps_the_nominal_branch_as_the_cli(tmp_path):
+    nominal = lowpair.load("models/puma560_corke_poe.yaml")
+    calibrated = lowpair.load("tests/data/puma560_corke_calibrated.yaml")
+    t = np.linspace(0, 1, 11)[:, None]
+    q = np.array([0.2, 0.2, -0.9, 0.3, 0.8, 0.1]) * (1 - t) + np.array([1.0, 0.5, -0.3, 1.0, 1.2, 1.0]) * t
+    q_csv = str(tmp_path / "q.csv")
+    write_csv(q_csv, [f"q{i + 1}" for i in range(6)], q)
+    for seeded in (False, True):
+        extra = ["--seeded"] if seeded else []
+        expected = json.loads(run_cli("compensate", "tests/data/puma560_corke_calibrated.yaml", "--nominal",
+                                      "models/puma560_corke_poe.yaml", "--q-file", q_csv, "--json", *extra)[1])
+        got = lowpair.compensate(calibrated, nominal, q, seeded=seeded)
+        assert without_input_names(got.to_dict(), "q_file") == without_input_names(expected, "q_file")
+        assert got.to_dict()["branch_kept"] == (0 if seeded else 11) and got.ok.all()
+        if not seeded:
+            assert len({json.dumps(r["branch"]) for r in got.to_dict()["rows"]}) == 1

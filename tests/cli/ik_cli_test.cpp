@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -330,6 +331,138 @@ TEST(CompensateCli, CalibratedRobotReproducesTheNominalPoses) {
                                  .out);
   EXPECT_EQ(j["measure"], "position");
   EXPECT_GE(j["counts"]["ok"].get<int>(), 38);
+}
+
+// ---- ik --all, compensate on the nominal branch ------------------------------------------------------------------
+
+// 17 significant digits: reads back bit for bit
+std::string exact(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", x);
+  return buffer;
+}
+
+const std::string kPumaPoe = modelPath("puma560_corke_poe.yaml");
+// the PUMA's lines moved by ~1e-4 rad and 1e-4 L: nearly of the spherical-wrist geometry (the file says how)
+const std::string kPumaCalibrated = modelPath("../tests/data/puma560_corke_calibrated.yaml");
+const std::string kUr5e = modelPath("../tests/data/ur5e.yaml");
+
+TEST(IkAllCli, EverySolutionOfEachTargetWithItsBranch) {
+  for (const std::string& robot : {kPuma, kUr5e}) {
+    const Csv sim = parseCsv(ok("simulate " + robot + " --poses 6 --seed 41").out);
+    const std::string targets = withoutJoints(sim, 6, "m", "all_targets.csv");
+    const json j = json::parse(ok("ik " + robot + " --poses " + targets + " --all --json").out);
+    EXPECT_NE(j["closed_form"], "none");
+    ASSERT_EQ(j["rows"].size(), 6u);
+    std::string q_text = "q1,q2,q3,q4,q5,q6\n";
+    std::vector<size_t> target_of;
+    for (size_t k = 0; k < 6; ++k) {
+      const json& row = j["rows"][k];
+      // up to 8 (the PUMA's random targets have 8; a UR's may have 4 or 6: some planar-arm distances out of reach)
+      EXPECT_GE(row["count"].get<int>(), 2) << robot << " row " << k;
+      EXPECT_LE(row["count"].get<int>(), 8) << robot << " row " << k;
+      if (robot == kPuma) {
+        EXPECT_EQ(row["count"], 8) << " row " << k;
+      }
+      std::set<std::string> branches;
+      bool own = false;
+      for (const json& s : row["solutions"]) {
+        branches.insert(s["branch"].dump());
+        const auto q = s["q"].get<std::vector<double>>();
+        double far = 0.0;  // this solution against the simulated row's q, revolute joints modulo 2 pi
+        for (size_t i = 0; i < 6; ++i) far = std::max(far, std::abs(std::remainder(q[i] - sim.number(k, "q" + std::to_string(i + 1)), 2 * M_PI)));
+        own |= far <= 1e-6;
+        for (size_t i = 0; i < 6; ++i) q_text += (i ? "," : "") + exact(q[i]);
+        q_text += "\n";
+        target_of.push_back(k);
+      }
+      EXPECT_EQ(branches.size(), row["solutions"].size()) << robot << " row " << k;  // every branch at most once
+      EXPECT_TRUE(own) << robot << " row " << k << ": the simulated configuration is not among the solutions";
+    }
+    // every solution reaches its target through fk (L < 1.1 m for both: 1e-12 L)
+    const Csv reached = parseCsv(ok("fk " + robot + " --q-file " + writeScratchFile("all_q.csv", q_text)).out);
+    ASSERT_EQ(reached.rows.size(), target_of.size());
+    for (size_t r = 0; r < target_of.size(); ++r) {
+      double d2 = 0.0;
+      for (const char* c : {"x", "y", "z"}) d2 += std::pow(reached.number(r, c) - sim.number(target_of[r], c), 2);
+      EXPECT_LE(std::sqrt(d2), 1.1e-12) << robot << " solution " << r;
+      EXPECT_LE(angleBetween(quaternion(reached, r), quaternion(sim, target_of[r])), 1e-12) << robot << " solution " << r;
+    }
+    // the CSV: one line per solution
+    const Csv csv = parseCsv(ok("ik " + robot + " --poses " + targets + " --all").out);
+    EXPECT_EQ(csv.rows.size(), target_of.size());
+    EXPECT_EQ(csv.header.front(), "line");
+    EXPECT_EQ(csv.header.back(), "rotation");
+  }
+}
+
+TEST(IkAllCli, UnreachableTargetHasNoSolutionExit1) {
+  const std::string targets = writeScratchFile("all_far.csv", "x,y,z,qw,qx,qy,qz\n0.3,0.2,0.5,1,0,0,0\n5,0,0,1,0,0,0\n");
+  const CliRun r = runCli("ik " + kPuma + " --poses " + targets + " --all --json");
+  EXPECT_EQ(r.status, 1) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["counts"]["without_solution"], 1);
+  EXPECT_EQ(j["rows"][1]["count"], 0);
+  EXPECT_GT(j["rows"][0]["count"].get<int>(), 0);
+}
+
+TEST(IkAllCli, WithoutClosedFormTheDistinctNumericalSolutions) {
+  // the Panda (7 joints): no closed form; the distinct solutions of the random seeds, no branch flags
+  const Csv sim = parseCsv(ok("simulate " + modelPath("panda.yaml") + " --poses 2 --seed 3").out);
+  const std::string targets = withoutJoints(sim, 7, "m", "all_panda.csv");
+  const json j = json::parse(ok("ik " + modelPath("panda.yaml") + " --poses " + targets + " --all --seeds 6 --json").out);
+  EXPECT_EQ(j["closed_form"], "none");
+  EXPECT_NE(j["closed_form_reason"].get<std::string>().find("7"), std::string::npos);
+  for (const json& row : j["rows"]) {
+    ASSERT_GT(row["count"].get<int>(), 0);
+    for (const json& s : row["solutions"]) EXPECT_TRUE(s["branch"].is_null());
+  }
+}
+
+// A program of rows crossing no singularity (the wrist centre in front of axis 1, q3 away from the stretched
+// elbow at -1.52, q5 away from 0): every compensated row keeps the branch of its nominal row, which is one
+// branch for the whole program, and reproduces the nominal pose.
+TEST(CompensateCli, KeepsTheNominalBranchOnEveryRow) {
+  std::string text = "q1,q2,q3,q4,q5,q6\n";
+  const double a[6] = {0.2, 0.2, -0.9, 0.3, 0.8, 0.1}, b[6] = {1.0, 0.5, -0.3, 1.0, 1.2, 1.0};
+  for (int row = 0; row <= 20; ++row) {
+    for (int i = 0; i < 6; ++i) text += (i ? "," : "") + exact(a[i] + (b[i] - a[i]) * row / 20.0);
+    text += "\n";
+  }
+  const std::string q_file = writeScratchFile("comp_branch_q.csv", text);
+  const std::string args = "compensate " + kPumaCalibrated + " --nominal " + kPumaPoe + " --q-file " + q_file;
+  const json j = json::parse(ok(args + " --json").out);
+  EXPECT_EQ(j["branch_kept"], 21);
+  EXPECT_EQ(j["counts"]["ok"], 21);
+  for (const json& row : j["rows"]) EXPECT_EQ(row["branch"], j["rows"][0]["branch"]);
+  // the old behaviour on request: no branch named
+  const json seeded = json::parse(ok(args + " --seeded --json").out);
+  EXPECT_EQ(seeded["branch_kept"], 0);
+  EXPECT_FALSE(seeded["rows"][0].contains("branch"));
+  // the round trip: FK of the calibrated robot at q' = FK of the nominal at q (L = 0.86 m: 1e-10 L)
+  const std::string out = scratch() + "/comp_branch_out.csv";
+  ok(args + " --out " + out);
+  std::ifstream in(out);
+  const Csv solutions = parseCsv(std::string((std::istreambuf_iterator<char>(in)), {}));
+  ASSERT_EQ(solutions.rows.size(), 21u);
+  const Csv wanted = parseCsv(ok("fk " + kPumaPoe + " --q-file " + q_file).out);
+  const Csv got = parseCsv(ok("fk " + kPumaCalibrated + " --q-file " + out).out);
+  for (size_t k = 0; k < 21; ++k) {
+    double d2 = 0.0;
+    for (const char* c : {"x", "y", "z"}) d2 += std::pow(got.number(k, c) - wanted.number(k, c), 2);
+    EXPECT_LE(std::sqrt(d2), 1e-10 * 0.86) << "row " << k;
+    EXPECT_LE(angleBetween(quaternion(got, k), quaternion(wanted, k)), 1e-10) << "row " << k;
+    // the compensated joints stay next to the nominal ones (a calibration moves them by ~1e-3 rad, a branch by ~1)
+    for (int i = 0; i < 6; ++i) {
+      const std::string c = "q" + std::to_string(i + 1);
+      EXPECT_NEAR(solutions.number(k, c), a[i] + (b[i] - a[i]) * k / 20.0, 0.01) << "row " << k << " " << c;
+    }
+  }
+}
+
+TEST(IkCliInput, AllNeedsPoseTargets) {
+  const std::string targets = writeScratchFile("all_position.csv", "x,y,z\n0.3,0.2,0.5\n");
+  expectRejected("ik " + kPuma + " --poses " + targets + " --all", "needs pose targets", "--all");
 }
 
 // ---- bad input: exit 2, one line ------------------------------------------------------------------------------------

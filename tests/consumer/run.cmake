@@ -66,7 +66,7 @@ endforeach()
 # tests/consumer/CMakeLists.txt compiles each installed header alone)
 # (version.hpp is generated into the build tree from cmake/version.hpp.in)
 set(supported base_frame.hpp calibrate.hpp calibration.hpp convert.hpp cross_validation.hpp deflection.hpp dh_uncertainty.hpp error_model.hpp gravity.hpp
-              identifiability.hpp ik.hpp interrupt.hpp jacobian.hpp joint.hpp kinematics.hpp measure.hpp model.hpp plan.hpp
+              identifiability.hpp ik.hpp ik_closed_form.hpp interrupt.hpp jacobian.hpp joint.hpp kinematics.hpp measure.hpp model.hpp plan.hpp
               registration.hpp robust_loss.hpp se3.hpp singularity.hpp
               tolerances.hpp types.hpp version.hpp)
 file(GLOB headers RELATIVE ${prefix}/${INSTALL_INCLUDEDIR}/lowpair ${prefix}/${INSTALL_INCLUDEDIR}/lowpair/*)

@@ -14,6 +14,7 @@
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
 #include "lowpair/jacobian.hpp"
+#include "lowpair/ik_closed_form.hpp"
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC
 #error "compile alloc_test with EIGEN_RUNTIME_NO_MALLOC (tests/lib/CMakeLists.txt)"
@@ -284,4 +285,42 @@ TEST(Alloc, InverseKinematicsAllocatesNothingAfterSetup) {
     EXPECT_EQ(calls, 0) << "compensate " << k;
   }
   EXPECT_GE(solved, 150);  // the success path was taken: of 3 x 20 x 3 + 20 = 200 solves
+}
+
+TEST(Alloc, ClosedFormInverseKinematicsAllocatesNothingAfterSetup) {
+  // the PUMA 560's D-H (exact spherical wrist: no refinement) and the same with axis 5 moved 1e-4 off the wrist
+  // centre (nearly: every candidate refined by Newton steps), every solution of 20 targets each, and compensation
+  // on the nominal row's branch
+  auto puma = [](double a4) {
+    std::vector<DhJoint> joints(6);
+    const DhParams rows[6] = {{0, 0, M_PI / 2, 0}, {0, 0, 0, 0.4318}, {0, 0.15005, -M_PI / 2, 0.0203},
+                              {0, 0.4318, M_PI / 2, a4}, {0, 0, -M_PI / 2, 0}, {0, 0, 0, 0}};
+    for (int i = 0; i < 6; ++i) joints[static_cast<size_t>(i)].link = rows[i];
+    return dhToPoe(DhModel(DhParams{}, joints, 0.0, 0.1, "alloc-puma"));
+  };
+  const PoeModel exact = puma(0.0), nearly = puma(1e-4);
+  ClosedFormWorkspace exact_work(exact), nearly_work(nearly);
+  ASSERT_NE(nearly_work.structure.kind, ClosedFormKind::None);
+  int solutions = 0, refined = 0;
+  for (unsigned k = 0; k < 20; ++k) {
+    const VecX q = 0.6 * randomQ(6, 300 + k) / 3.0;
+    for (auto* case_ : {&exact_work, &nearly_work}) {
+      const PoeModel& model = case_ == &exact_work ? exact : nearly;
+      const Pose target = poeForwardKinematics(model, q);
+      int count = 0;
+      EXPECT_EQ(heapCallsOf([&] {
+                  const ClosedFormResult& r = inverseKinematicsAll(model, target, IkOptions{}, *case_);
+                  count = r.count;
+                  for (int s = 0; s < r.count; ++s) refined += r.solutions[static_cast<size_t>(s)].refinement_iterations > 0;
+                }),
+                0)
+          << model.name() << " target " << k;
+      solutions += count;
+    }
+    const ClosedFormSolution* s = nullptr;
+    EXPECT_EQ(heapCallsOf([&] { s = compensateOnBranch(exact, nearly, q, IkOptions{}, exact_work, nearly_work); }), 0);
+    EXPECT_NE(s, nullptr);
+  }
+  EXPECT_GE(solutions, 200);  // the success path was taken: most of 2 x 20 targets have 8 solutions
+  EXPECT_GT(refined, 0);
 }

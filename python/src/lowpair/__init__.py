@@ -10,6 +10,7 @@ from ._lowpair import (  # noqa: F401
     DhTable,
     Error,
     Identifiability,
+    IkAllSolutions,
     IkSolutions,
     Measurements,
     Plan,
@@ -21,12 +22,13 @@ from ._lowpair import (  # noqa: F401
     export,
     identifiability,
     ik,
+    ik_all,
     load,
     plan,
     read_measurements,
     simulate,
 )
 
-__all__ = ["Calibration", "DhTable", "Error", "Identifiability", "IkSolutions", "Measurements", "Plan", "Robot",
-           "Singularity", "calibrate", "compensate", "export", "identifiability", "ik", "load", "plan",
-           "read_measurements", "simulate"]
+__all__ = ["Calibration", "DhTable", "Error", "Identifiability", "IkAllSolutions", "IkSolutions", "Measurements",
+           "Plan", "Robot", "Singularity", "calibrate", "compensate", "export", "identifiability", "ik", "ik_all",
+           "load", "plan", "read_measurements", "simulate"]

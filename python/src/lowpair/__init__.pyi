@@ -236,6 +236,18 @@ class IkSolutions:
     def to_dict(self) -> Dict[str, Any]:
         """The content of `lowpair ik --json` / `lowpair compensate --json`."""
 
+class IkAllSolutions:
+    def __len__(self) -> int: ...
+    @property
+    def q(self) -> List[Array]:
+        """Per target, its (k, n) solutions."""
+    @property
+    def count(self) -> IntArray: ...
+    @property
+    def closed_form(self) -> Literal["spherical_wrist", "parallel_triple", "none"]: ...
+    def to_dict(self) -> Dict[str, Any]:
+        """The content of `lowpair ik --all --json`."""
+
 class Plan:
     @property
     def indices(self) -> List[int]: ...
@@ -317,8 +329,10 @@ def calibrate(robot: Robot, q: ArrayLike, positions: ArrayLike, rotations: Optio
               cv_score: Optional[Literal["rms", "trimmed", "median"]] = None) -> Calibration: ...
 def ik(robot: Robot, targets: ArrayLike, rotations: Optional[ArrayLike] = None, q0: Optional[ArrayLike] = None,
        seeds: int = 8, seed: int = 1) -> IkSolutions: ...
+def ik_all(robot: Robot, targets: ArrayLike, rotations: Optional[ArrayLike] = None, seeds: int = 8,
+           seed: int = 1) -> IkAllSolutions: ...
 def compensate(calibrated: Robot, nominal: Robot, q: ArrayLike,
-               measure: Literal["pose", "position"] = "pose") -> IkSolutions: ...
+               measure: Literal["pose", "position"] = "pose", seeded: bool = False) -> IkSolutions: ...
 def plan(robot: Robot, poses: int, candidates: int = 5000, measure: Measure = "pose",
          criterion: Literal["D", "O1"] = "D", seed: int = 1, noise_position: Optional[float] = None,
          noise_rotation: Optional[float] = None, free_pitch: bool = False, *,
