@@ -316,6 +316,8 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
 
 }  // namespace
 
+static void exposeIkAll(py::module_& m);  // below
+
 void exposeIk(py::module_& m) {
   py::class_<IkSolutions>(m, "IkSolutions",
                           "lowpair.ik(...) / lowpair.compensate(...): one solution per row, as `lowpair ik` / "
@@ -433,6 +435,11 @@ void exposeIk(py::module_& m) {
         "numerical solver seeded at q); seeded=True, or without a closed form: the numerical solver seeded at q\n"
         "(`compensate --seeded`). Both robots must have the same joint count and length unit. The GIL is released\n"
         "while solving.");
+  exposeIkAll(m);
+}
+
+// lowpair.ik_all and its result (`lowpair ik --all`)
+static void exposeIkAll(py::module_& m) {
   py::class_<IkAllSolutions>(m, "IkAllSolutions",
                              "lowpair.ik_all(...): every solution of each target, as `lowpair ik --all` lists them.")
       .def("to_dict",
