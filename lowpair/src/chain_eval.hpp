@@ -4,6 +4,7 @@
 // checkChainCall, in every build type.
 
 #include "check.hpp"
+#include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
 
 namespace lowpair::detail {
@@ -11,6 +12,10 @@ namespace lowpair::detail {
 // data.T_base_tool of `chain` at q (forwardKinematics); chainFrames also fills data.T_base_joint.
 void chainTool(const KinematicChain& chain, Data& data, const double* q);
 void chainFrames(const KinematicChain& chain, Data& data, const double* q);
+
+// computeJacobiansBatch of `chain` (sizes checked here).
+void jacobianBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                   Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses);
 
 // The message of a failed checkChainCall, e.g. "forwardKinematics: q has 5 values, the model has 6 joints"
 // or "computeJacobians: data was made for a model with 7 joints, this model has 6".

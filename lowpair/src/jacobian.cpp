@@ -109,6 +109,16 @@ void computeJacobians(const DhModel& model, Data& data, const Eigen::Ref<const V
   fillSpatial(data, model.chain());
 }
 
+void computeJacobiansBatch(const PoeModel& model, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                           Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses) {
+  detail::jacobianBatch(model.chain(), q, frame, jacobians, poses);
+}
+
+void computeJacobiansBatch(const DhModel& model, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                           Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses) {
+  detail::jacobianBatch(model.chain(), q, frame, jacobians, poses);
+}
+
 void getSpatialJacobian(const Data& data, Eigen::Ref<Mat6X> J_spatial) {
   checkColumns("getSpatialJacobian", data, J_spatial.cols());
   J_spatial = data.J_spatial;

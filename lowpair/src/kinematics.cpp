@@ -8,6 +8,7 @@
 
 #include "chain_eval.hpp"
 #include "check.hpp"
+#include "lowpair/jacobian.hpp"
 #include "lowpair/se3.hpp"
 #include "sincos.hpp"
 
@@ -194,14 +195,45 @@ constexpr int lanesOf() { return static_cast<int>(sizeof(V) / sizeof(double)); }
 template <class V>
 inline V broadcast(double v) { return V{} + v; }
 
-// kFull: all lanes are configurations; otherwise the last, partial block (unused lanes hold q = 0).
-template <bool kFull, class V, class U>
+// The lanes of one block in a column of an SoA matrix (a configuration per row): rows first .. first + lanes.
+// kFull: all lanes are configurations (a whole vector moves); otherwise the last, partial block (unused lanes
+// hold q = 0 and are never written).
+template <bool kFull, class V>
+struct BlockLanes {
+  Eigen::Index first;
+  int partial_lanes;
+  size_t bytes() const { return sizeof(double) * static_cast<size_t>(kFull ? lanesOf<V>() : partial_lanes); }
+  LP_ALWAYS_INLINE V load(const double* column) const {
+    V v = broadcast<V>(0.0);
+    std::memcpy(&v, column + first, bytes());
+    return v;
+  }
+  LP_ALWAYS_INLINE void store(double* column, V v) const { std::memcpy(column + first, &v, bytes()); }
+};
+
+// The tool pose of a block: rotation rows R[k][m] and position p[k], lanes = configurations.
+template <class V>
+struct BlockPose {
+  V R[3][3], p[3];
+};
+
+// Writes a block's tool poses into the count x 12 `poses` (rotation row-major, then position).
+template <bool kFull, class V>
+LP_ALWAYS_INLINE inline void storePoses(const BlockLanes<kFull, V>& io, const BlockPose<V>& T, Eigen::Ref<MatX>& poses) {
+  for (int k = 0; k < 3; ++k) {
+    for (int m = 0; m < 3; ++m) io.store(poses.col(3 * k + m).data(), T.R[k][m]);
+    io.store(poses.col(9 + k).data(), T.p[k]);
+  }
+}
+
+// One batch block: the chain product for the configurations of one GNU vector V (4 lanes: AVX2 / SSE2 pairs;
+// 8 lanes: AVX-512), so the whole state of a block (rotation columns X, Y, Z and position P, three rows each)
+// stays in registers. U is the matching unsigned vector (the sine kernel's bit operations). `joint(i, Z, P)`
+// sees joint i's line (z axis Z, origin P: rows of the frame before link i); `tool(T)` the block's tool pose.
+template <bool kFull, class V, class U, class Joint, class Tool>
 LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
-                                           Eigen::Ref<MatX> poses, Eigen::Index first, int partial_lanes,
-                                           bool use_libm) {
+                                           const BlockLanes<kFull, V>& io, bool use_libm, Joint& joint, Tool& tool) {
   constexpr int N = lanesOf<V>();
-  const int lanes = kFull ? N : partial_lanes;
-  const size_t bytes = sizeof(double) * static_cast<size_t>(lanes);
   V X[3], Y[3], Z[3], P[3];
   const Pose& Bs = chain.T_base_first;
   for (int k = 0; k < 3; ++k) {
@@ -212,9 +244,7 @@ LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Ei
   }
   for (size_t i = 0; i < chain.links.size(); ++i) {
     const ChainLink& link = chain.links[i];
-    V qv = broadcast<V>(0.0);
-    std::memcpy(&qv, q.col(static_cast<Eigen::Index>(i)).data() + first, bytes);
-    const V x = motionOf(qv, link.motion.scale, link.motion.offset);
+    const V x = motionOf(io.load(q.col(static_cast<Eigen::Index>(i)).data()), link.motion.scale, link.motion.offset);
     const V angle = linkAngle(link.theta, link.turn, x);
     const V slide = linkSlide(link.p[2], link.slide, x);
     V st, ct;
@@ -225,35 +255,98 @@ LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Ei
         ct[l] = std::cos(angle[l]);
       }
     }
+    joint(i, Z, P);
     for (int k = 0; k < 3; ++k) linkStep(link, ct, st, slide, X[k], Y[k], Z[k], P[k]);
   }
-  // T * T_last_tool, written to the output columns
+  // T * T_last_tool
   const Pose& E = chain.T_last_tool;
+  BlockPose<V> T;
   for (int k = 0; k < 3; ++k) {
-    for (int m = 0; m < 3; ++m) {
-      const V r = toolRotation(E, m, X[k], Y[k], Z[k]);
-      std::memcpy(poses.col(3 * k + m).data() + first, &r, bytes);
-    }
-    const V p = toolPosition(E, X[k], Y[k], Z[k], P[k]);
-    std::memcpy(poses.col(9 + k).data() + first, &p, bytes);
+    for (int m = 0; m < 3; ++m) T.R[k][m] = toolRotation(E, m, X[k], Y[k], Z[k]);
+    T.p[k] = toolPosition(E, X[k], Y[k], Z[k], P[k]);
   }
+  tool(T);
 }
 
-void checkBatchSizes(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, const Eigen::Ref<MatX>& poses) {
+// The batched FK's hooks: no joint output, the tool pose written to `poses`.
+template <bool kFull, class V>
+struct FkBlock {
+  const BlockLanes<kFull, V>& io;
+  Eigen::Ref<MatX>& poses;
+  LP_ALWAYS_INLINE void operator()(size_t, const V*, const V*) {}
+  LP_ALWAYS_INLINE void operator()(const BlockPose<V>& T) { storePoses(io, T, poses); }
+};
+
+// The batched Jacobians' hooks: joint i's spatial column `scale_i [j_i z_i; j_i o_i x z_i + k_i z_i]` (the
+// arithmetic of jacobian.cpp's fillSpatial) into columns 6 i .. 6 i + 5 of `jacobians`; at the tool, the poses,
+// and the columns turned into the requested frame: `u = v + w x p_tool` gives the geometric column `[u; w]`
+// and the body column `[R^T w; R^T u]` (`Ad(T^-1) [w; v]`, jacobian.hpp).
+template <bool kFull, class V>
+struct JacobianBlock {
+  const BlockLanes<kFull, V>& io;
+  const KinematicChain& chain;
+  JacobianFrame frame;
+  Eigen::Ref<MatX>& jacobians;
+  Eigen::Ref<MatX>& poses;
+  LP_ALWAYS_INLINE void operator()(size_t i, const V* z, const V* o) {
+    const ChainLink& link = chain.links[i];
+    const double j = link.motion.scale * link.turn, k = link.motion.scale * link.slide;
+    double* c = jacobians.col(6 * static_cast<Eigen::Index>(i)).data();
+    const Eigen::Index ld = jacobians.rows();
+    io.store(c, j * z[0]);
+    io.store(c + ld, j * z[1]);
+    io.store(c + 2 * ld, j * z[2]);
+    io.store(c + 3 * ld, j * (o[1] * z[2] - o[2] * z[1]) + k * z[0]);
+    io.store(c + 4 * ld, j * (o[2] * z[0] - o[0] * z[2]) + k * z[1]);
+    io.store(c + 5 * ld, j * (o[0] * z[1] - o[1] * z[0]) + k * z[2]);
+  }
+  LP_ALWAYS_INLINE void operator()(const BlockPose<V>& T) {
+    storePoses(io, T, poses);
+    if (frame == JacobianFrame::Spatial) return;
+    const Eigen::Index ld = jacobians.rows();
+    for (Eigen::Index i = 0; i < jacobians.cols() / 6; ++i) {
+      double* c = jacobians.col(6 * i).data();
+      V w[3], u[3];
+      for (int r = 0; r < 3; ++r) w[r] = io.load(c + r * ld);
+      u[0] = io.load(c + 3 * ld) + (w[1] * T.p[2] - w[2] * T.p[1]);
+      u[1] = io.load(c + 4 * ld) + (w[2] * T.p[0] - w[0] * T.p[2]);
+      u[2] = io.load(c + 5 * ld) + (w[0] * T.p[1] - w[1] * T.p[0]);
+      for (int r = 0; r < 3; ++r) {
+        if (frame == JacobianFrame::Geometric) {
+          io.store(c + r * ld, u[r]);
+          io.store(c + (3 + r) * ld, w[r]);
+        } else {
+          io.store(c + r * ld, (T.R[0][r] * w[0] + T.R[1][r] * w[1]) + T.R[2][r] * w[2]);
+          io.store(c + (3 + r) * ld, (T.R[0][r] * u[0] + T.R[1][r] * u[1]) + T.R[2][r] * u[2]);
+        }
+      }
+    }
+  }
+};
+
+void checkBatchSizes(const char* function, const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
+                     const Eigen::Ref<MatX>& poses) {
   LP_CHECK(q.cols() == static_cast<Eigen::Index>(chain.links.size()),
-           "forwardKinematicsBatch: q has " << counted(q.cols(), "column") << ", the model has "
-                                            << counted(static_cast<Eigen::Index>(chain.links.size()), "joint"));
+           function << ": q has " << counted(q.cols(), "column") << ", the model has "
+                    << counted(static_cast<Eigen::Index>(chain.links.size()), "joint"));
   LP_CHECK(poses.rows() == q.rows() && poses.cols() == 12,
-           "forwardKinematicsBatch: poses is " << poses.rows() << " x " << poses.cols() << ", expected " << q.rows()
-                                               << " x 12 (a row per configuration of q)");
+           function << ": poses is " << poses.rows() << " x " << poses.cols() << ", expected " << q.rows()
+                    << " x 12 (a row per configuration of q)");
 }
 
-template <class V, class U>
-LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
-                                           Eigen::Ref<MatX> poses) {
-  constexpr int N = lanesOf<V>();
-  // one pass over the input decides whether an angle is beyond the sine kernel's range (then libm is used
-  // for the whole call): no per-lane test inside the blocks
+void checkJacobianBatchSizes(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
+                             const Eigen::Ref<MatX>& jacobians, const Eigen::Ref<MatX>& poses) {
+  checkBatchSizes("computeJacobiansBatch", chain, q, poses);
+  const Eigen::Index columns = 6 * q.cols();
+  LP_CHECK(jacobians.rows() == q.rows() && jacobians.cols() == columns,
+           "computeJacobiansBatch: jacobians is " << jacobians.rows() << " x " << jacobians.cols() << ", expected "
+                                                  << q.rows() << " x " << columns
+                                                  << " (a row per configuration of q, 6 columns per joint)");
+}
+
+// Whether an angle of the batch is beyond the sine kernel's range (then libm is used for the whole call): one
+// pass over the input, no per-lane test inside the blocks.
+bool batchNeedsLibm(const KinematicChain& chain, const Eigen::Ref<const MatX>& q) {
   int out_of_range = 0;
   for (size_t i = 0; i < chain.links.size(); ++i) {
     const ChainLink& link = chain.links[i];
@@ -262,11 +355,26 @@ LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Ei
       out_of_range |= outOfRange(linkAngle(link.theta, link.turn, motionOf(qi[k], link.motion.scale, link.motion.offset)));
     }
   }
-  const bool use_libm = out_of_range != 0;
+  return out_of_range != 0;
+}
+
+// The blocks of a batch: full vectors, then the partial one. Hooks<kFull, V> is FkBlock or JacobianBlock, made
+// from the block's lanes and `args`.
+template <class V, class U, template <bool, class> class Hooks, class... Args>
+LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
+                                           Args&... args) {
+  constexpr int N = lanesOf<V>();
+  const bool use_libm = batchNeedsLibm(chain, q);
   Eigen::Index first = 0;
-  for (; first + N <= q.rows(); first += N) evaluateBlock<true, V, U>(chain, q, poses, first, N, use_libm);
+  for (; first + N <= q.rows(); first += N) {
+    const BlockLanes<true, V> io{first, N};
+    Hooks<true, V> hooks{io, args...};
+    evaluateBlock<true, V, U>(chain, q, io, use_libm, hooks, hooks);
+  }
   if (first < q.rows()) {
-    evaluateBlock<false, V, U>(chain, q, poses, first, static_cast<int>(q.rows() - first), use_libm);
+    const BlockLanes<false, V> io{first, static_cast<int>(q.rows() - first)};
+    Hooks<false, V> hooks{io, args...};
+    evaluateBlock<false, V, U>(chain, q, io, use_libm, hooks, hooks);
   }
 }
 
@@ -280,7 +388,11 @@ namespace detail {
 LP_DISPATCH void chainTool(const KinematicChain& chain, Data& data, const double* q) { evaluate<false>(chain, data, q); }
 LP_DISPATCH void chainFrames(const KinematicChain& chain, Data& data, const double* q) { evaluate<true>(chain, data, q); }
 LP_DISPATCH void chainBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
-  evaluateBatch<Vec4d, Vec4u>(chain, q, poses);
+  evaluateBatch<Vec4d, Vec4u, FkBlock>(chain, q, poses);
+}
+LP_DISPATCH void chainJacobianBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                                    Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses) {
+  evaluateBatch<Vec4d, Vec4u, JacobianBlock>(chain, q, chain, frame, jacobians, poses);
 }
 
 #if defined(LP_HAVE_AVX512_BATCH)
@@ -288,7 +400,12 @@ LP_DISPATCH void chainBatch(const KinematicChain& chain, const Eigen::Ref<const 
 // processor has it (valgrind's emulated CPU does not, so instruction counts measure the AVX2 path).
 __attribute__((target("arch=x86-64-v4"))) void chainBatch8(const KinematicChain& chain,
                                                            const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
-  evaluateBatch<Vec8d, Vec8u>(chain, q, poses);
+  evaluateBatch<Vec8d, Vec8u, FkBlock>(chain, q, poses);
+}
+__attribute__((target("arch=x86-64-v4"))) void chainJacobianBatch8(const KinematicChain& chain,
+                                                                   const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                                                                   Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses) {
+  evaluateBatch<Vec8d, Vec8u, JacobianBlock>(chain, q, chain, frame, jacobians, poses);
 }
 bool hasAvx512() {
   static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
@@ -298,7 +415,7 @@ bool hasAvx512() {
 #endif
 
 void batch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
-  checkBatchSizes(chain, q, poses);
+  checkBatchSizes("forwardKinematicsBatch", chain, q, poses);
 #if defined(LP_HAVE_AVX512_BATCH)
   if (hasAvx512()) {
     chainBatch8(chain, q, poses);
@@ -306,6 +423,18 @@ void batch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::
   }
 #endif
   chainBatch(chain, q, poses);
+}
+
+void jacobianBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                   Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses) {
+  checkJacobianBatchSizes(chain, q, jacobians, poses);
+#if defined(LP_HAVE_AVX512_BATCH)
+  if (hasAvx512()) {
+    chainJacobianBatch8(chain, q, frame, jacobians, poses);
+    return;
+  }
+#endif
+  chainJacobianBatch(chain, q, frame, jacobians, poses);
 }
 
 }  // namespace detail
