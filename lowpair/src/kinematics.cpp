@@ -278,7 +278,7 @@ struct FkBlock {
 };
 
 // The batched Jacobians' hooks: joint i's spatial column `scale_i [j_i z_i; j_i o_i x z_i + k_i z_i]` (the
-// arithmetic of jacobian.cpp's fillSpatial) into columns 6 i .. 6 i + 5 of `jacobians`; at the tool, the poses,
+// arithmetic of jacobian.cpp's fillSpatial) into columns i, dof + i, .. 5 dof + i of `jacobians`; at the tool, the poses,
 // and the columns turned into the requested frame: `u = v + w x p_tool` gives the geometric column `[u; w]`
 // and the body column `[R^T w; R^T u]` (`Ad(T^-1) [w; v]`, jacobian.hpp).
 template <bool kFull, class V>
@@ -288,36 +288,38 @@ struct JacobianBlock {
   JacobianFrame frame;
   Eigen::Ref<MatX>& jacobians;
   Eigen::Ref<MatX>& poses;
+  // entry (r, i) of a configuration's Jacobian is column r dof + i: Jacobian row r starts this far after row 0
+  Eigen::Index rowStep() const { return (jacobians.cols() / 6) * jacobians.outerStride(); }
   LP_ALWAYS_INLINE void operator()(size_t i, const V* z, const V* o) {
     const ChainLink& link = chain.links[i];
     const double j = link.motion.scale * link.turn, k = link.motion.scale * link.slide;
-    double* c = jacobians.col(6 * static_cast<Eigen::Index>(i)).data();
-    const Eigen::Index ld = jacobians.rows();
+    const Eigen::Index step = rowStep();
+    double* c = jacobians.data() + static_cast<Eigen::Index>(i) * jacobians.outerStride();
     io.store(c, j * z[0]);
-    io.store(c + ld, j * z[1]);
-    io.store(c + 2 * ld, j * z[2]);
-    io.store(c + 3 * ld, j * (o[1] * z[2] - o[2] * z[1]) + k * z[0]);
-    io.store(c + 4 * ld, j * (o[2] * z[0] - o[0] * z[2]) + k * z[1]);
-    io.store(c + 5 * ld, j * (o[0] * z[1] - o[1] * z[0]) + k * z[2]);
+    io.store(c + step, j * z[1]);
+    io.store(c + 2 * step, j * z[2]);
+    io.store(c + 3 * step, j * (o[1] * z[2] - o[2] * z[1]) + k * z[0]);
+    io.store(c + 4 * step, j * (o[2] * z[0] - o[0] * z[2]) + k * z[1]);
+    io.store(c + 5 * step, j * (o[0] * z[1] - o[1] * z[0]) + k * z[2]);
   }
   LP_ALWAYS_INLINE void operator()(const BlockPose<V>& T) {
     storePoses(io, T, poses);
     if (frame == JacobianFrame::Spatial) return;
-    const Eigen::Index ld = jacobians.rows();
+    const Eigen::Index step = rowStep();
     for (Eigen::Index i = 0; i < jacobians.cols() / 6; ++i) {
-      double* c = jacobians.col(6 * i).data();
+      double* c = jacobians.data() + i * jacobians.outerStride();
       V w[3], u[3];
-      for (int r = 0; r < 3; ++r) w[r] = io.load(c + r * ld);
-      u[0] = io.load(c + 3 * ld) + (w[1] * T.p[2] - w[2] * T.p[1]);
-      u[1] = io.load(c + 4 * ld) + (w[2] * T.p[0] - w[0] * T.p[2]);
-      u[2] = io.load(c + 5 * ld) + (w[0] * T.p[1] - w[1] * T.p[0]);
+      for (int r = 0; r < 3; ++r) w[r] = io.load(c + r * step);
+      u[0] = io.load(c + 3 * step) + (w[1] * T.p[2] - w[2] * T.p[1]);
+      u[1] = io.load(c + 4 * step) + (w[2] * T.p[0] - w[0] * T.p[2]);
+      u[2] = io.load(c + 5 * step) + (w[0] * T.p[1] - w[1] * T.p[0]);
       for (int r = 0; r < 3; ++r) {
         if (frame == JacobianFrame::Geometric) {
-          io.store(c + r * ld, u[r]);
-          io.store(c + (3 + r) * ld, w[r]);
+          io.store(c + r * step, u[r]);
+          io.store(c + (3 + r) * step, w[r]);
         } else {
-          io.store(c + r * ld, (T.R[0][r] * w[0] + T.R[1][r] * w[1]) + T.R[2][r] * w[2]);
-          io.store(c + (3 + r) * ld, (T.R[0][r] * u[0] + T.R[1][r] * u[1]) + T.R[2][r] * u[2]);
+          io.store(c + r * step, (T.R[0][r] * w[0] + T.R[1][r] * w[1]) + T.R[2][r] * w[2]);
+          io.store(c + (3 + r) * step, (T.R[0][r] * u[0] + T.R[1][r] * u[1]) + T.R[2][r] * u[2]);
         }
       }
     }

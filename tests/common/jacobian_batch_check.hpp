@@ -50,7 +50,7 @@ double batchMismatch(const Model& model, const MatX& q, double L) {
         for (int r = 0; r < 6; ++r) {
           const bool linear = (r < 3) == linear_first;
           const double scale = std::max(linear ? column : angular, std::numeric_limits<double>::min());
-          const double e = std::abs(jacobians(k, 6 * i + r) - J(r, i)) / scale / roundingBound(n);
+          const double e = std::abs(jacobians(k, r * n + i) - J(r, i)) / scale / roundingBound(n);
           worst = std::max(worst, std::isfinite(e) ? e : std::numeric_limits<double>::infinity());
         }
       }

@@ -56,6 +56,22 @@ TEST(JacobiansBatch, CountsZeroAndOne) {
   EXPECT_LE(batchMismatch(model, randomConfigurations(model, 1, rng), model.lengthScale()), 1.0);
 }
 
+TEST(JacobiansBatch, WritesIntoBlocksOfLargerMatrices) {
+  // outputs that are the top rows of taller matrices (column stride != rows), as a caller working in chunks passes
+  std::mt19937_64 rng(296);
+  const PoeModel model = lowpair_test::randomRobot(rng).model;
+  const int n = model.dof();
+  const MatX q = randomConfigurations(model, 11, rng);
+  MatX jacobians(11, 6 * n), poses(11, 12), tall_jacobians = MatX::Constant(32, 6 * n, 7.0), tall_poses(32, 12);
+  for (const JacobianFrame frame : {JacobianFrame::Spatial, JacobianFrame::Body, JacobianFrame::Geometric}) {
+    computeJacobiansBatch(model, q, frame, jacobians, poses);
+    computeJacobiansBatch(model, q, frame, tall_jacobians.topRows(11), tall_poses.topRows(11));
+    EXPECT_TRUE(tall_jacobians.topRows(11) == jacobians);
+    EXPECT_TRUE(tall_poses.topRows(11) == poses);
+    EXPECT_TRUE((tall_jacobians.bottomRows(21).array() == 7.0).all());  // nothing written beyond the block
+  }
+}
+
 TEST(JacobiansBatch, HugeJointValuesFallBackToLibm) {
   // beyond the sine kernel's range (|angle| > 1e6) the whole call uses libm, as the single form does
   std::mt19937_64 rng(293);

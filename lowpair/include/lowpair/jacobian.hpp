@@ -61,8 +61,8 @@ enum class JacobianFrame { Spatial, Body, Geometric };
 /// Allocates nothing.
 /// @param q `count x dof`: column i holds joint i of every configuration.
 /// @param frame which Jacobian (getSpatialJacobian, getBodyJacobian, getGeometricJacobian).
-/// @param jacobians `count x 6 dof` output: row k is configuration k's `6 x dof` Jacobian, column-major
-/// (entry `(r, i)` in column `6 i + r`).
+/// @param jacobians `count x 6 dof` output: row k is configuration k's `6 x dof` Jacobian, row-major (entry
+/// `(r, i)` in column `r dof + i`), the order of numpy's `(count, 6, dof)`.
 /// @param poses `count x 12` output: `T_base_tool` as forwardKinematicsBatch writes it.
 /// @throws std::invalid_argument, in every build type, when q does not have dof columns
 /// ("computeJacobiansBatch: q has 5 columns, the model has 6 joints"), poses is not `count x 12` or jacobians
