@@ -64,32 +64,13 @@ void jointExp(const Joint& joint, double q, Pose& out) {
 
 namespace {
 
-using detail::sinCosLane;
-
 // "1 joint", "6 joints" (messages).
 std::string counted(Eigen::Index n, const char* noun) {
   return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
 
-// sin and cos of n angles together, n a multiple of detail::kChainLanes (the loop vectorizes); angles beyond the kernel's accurate range
-// (possible only for huge joint values) are recomputed with libm.
-// (The range test is an integer OR so that the loop still vectorizes; a floating max would not.)
+// Whether an angle is beyond the sine kernel's accurate range (possible only for huge joint values): libm then.
 inline bool outOfRange(double angle) { return !(std::abs(angle) <= detail::kSinCosMaxArgument); }
-
-LP_ALWAYS_INLINE inline void sinCosAll(const double* __restrict angle, int n, double* __restrict s,
-                                       double* __restrict c) {
-  int out_of_range = 0;
-  for (int i = 0; i < n; ++i) {
-    sinCosLane(angle[i], s[i], c[i]);
-    out_of_range |= outOfRange(angle[i]);
-  }
-  if (out_of_range) {
-    for (int i = 0; i < n; ++i) {
-      s[i] = std::sin(angle[i]);
-      c[i] = std::cos(angle[i]);
-    }
-  }
-}
 
 // The motion rule on a link's constants (JointMotion's (j, k)): joint motion x turns the link by
 // theta + j x and slides it by p_z + k x; T is a double or a vector of lanes.
@@ -100,8 +81,9 @@ LP_ALWAYS_INLINE inline T linkSlide(double z, double slide, T x) { return z + sl
 
 // One row k of T <- T Rz(angle) Trans(p_x, p_y, slide) Rx(alpha) on the rotation columns X, Y, Z and the
 // position P, given cos/sin of the angle; T is a double or a vector of lanes (the batch).
-template <class T>
-LP_ALWAYS_INLINE inline void linkStep(const ChainLink& link, T c, T s, T slide, T& X, T& Y, T& Z, T& P) {
+// (S: the type of c, s and slide: T, or a double broadcast to T's lanes by the arithmetic.)
+template <class T, class S>
+LP_ALWAYS_INLINE inline void linkStep(const ChainLink& link, S c, S s, S slide, T& X, T& Y, T& Z, T& P) {
   const T x = c * X + s * Y;
   const T y = c * Y - s * X;
   const T z = Z;
@@ -121,69 +103,6 @@ LP_ALWAYS_INLINE inline T toolPosition(const Pose& E, T X, T Y, T Z, T P) {
   return ((X * E.p[0] + Y * E.p[1]) + Z * E.p[2]) + P;
 }
 
-// The chain product of model.hpp's KinematicChain. Columns X, Y, Z of the rotation and the position P
-// are updated in place by T <- T Rz(angle) Trans(p + slide e_z) Rx(alpha); kFrames stores the frame
-// before each link (joint i's line) in data.T_base_joint.
-template <bool kFrames>
-LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, const double* q) {
-  const int n = data.dof;
-  const int padded = paddedDof(chain);  // a multiple of kChainLanes: the lane loops below run in full vectors
-  const detail::ChainLanes& c = chain.lanes;
-  double* __restrict qp = data.q_padded.data();
-  double* __restrict angle = data.angle.data();
-  double* __restrict slide = data.slide.data();
-  const double* __restrict theta = c.theta.data();
-  const double* __restrict turn = c.turn.data();
-  const double* __restrict slide_rate = c.slide.data();
-  const double* __restrict z0 = c.z.data();
-  const double* __restrict scale = c.scale.data();
-  const double* __restrict offset = c.offset.data();
-  std::memcpy(qp, q, sizeof(double) * static_cast<size_t>(n));
-  constexpr int L = detail::kChainLanes;
-  for (int b = 0; b < padded; b += L) {
-    for (int i = b; i < b + L; ++i) {  // fixed trip count: one SIMD vector
-      const double x = motionOf(qp[i], scale[i], offset[i]);
-      angle[i] = linkAngle(theta[i], turn[i], x);
-      slide[i] = linkSlide(z0[i], slide_rate[i], x);
-    }
-  }
-  double* __restrict sin_angle = data.sin_angle.data();
-  double* __restrict cos_angle = data.cos_angle.data();
-  sinCosAll(angle, padded, sin_angle, cos_angle);
-  const double* st = sin_angle;
-  const double* ct = cos_angle;
-  double X[3], Y[3], Z[3], P[3];
-  const Pose& B = chain.T_base_first;
-  for (int k = 0; k < 3; ++k) {
-    X[k] = B.R(k, 0);
-    Y[k] = B.R(k, 1);
-    Z[k] = B.R(k, 2);
-    P[k] = B.p[k];
-  }
-  for (int i = 0; i < n; ++i) {
-    const ChainLink& link = chain.links[static_cast<size_t>(i)];
-    if (kFrames) {
-      Pose& F = data.T_base_joint[static_cast<size_t>(i)];
-      for (int k = 0; k < 3; ++k) {
-        F.R(k, 0) = X[k];
-        F.R(k, 1) = Y[k];
-        F.R(k, 2) = Z[k];
-        F.p[k] = P[k];
-      }
-    }
-    for (int k = 0; k < 3; ++k) linkStep(link, ct[i], st[i], slide[i], X[k], Y[k], Z[k], P[k]);
-  }
-  const Pose& E = chain.T_last_tool;
-  Pose& T = data.T_base_tool;
-  for (int k = 0; k < 3; ++k) {
-    for (int m = 0; m < 3; ++m) T.R(k, m) = toolRotation(E, m, X[k], Y[k], Z[k]);
-    T.p[k] = toolPosition(E, X[k], Y[k], Z[k], P[k]);
-  }
-}
-
-// One batch block: the configurations of one GNU vector V (4 lanes: AVX2 / SSE2 pairs; 8 lanes: AVX-512),
-// so the whole state of a block (rotation columns X, Y, Z and position P, three rows each) stays in
-// registers. U is the matching unsigned vector (the sine kernel's bit operations).
 using detail::Vec4d;
 using detail::Vec4u;
 using detail::Vec8d;
@@ -192,8 +111,90 @@ using detail::Vec8u;
 template <class V>
 constexpr int lanesOf() { return static_cast<int>(sizeof(V) / sizeof(double)); }
 
+// v in every lane (a loop the compiler turns into one broadcast; `V{} + v` would add 0.0, which it must keep)
 template <class V>
-inline V broadcast(double v) { return V{} + v; }
+LP_ALWAYS_INLINE inline V broadcast(double v) {
+  V out;
+  for (int l = 0; l < lanesOf<V>(); ++l) out[l] = v;
+  return out;
+}
+
+// Joint i's motion terms for the lanes b .. b + 3 of the padded arrays (padding lanes: q = 0): the angle's sine
+// and cosine and the slide into data's scratch; `bad` gains the lanes whose angle is beyond the sine kernel's
+// range (all bits set), tested once for all joints.
+LP_ALWAYS_INLINE inline void laneAngles(const detail::ChainLanes& c, Data& data, const double* q, int n, int b,
+                                        Vec4u& bad) {
+  Vec4d qv;
+  if (b + 4 <= n) {
+    std::memcpy(&qv, q + b, sizeof qv);
+  } else {
+    for (int l = 0; l < 4; ++l) qv[l] = b + l < n ? q[b + l] : 0.0;
+  }
+  auto lanes = [b](const std::vector<double>& v) {
+    Vec4d out;
+    std::memcpy(&out, v.data() + b, sizeof out);
+    return out;
+  };
+  const Vec4d x = lanes(c.scale) * (qv + lanes(c.offset));   // motionOf
+  const Vec4d angle = lanes(c.theta) + lanes(c.turn) * x;    // linkAngle
+  const Vec4d slide = lanes(c.z) + lanes(c.slide) * x;       // linkSlide
+  Vec4d st, ct;
+  detail::sinCos4(angle, st, ct);
+  std::memcpy(data.angle.data() + b, &angle, sizeof angle);
+  std::memcpy(data.sin_angle.data() + b, &st, sizeof st);
+  std::memcpy(data.cos_angle.data() + b, &ct, sizeof ct);
+  std::memcpy(data.slide.data() + b, &slide, sizeof slide);
+  const Vec4d magnitude = detail::fromBits(detail::bitsOf(angle) & 0x7fffffffffffffffULL);
+  bad |= (Vec4u)~(magnitude <= detail::kSinCosMaxArgument);  // NaN too
+}
+
+// A column of a rotation (or the position) as lanes 0..2 of a vector: rows 0, 1, 2 (lane 3 zero).
+LP_ALWAYS_INLINE inline Vec4d column(const double* v) { return Vec4d{v[0], v[1], v[2], 0.0}; }
+LP_ALWAYS_INLINE inline void storeColumn(double* dst, Vec4d v) {
+  dst[0] = v[0];
+  dst[1] = v[1];
+  dst[2] = v[2];
+}
+
+// The chain product of model.hpp's KinematicChain. Columns X, Y, Z of the rotation and the position P, each
+// a vector of its three rows, are updated by T <- T Rz(angle) Trans(p + slide e_z) Rx(alpha) (linkStep, the
+// coefficients broadcast to the rows); kFrames stores the frame before each link (joint i's line) in
+// data.T_base_joint. The sines and cosines of all joints come first, a vector of four joints at a time.
+template <bool kFrames>
+LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, const double* q) {
+  const int n = data.dof;
+  const int padded = paddedDof(chain);  // a multiple of kChainLanes (4): whole vectors
+  Vec4u bad{};
+  for (int b = 0; b < padded; b += detail::kChainLanes) laneAngles(chain.lanes, data, q, n, b, bad);
+  if (LP_UNLIKELY((bad[0] | bad[1] | bad[2] | bad[3]) != 0)) {
+    for (int i = 0; i < padded; ++i) {
+      data.sin_angle[i] = std::sin(data.angle[i]);
+      data.cos_angle[i] = std::cos(data.angle[i]);
+    }
+  }
+  const double* __restrict st = data.sin_angle.data();
+  const double* __restrict ct = data.cos_angle.data();
+  const double* __restrict slide = data.slide.data();
+  const Pose& B = chain.T_base_first;
+  Vec4d X = column(B.R.col(0).data()), Y = column(B.R.col(1).data()), Z = column(B.R.col(2).data());
+  Vec4d P = column(B.p.data());
+  for (int i = 0; i < n; ++i) {
+    const ChainLink& link = chain.links[static_cast<size_t>(i)];
+    if (kFrames) {
+      Pose& F = data.T_base_joint[static_cast<size_t>(i)];
+      storeColumn(F.R.col(0).data(), X);
+      storeColumn(F.R.col(1).data(), Y);
+      storeColumn(F.R.col(2).data(), Z);
+      storeColumn(F.p.data(), P);
+    }
+    linkStep(link, ct[i], st[i], slide[i], X, Y, Z, P);
+  }
+  const Pose& E = chain.T_last_tool;
+  Pose& T = data.T_base_tool;
+  for (int m = 0; m < 3; ++m) storeColumn(T.R.col(m).data(), toolRotation(E, m, X, Y, Z));
+  storeColumn(T.p.data(), toolPosition(E, X, Y, Z, P));
+}
+
 
 // The lanes of one block in a column of an SoA matrix (a configuration per row): rows first .. first + lanes.
 // kFull: all lanes are configurations (a whole vector moves); otherwise the last, partial block (unused lanes
