@@ -12,6 +12,8 @@ namespace lowpair::detail {
 // data.T_base_tool of `chain` at q (forwardKinematics); chainFrames also fills data.T_base_joint.
 void chainTool(const KinematicChain& chain, Data& data, const double* q);
 void chainFrames(const KinematicChain& chain, Data& data, const double* q);
+// computeJacobians: data.T_base_tool, T_base_joint and J_spatial in one pass.
+void chainJacobian(const KinematicChain& chain, Data& data, const double* q);
 
 // computeJacobiansBatch of `chain` (sizes checked here).
 void jacobianBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, JacobianFrame frame,

@@ -156,11 +156,26 @@ LP_ALWAYS_INLINE inline void storeColumn(double* dst, Vec4d v) {
   dst[2] = v[2];
 }
 
+// What the single chain evaluation writes besides data.T_base_tool: nothing (forwardKinematics), the joint frames
+// (forwardKinematicsWithFrames), or the frames and the spatial Jacobian (computeJacobians).
+enum class Fill { Tool, Frames, Jacobian };
+
+// Joint i's spatial Jacobian column `scale_i [j_i z_i; j_i o_i x z_i + k_i z_i]` (jacobian.hpp) from its line:
+// z axis Z and origin P as vectors of their three rows (the batch's JacobianBlock writes the same per lane).
+LP_ALWAYS_INLINE inline void spatialColumn(const ChainLink& link, Vec4d Z, Vec4d P, double* column) {
+  const double j = link.motion.scale * link.turn, k = link.motion.scale * link.slide;
+  const Vec4u yzx{1, 2, 0, 3}, zxy{2, 0, 1, 3};
+  const Vec4d o_cross_z = __builtin_shuffle(P, yzx) * __builtin_shuffle(Z, zxy) - __builtin_shuffle(P, zxy) * __builtin_shuffle(Z, yzx);
+  storeColumn(column, j * Z);
+  storeColumn(column + 3, j * o_cross_z + k * Z);
+}
+
 // The chain product of model.hpp's KinematicChain. Columns X, Y, Z of the rotation and the position P, each
 // a vector of its three rows, are updated by T <- T Rz(angle) Trans(p + slide e_z) Rx(alpha) (linkStep, the
-// coefficients broadcast to the rows); kFrames stores the frame before each link (joint i's line) in
-// data.T_base_joint. The sines and cosines of all joints come first, a vector of four joints at a time.
-template <bool kFrames>
+// coefficients broadcast to the rows); Fill::Frames stores the frame before each link (joint i's line) in
+// data.T_base_joint, Fill::Jacobian also joint i's column of data.J_spatial. The sines and cosines of all joints
+// come first, a vector of four joints at a time.
+template <Fill kFill>
 LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, const double* q) {
   const int n = data.dof;
   const int padded = paddedDof(chain);  // a multiple of kChainLanes (4): whole vectors
@@ -180,13 +195,14 @@ LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, c
   Vec4d P = column(B.p.data());
   for (int i = 0; i < n; ++i) {
     const ChainLink& link = chain.links[static_cast<size_t>(i)];
-    if (kFrames) {
+    if (kFill != Fill::Tool) {
       Pose& F = data.T_base_joint[static_cast<size_t>(i)];
       storeColumn(F.R.col(0).data(), X);
       storeColumn(F.R.col(1).data(), Y);
       storeColumn(F.R.col(2).data(), Z);
       storeColumn(F.p.data(), P);
     }
+    if (kFill == Fill::Jacobian) spatialColumn(link, Z, P, data.J_spatial.col(i).data());
     linkStep(link, ct[i], st[i], slide[i], X, Y, Z, P);
   }
   const Pose& E = chain.T_last_tool;
@@ -194,7 +210,6 @@ LP_ALWAYS_INLINE inline void evaluate(const KinematicChain& chain, Data& data, c
   for (int m = 0; m < 3; ++m) storeColumn(T.R.col(m).data(), toolRotation(E, m, X, Y, Z));
   storeColumn(T.p.data(), toolPosition(E, X, Y, Z, P));
 }
-
 
 // The lanes of one block in a column of an SoA matrix (a configuration per row): rows first .. first + lanes.
 // kFull: all lanes are configurations (a whole vector moves); otherwise the last, partial block (unused lanes
@@ -279,8 +294,8 @@ struct FkBlock {
 };
 
 // The batched Jacobians' hooks: joint i's spatial column `scale_i [j_i z_i; j_i o_i x z_i + k_i z_i]` (the
-// arithmetic of jacobian.cpp's fillSpatial) into columns i, dof + i, .. 5 dof + i of `jacobians`; at the tool, the poses,
-// and the columns turned into the requested frame: `u = v + w x p_tool` gives the geometric column `[u; w]`
+// arithmetic of the single form's spatialColumn, per lane) into columns i, dof + i, .. 5 dof + i of `jacobians`;
+// at the tool, the poses, and the columns turned into the requested frame: `u = v + w x p_tool` gives the geometric column `[u; w]`
 // and the body column `[R^T w; R^T u]` (`Ad(T^-1) [w; v]`, jacobian.hpp).
 template <bool kFull, class V>
 struct JacobianBlock {
@@ -385,11 +400,16 @@ LP_ALWAYS_INLINE inline void evaluateBatch(const KinematicChain& chain, const Ei
 
 namespace detail {
 
-// The three entry points into the chain evaluation, compiled twice on x86-64 with GCC: for the baseline
+// The entry points into the chain evaluation, compiled twice on x86-64 with GCC: for the baseline
 // and for x86-64-v3 (AVX2 + FMA), chosen once at load time (target_clones), so users of the default
 // build get the vectorized kernel without -march flags.
-LP_DISPATCH void chainTool(const KinematicChain& chain, Data& data, const double* q) { evaluate<false>(chain, data, q); }
-LP_DISPATCH void chainFrames(const KinematicChain& chain, Data& data, const double* q) { evaluate<true>(chain, data, q); }
+LP_DISPATCH void chainTool(const KinematicChain& chain, Data& data, const double* q) { evaluate<Fill::Tool>(chain, data, q); }
+LP_DISPATCH void chainFrames(const KinematicChain& chain, Data& data, const double* q) {
+  evaluate<Fill::Frames>(chain, data, q);
+}
+LP_DISPATCH void chainJacobian(const KinematicChain& chain, Data& data, const double* q) {
+  evaluate<Fill::Jacobian>(chain, data, q);
+}
 LP_DISPATCH void chainBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
   evaluateBatch<Vec4d, Vec4u, FkBlock>(chain, q, poses);
 }
