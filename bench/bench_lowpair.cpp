@@ -205,7 +205,7 @@ struct TwoThreadJob {
   }
 };
 
-enum class BatchImpl { Scalar, Soa, SoaDh, SoaThreads2, SoaBaseline };
+enum class BatchImpl { Scalar, Soa, SoaDh, SoaThreads2, SoaAvx2, SoaAvx2Baseline, SoaBaseline };
 
 void fkBatch(benchmark::State& state, RobotId id, BatchImpl impl) {
   const PoeModel& model = robotModels(id).poe;
@@ -221,7 +221,9 @@ void fkBatch(benchmark::State& state, RobotId id, BatchImpl impl) {
       case BatchImpl::Soa: forwardKinematicsBatch(model, b.q, b.out); break;
       case BatchImpl::SoaDh: forwardKinematicsBatch(dh, b.q, b.out); break;
       case BatchImpl::SoaThreads2: helper->run(&TwoThreadJob::run, &job); break;
-      case BatchImpl::SoaBaseline: baseline::forwardKinematicsBatch(model.chain(), b.q, b.out); break;
+      case BatchImpl::SoaAvx2: baseline::currentBatch4(model.chain(), b.q, b.out); break;
+      case BatchImpl::SoaAvx2Baseline: baseline::forwardKinematicsBatch(model.chain(), b.q, b.out); break;
+      case BatchImpl::SoaBaseline: baseline::forwardKinematicsBatch8(model.chain(), b.q, b.out); break;
     }
   };
   once();
@@ -326,7 +328,11 @@ void registerBatchBenchmarks(RobotId id, const std::string& name) {
   RegisterBenchmark(("BM_FkBatch_Scalar_" + name).c_str(), fkBatch, id, BatchImpl::Scalar);
   RegisterBenchmark(("BM_FkBatch_Soa_" + name).c_str(), fkBatch, id, BatchImpl::Soa);
   RegisterBenchmark(("BM_FkBatch_SoaDh_" + name).c_str(), fkBatch, id, BatchImpl::SoaDh);
-  RegisterBenchmark(("BM_FkBatch_SoaBaseline_" + name).c_str(), fkBatch, id, BatchImpl::SoaBaseline);
+  // the 4-lane (AVX2) path whatever the processor, and the same path before issue 29
+  RegisterBenchmark(("BM_FkBatch_SoaAvx2_" + name).c_str(), fkBatch, id, BatchImpl::SoaAvx2);
+  RegisterBenchmark(("BM_FkBatch_SoaAvx2Baseline_" + name).c_str(), fkBatch, id, BatchImpl::SoaAvx2Baseline);
+  // the public function's path before issue 29 (8 lanes on AVX-512 processors, as BM_FkBatch_Soa takes)
+  if (baseline::hasBatch8()) RegisterBenchmark(("BM_FkBatch_SoaBaseline_" + name).c_str(), fkBatch, id, BatchImpl::SoaBaseline);
   RegisterBenchmark(("BM_JacobianBatch_Geometric_" + name).c_str(), jacobianBatch, id);
   RegisterBenchmark(("BM_FkBatch_SoaThreads2_" + name).c_str(), fkBatch, id, BatchImpl::SoaThreads2)->UseRealTime();
 }

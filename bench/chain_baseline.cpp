@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "chain_eval.hpp"
 #include "lowpair/se3.hpp"
 #include "sincos.hpp"
 
@@ -253,6 +254,25 @@ LP_DISPATCH void computeJacobians(const KinematicChain& chain, Data& data, const
 LP_DISPATCH void forwardKinematicsBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
                                         Eigen::Ref<MatX> poses) {
   evaluateBatch<Vec4d, Vec4u>(chain, q, poses);
+}
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(LOWPAIR_NO_DISPATCH)
+__attribute__((target("arch=x86-64-v4"))) void forwardKinematicsBatch8(const KinematicChain& chain,
+                                                                       const Eigen::Ref<const MatX>& q,
+                                                                       Eigen::Ref<MatX> poses) {
+  evaluateBatch<Vec8d, Vec8u>(chain, q, poses);
+}
+bool hasBatch8() { return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+                          __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw"); }
+#else
+void forwardKinematicsBatch8(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+  forwardKinematicsBatch(chain, q, poses);
+}
+bool hasBatch8() { return false; }
+#endif
+
+void currentBatch4(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses) {
+  lowpair::detail::chainBatch(chain, q, poses);
 }
 
 }  // namespace lowpair_bench::baseline

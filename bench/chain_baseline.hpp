@@ -13,4 +13,14 @@ void computeJacobians(const lowpair::KinematicChain& chain, lowpair::Data& data,
 void forwardKinematicsBatch(const lowpair::KinematicChain& chain, const Eigen::Ref<const lowpair::MatX>& q,
                             Eigen::Ref<lowpair::MatX> poses);
 
+// The 8-lane (AVX-512) path, on processors that have it (hasBatch8; otherwise the 4-lane path).
+void forwardKinematicsBatch8(const lowpair::KinematicChain& chain, const Eigen::Ref<const lowpair::MatX>& q,
+                             Eigen::Ref<lowpair::MatX> poses);
+bool hasBatch8();
+
+// Today's forwardKinematicsBatch 4-lane path (lowpair/src/chain_eval.hpp's chainBatch), whatever the processor: the
+// counterpart of forwardKinematicsBatch above on AVX-512 machines, which take the 8-lane path.
+void currentBatch4(const lowpair::KinematicChain& chain, const Eigen::Ref<const lowpair::MatX>& q,
+                   Eigen::Ref<lowpair::MatX> poses);
+
 }  // namespace lowpair_bench::baseline

@@ -15,6 +15,10 @@ void chainFrames(const KinematicChain& chain, Data& data, const double* q);
 // computeJacobians: data.T_base_tool, T_base_joint and J_spatial in one pass.
 void chainJacobian(const KinematicChain& chain, Data& data, const double* q);
 
+// forwardKinematicsBatch's 4-lane path (AVX2 in its x86-64-v3 clone), whatever the processor; no size checks (the
+// benchmarks time it beside the 8-lane path that AVX-512 processors take).
+void chainBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, Eigen::Ref<MatX> poses);
+
 // computeJacobiansBatch of `chain` (sizes checked here).
 void jacobianBatch(const KinematicChain& chain, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
                    Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses);

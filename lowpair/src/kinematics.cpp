@@ -246,10 +246,31 @@ LP_ALWAYS_INLINE inline void storePoses(const BlockLanes<kFull, V>& io, const Bl
 // 8 lanes: AVX-512), so the whole state of a block (rotation columns X, Y, Z and position P, three rows each)
 // stays in registers. U is the matching unsigned vector (the sine kernel's bit operations). `joint(i, Z, P)`
 // sees joint i's line (z axis Z, origin P: rows of the frame before link i); `tool(T)` the block's tool pose.
+// Link i's motion terms for a block: the sine and cosine of its angle and its slide, lane by lane.
+template <bool kFull, class V, class U>
+LP_ALWAYS_INLINE inline void blockTrig(const ChainLink& link, const double* q_column, const BlockLanes<kFull, V>& io,
+                                       bool use_libm, V& st, V& ct, V& slide) {
+  const V x = motionOf(io.load(q_column), link.motion.scale, link.motion.offset);
+  const V angle = linkAngle(link.theta, link.turn, x);
+  slide = linkSlide(link.p[2], link.slide, x);
+  detail::sinCosT<V, U>(angle, st, ct);
+  if (use_libm) {
+    for (int l = 0; l < lanesOf<V>(); ++l) {
+      st[l] = std::sin(angle[l]);
+      ct[l] = std::cos(angle[l]);
+    }
+  }
+}
+
+// Chains of up to this many links get their sines, cosines and slides for the whole block first (on the stack:
+// 1.5 KB with 4 lanes), then the product: the sine kernel's temporaries and the product's 12 state vectors are
+// then never live together, which with 16 AVX2 registers spilled a third of the block's instructions to the
+// stack. Longer chains interleave the two per link.
+constexpr size_t kStagedLinks = 16;
+
 template <bool kFull, class V, class U, class Joint, class Tool>
 LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Eigen::Ref<const MatX>& q,
                                            const BlockLanes<kFull, V>& io, bool use_libm, Joint& joint, Tool& tool) {
-  constexpr int N = lanesOf<V>();
   V X[3], Y[3], Z[3], P[3];
   const Pose& Bs = chain.T_base_first;
   for (int k = 0; k < 3; ++k) {
@@ -258,21 +279,22 @@ LP_ALWAYS_INLINE inline void evaluateBlock(const KinematicChain& chain, const Ei
     Z[k] = broadcast<V>(Bs.R(k, 2));
     P[k] = broadcast<V>(Bs.p[k]);
   }
-  for (size_t i = 0; i < chain.links.size(); ++i) {
-    const ChainLink& link = chain.links[i];
-    const V x = motionOf(io.load(q.col(static_cast<Eigen::Index>(i)).data()), link.motion.scale, link.motion.offset);
-    const V angle = linkAngle(link.theta, link.turn, x);
-    const V slide = linkSlide(link.p[2], link.slide, x);
-    V st, ct;
-    detail::sinCosT<V, U>(angle, st, ct);
-    if (use_libm) {
-      for (int l = 0; l < N; ++l) {
-        st[l] = std::sin(angle[l]);
-        ct[l] = std::cos(angle[l]);
-      }
+  const size_t n = chain.links.size();
+  auto column = [&q](size_t i) { return q.col(static_cast<Eigen::Index>(i)).data(); };
+  if (n <= kStagedLinks) {
+    V st[kStagedLinks], ct[kStagedLinks], slide[kStagedLinks];
+    for (size_t i = 0; i < n; ++i) blockTrig<kFull, V, U>(chain.links[i], column(i), io, use_libm, st[i], ct[i], slide[i]);
+    for (size_t i = 0; i < n; ++i) {
+      joint(i, Z, P);
+      for (int k = 0; k < 3; ++k) linkStep(chain.links[i], ct[i], st[i], slide[i], X[k], Y[k], Z[k], P[k]);
     }
-    joint(i, Z, P);
-    for (int k = 0; k < 3; ++k) linkStep(link, ct, st, slide, X[k], Y[k], Z[k], P[k]);
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      V st, ct, slide;
+      blockTrig<kFull, V, U>(chain.links[i], column(i), io, use_libm, st, ct, slide);
+      joint(i, Z, P);
+      for (int k = 0; k < 3; ++k) linkStep(chain.links[i], ct, st, slide, X[k], Y[k], Z[k], P[k]);
+    }
   }
   // T * T_last_tool
   const Pose& E = chain.T_last_tool;
