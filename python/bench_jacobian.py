@@ -11,7 +11,7 @@ Per robot and round, each of these is timed (the fastest of --repeats), and the 
   (_lowpair_bench.time_batch_jacobian, python/bench/timers.cpp);
 - robot.singular(Q) -> SingularityBatch, against the C++ loop a C++ user writes (computeJacobiansBatch, then
   jacobianRank per row: _lowpair_bench.time_batch_singular).
-Ratios are taken per round, then their median. The load average is printed before and after: a shared machine
+Ratios are taken per round (a first, warm-up round dropped), then their median. The load average is printed before and after: a shared machine
 moves single timings by 20 % and more.
 """
 import argparse
@@ -45,10 +45,11 @@ def bench_robot(path, args):
     rng = np.random.default_rng(1)
     Q = rng.uniform(-1.0, 1.0, (args.n, robot.dof))  # within every bundled robot's joint ranges
     Qs = Q[: args.n // 10]  # the singularity analysis is ~50x the Jacobian's cost per row
-    robot.jacobian(Q), robot.singular(Qs)  # warm up
     ratios = {f: [] for f in ("spatial", "body", "geometric", "singular")}
     times = {k: [] for k in ratios}
-    for _ in range(args.rounds):
+    for round_ in range(args.rounds + 1):  # round 0 warms up (pages, caches, clock) and is dropped
+        if round_ == 1:
+            ratios, times = ({k: [] for k in ratios} for _ in range(2))
         for frame in ("spatial", "body", "geometric"):
             py = best_of(args.repeats, lambda: robot.jacobian(Q, frame=frame), args.n)
             cpp = _lowpair_bench.time_batch_jacobian(robot, Q, frame, args.repeats)
