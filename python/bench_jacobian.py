@@ -23,16 +23,7 @@ import numpy as np
 
 import lowpair
 import _lowpair_bench  # build/python/_lowpair_bench*.so, built with the benchmarks or the tests
-
-
-def best_of(repeats, fn, calls):
-    import time
-    best = float("inf")
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - start)
-    return best / calls
+from bench_fk import best_of  # python/bench_fk.py, beside this script
 
 
 def robot_files(here):

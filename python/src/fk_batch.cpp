@@ -27,12 +27,12 @@ namespace {
 // Batched FK, chunk by chunk: 256 configurations (a multiple of every SIMD block, 4 or 8, so the blocks are
 // those of one whole call) keep the chunk's joint values and poses (36 KB for six joints) in the L1 cache.
 constexpr Eigen::Index kFkChunk = 256;
-// The Jacobians' chunk: 128 configurations (a multiple of 8) keep a chunk's 6 n Jacobian columns (37 KB for six
-// joints) within L1 and L2 while they are repacked.
+// The Jacobians' chunk: 64 configurations (a multiple of 8) keep a chunk's 6 n Jacobian columns (18 KB for six
+// joints) in the L1 cache while they are written and copied out (measured: 128 was slower).
 constexpr Eigen::Index kJacobianChunk = 64;
-// The chunk's Jacobian columns lie this many rows apart beyond the chunk: at 128 rows (1 KB) apart the 6 n columns
-// would share four of the L1 cache's 64 sets and evict each other (measured: the repacking cost as much as the
-// Jacobians); 4 more (1,056 bytes) spreads them over all sets.
+// The chunk's Jacobian columns lie this many rows apart beyond the chunk: at a power-of-two stride (64 rows, 512
+// bytes) the 6 n columns fall on an eighth of the L1 cache's sets and evict each other (measured: the copy out
+// then cost as much as the Jacobians); 4 more rows (544 bytes) spread them over all sets.
 constexpr Eigen::Index kJacobianColumnPad = 4;
 // Results of at least this many bytes are written with non-temporal stores when their pages are resident: they
 // bypass the caches the result would not fit in anyway, and skip reading each line before writing it (12.8 MB for

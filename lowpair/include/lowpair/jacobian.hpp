@@ -14,8 +14,8 @@
 /// A helical joint of pitch `h_i` (length/rad) contributes `h_i z_i` to the linear part.
 ///
 /// Compute, then get (as Pinocchio's computeJointJacobians / getJointJacobian): computeJacobians runs
-/// forward kinematics once (forwardKinematicsWithFrames: the joint frames are what the columns are made
-/// of) and fills `data.J_spatial`; the three getters read `data` and never recompute.
+/// forward kinematics once, filling the joint frames as forwardKinematicsWithFrames does (they are what the
+/// columns are made of) and `data.J_spatial` in the same pass; the three getters read `data` and never recompute.
 /// Nothing allocates: outputs are preallocated `6 x dof` matrices.
 ///
 /// | function | fills / reads | cost (PUMA 560, bench/README.md) |

@@ -15,6 +15,7 @@ from ._lowpair import (  # noqa: F401
     Plan,
     Robot,
     Singularity,
+    SingularityBatch,
     __version__,
     calibrate,
     compensate,
@@ -28,5 +29,5 @@ from ._lowpair import (  # noqa: F401
 )
 
 __all__ = ["Calibration", "DhTable", "Error", "Identifiability", "IkSolutions", "Measurements", "Plan", "Robot",
-           "Singularity", "calibrate", "compensate", "export", "identifiability", "ik", "load", "plan",
+           "Singularity", "SingularityBatch", "calibrate", "compensate", "export", "identifiability", "ik", "load", "plan",
            "read_measurements", "simulate"]
