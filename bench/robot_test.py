@@ -23,6 +23,8 @@ NAME = "RrprArm"  # tests/data/bench/rrpr_arm.yaml's name: rrpr-arm, as a benchm
 EXPECTED = {f"BM_{family}_{NAME}" for family in (
     "Fk_Poe", "Fk_Dh", "Jacobian_Spatial", "Jacobian_Body", "Jacobian_Geometric",
     "FkBatch_Scalar", "FkBatch_Soa", "FkBatch_SoaDh", "FkBatch_SoaThreads2", "Ik_Pose", "Ik_Position",
+    "Fk_PoeBaseline", "Jacobian_SpatialBaseline", "Jacobian_GeometricBaseline", "FkBatch_SoaAvx2",
+    "FkBatch_SoaAvx2Baseline", "FkBatch_SoaBaseline", "JacobianBatch_Geometric",
     "Fk_Mujoco", "Jacobian_Mujoco", "Fk_Kdl", "Jacobian_Kdl")}
 
 

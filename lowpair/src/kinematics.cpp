@@ -79,8 +79,9 @@ LP_ALWAYS_INLINE inline T linkAngle(double theta, double turn, T x) { return the
 template <class T>
 LP_ALWAYS_INLINE inline T linkSlide(double z, double slide, T x) { return z + slide * x; }
 
-// One row k of T <- T Rz(angle) Trans(p_x, p_y, slide) Rx(alpha) on the rotation columns X, Y, Z and the
-// position P, given cos/sin of the angle; T is a double or a vector of lanes (the batch).
+// T <- T Rz(angle) Trans(p_x, p_y, slide) Rx(alpha) on the rotation columns X, Y, Z and the position P, given
+// cos/sin of the angle: T is one row (a double), the three rows of one configuration (a vector: the single form)
+// or one row of a block of configurations (a vector of lanes: the batch).
 // (S: the type of c, s and slide: T, or a double broadcast to T's lanes by the arithmetic.)
 template <class T, class S>
 LP_ALWAYS_INLINE inline void linkStep(const ChainLink& link, S c, S s, S slide, T& X, T& Y, T& Z, T& P) {
@@ -165,7 +166,8 @@ enum class Fill { Tool, Frames, Jacobian };
 LP_ALWAYS_INLINE inline void spatialColumn(const ChainLink& link, Vec4d Z, Vec4d P, double* column) {
   const double j = link.motion.scale * link.turn, k = link.motion.scale * link.slide;
   const Vec4u yzx{1, 2, 0, 3}, zxy{2, 0, 1, 3};
-  const Vec4d o_cross_z = __builtin_shuffle(P, yzx) * __builtin_shuffle(Z, zxy) - __builtin_shuffle(P, zxy) * __builtin_shuffle(Z, yzx);
+  const Vec4d o_cross_z =
+      __builtin_shuffle(P, yzx) * __builtin_shuffle(Z, zxy) - __builtin_shuffle(P, zxy) * __builtin_shuffle(Z, yzx);
   storeColumn(column, j * Z);
   storeColumn(column + 3, j * o_cross_z + k * Z);
 }
