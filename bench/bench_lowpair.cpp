@@ -11,6 +11,7 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "chain_baseline.hpp"
 #include "helper_thread.hpp"
 #include "lowpair/kinematics.hpp"
 #include "lowpair/se3.hpp"
@@ -42,20 +43,29 @@ Eigen::Map<const VecX> qOf(const RobotCase& r, int k) { return {&r.q[static_cast
 
 // ---- single-call FK -------------------------------------------------------------------------------
 
+// kBaseline: the kernel before issue 29 (chain_baseline.cpp), in the same run
+template <bool kBaseline>
 void fkPoe(benchmark::State& state, RobotId id) {
   const RobotCase& r = robotCase(id);
   const PoeModel& model = robotModels(id).poe;
   Data data(model);
+  auto fk = [&](int k) {
+    if (kBaseline) {
+      baseline::forwardKinematics(model.chain(), data, qOf(r, k).data());
+    } else {
+      forwardKinematics(model, data, qOf(r, k));
+    }
+  };
   double err = 0.0, pose[12];
   for (int k = 0; k < kPool; ++k) {
-    forwardKinematics(model, data, qOf(r, k));
+    fk(k);
     poseTo12(data.T_base_tool, pose);
     err = std::max(err, poseMismatch(r, k, pose));
   }
   if (rejected(state, err, "POE FK")) return;
   int k = 0;
   for (auto _ : state) {
-    forwardKinematics(model, data, qOf(r, k));
+    fk(k);
     benchmark::DoNotOptimize(data.T_base_tool);
     k = (k + 1) & (kPool - 1);
   }
@@ -86,16 +96,24 @@ using JacobianRowMajor = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajo
 
 // FK + Jacobian + one getter, after checking the getter's result (turned into the geometric form by
 // `toGeometric(J, k, Jg)`) against the reference at every pool configuration.
-template <typename Get, typename ToGeometric>
+// kBaseline: computeJacobians of the kernel before issue 29 (chain_baseline.cpp)
+template <bool kBaseline = false, typename Get, typename ToGeometric>
 void jacobianBenchmark(benchmark::State& state, RobotId id, const char* what, Get get, ToGeometric toGeometric) {
   const RobotCase& r = robotCase(id);
   const PoeModel& model = robotModels(id).poe;
   Data data(model);
   Mat6X J(6, r.dof);
   JacobianRowMajor Jg(6, r.dof);
+  auto compute = [&](int k) {
+    if (kBaseline) {
+      baseline::computeJacobians(model.chain(), data, qOf(r, k).data());
+    } else {
+      computeJacobians(model, data, qOf(r, k));
+    }
+  };
   double err = 0.0;
   for (int k = 0; k < kPool; ++k) {
-    computeJacobians(model, data, qOf(r, k));
+    compute(k);
     get(data, J);
     toGeometric(J, k, Jg);
     err = std::max(err, jacobianMismatch(r, k, Jg.data()));
@@ -103,7 +121,7 @@ void jacobianBenchmark(benchmark::State& state, RobotId id, const char* what, Ge
   if (rejected(state, err, what)) return;
   int k = 0;
   for (auto _ : state) {
-    computeJacobians(model, data, qOf(r, k));
+    compute(k);
     get(data, J);
     benchmark::DoNotOptimize(J.data());
     benchmark::ClobberMemory();
@@ -111,22 +129,24 @@ void jacobianBenchmark(benchmark::State& state, RobotId id, const char* what, Ge
   }
 }
 
+template <bool kBaseline>
 void jacobianGeometric(benchmark::State& state, RobotId id) {
-  jacobianBenchmark(state, id, "geometric Jacobian", [](const Data& d, Mat6X& J) { getGeometricJacobian(d, J); },
-                    [](const Mat6X& J, int, JacobianRowMajor& Jg) { Jg = J; });
+  jacobianBenchmark<kBaseline>(state, id, "geometric Jacobian", [](const Data& d, Mat6X& J) { getGeometricJacobian(d, J); },
+                               [](const Mat6X& J, int, JacobianRowMajor& Jg) { Jg = J; });
 }
 
+template <bool kBaseline>
 void jacobianSpatial(benchmark::State& state, RobotId id) {
   const RobotCase& r = robotCase(id);
   // spatial [w; v_s] -> geometric [v_s + w x p_tool; w] for the comparison
-  jacobianBenchmark(state, id, "spatial Jacobian", [](const Data& d, Mat6X& J) { getSpatialJacobian(d, J); },
-                    [&r](const Mat6X& J, int k, JacobianRowMajor& Jg) {
-                      const Vec3 p = Eigen::Map<const Vec3>(&r.pose[static_cast<size_t>(k) * 12 + 9]);
-                      for (int i = 0; i < r.dof; ++i) {
-                        const Vec3 w = J.col(i).head<3>();
-                        Jg.col(i) << J.col(i).tail<3>() + w.cross(p), w;
-                      }
-                    });
+  jacobianBenchmark<kBaseline>(state, id, "spatial Jacobian", [](const Data& d, Mat6X& J) { getSpatialJacobian(d, J); },
+                               [&r](const Mat6X& J, int k, JacobianRowMajor& Jg) {
+                                 const Vec3 p = Eigen::Map<const Vec3>(&r.pose[static_cast<size_t>(k) * 12 + 9]);
+                                 for (int i = 0; i < r.dof; ++i) {
+                                   const Vec3 w = J.col(i).head<3>();
+                                   Jg.col(i) << J.col(i).tail<3>() + w.cross(p), w;
+                                 }
+                               });
 }
 
 void jacobianBody(benchmark::State& state, RobotId id) {
@@ -185,7 +205,7 @@ struct TwoThreadJob {
   }
 };
 
-enum class BatchImpl { Scalar, Soa, SoaDh, SoaThreads2 };
+enum class BatchImpl { Scalar, Soa, SoaDh, SoaThreads2, SoaAvx2, SoaAvx2Baseline, SoaBaseline };
 
 void fkBatch(benchmark::State& state, RobotId id, BatchImpl impl) {
   const PoeModel& model = robotModels(id).poe;
@@ -201,6 +221,15 @@ void fkBatch(benchmark::State& state, RobotId id, BatchImpl impl) {
       case BatchImpl::Soa: forwardKinematicsBatch(model, b.q, b.out); break;
       case BatchImpl::SoaDh: forwardKinematicsBatch(dh, b.q, b.out); break;
       case BatchImpl::SoaThreads2: helper->run(&TwoThreadJob::run, &job); break;
+      case BatchImpl::SoaAvx2: baseline::currentBatch4(model.chain(), b.q, b.out); break;
+      case BatchImpl::SoaAvx2Baseline: baseline::forwardKinematicsBatch(model.chain(), b.q, b.out); break;
+      case BatchImpl::SoaBaseline:  // the public function's path then: 8 lanes where the processor has AVX-512
+        if (baseline::hasBatch8()) {
+          baseline::forwardKinematicsBatch8(model.chain(), b.q, b.out);
+        } else {
+          baseline::forwardKinematicsBatch(model.chain(), b.q, b.out);
+        }
+        break;
     }
   };
   once();
@@ -208,6 +237,28 @@ void fkBatch(benchmark::State& state, RobotId id, BatchImpl impl) {
   for (auto _ : state) {
     once();
     benchmark::DoNotOptimize(b.out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kPool);
+}
+
+// ---- batched Jacobians (geometric, with FK): 1024 configurations per call, reported per pose -----------
+
+void jacobianBatch(benchmark::State& state, RobotId id) {
+  const PoeModel& model = robotModels(id).poe;
+  Batch b(robotCase(id));
+  MatX J(kPool, 6 * b.r.dof);
+  computeJacobiansBatch(model, b.q, JacobianFrame::Geometric, J, b.out);
+  double err = b.mismatch();
+  JacobianRowMajor Jg(6, b.r.dof);
+  for (int k = 0; k < kPool; ++k) {
+    for (int c = 0; c < 6 * b.r.dof; ++c) Jg.data()[c] = J(k, c);  // row k: the 6 x n Jacobian, row-major
+    err = std::max(err, jacobianMismatch(b.r, k, Jg.data()));
+  }
+  if (rejected(state, err, "batched geometric Jacobian")) return;
+  for (auto _ : state) {
+    computeJacobiansBatch(model, b.q, JacobianFrame::Geometric, J, b.out);
+    benchmark::DoNotOptimize(J.data());
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(state.iterations() * kPool);
@@ -268,11 +319,14 @@ const bool registered = [] {
 
 void registerKinematicsBenchmarks(RobotId id, const std::string& name) {
   using benchmark::RegisterBenchmark;
-  RegisterBenchmark(("BM_Fk_Poe_" + name).c_str(), fkPoe, id);
+  RegisterBenchmark(("BM_Fk_Poe_" + name).c_str(), fkPoe<false>, id);
+  RegisterBenchmark(("BM_Fk_PoeBaseline_" + name).c_str(), fkPoe<true>, id);
   RegisterBenchmark(("BM_Fk_Dh_" + name).c_str(), fkDh, id);
-  RegisterBenchmark(("BM_Jacobian_Spatial_" + name).c_str(), jacobianSpatial, id);
+  RegisterBenchmark(("BM_Jacobian_Spatial_" + name).c_str(), jacobianSpatial<false>, id);
+  RegisterBenchmark(("BM_Jacobian_SpatialBaseline_" + name).c_str(), jacobianSpatial<true>, id);
   RegisterBenchmark(("BM_Jacobian_Body_" + name).c_str(), jacobianBody, id);
-  RegisterBenchmark(("BM_Jacobian_Geometric_" + name).c_str(), jacobianGeometric, id);
+  RegisterBenchmark(("BM_Jacobian_Geometric_" + name).c_str(), jacobianGeometric<false>, id);
+  RegisterBenchmark(("BM_Jacobian_GeometricBaseline_" + name).c_str(), jacobianGeometric<true>, id);
 }
 
 void registerBatchBenchmarks(RobotId id, const std::string& name) {
@@ -280,6 +334,12 @@ void registerBatchBenchmarks(RobotId id, const std::string& name) {
   RegisterBenchmark(("BM_FkBatch_Scalar_" + name).c_str(), fkBatch, id, BatchImpl::Scalar);
   RegisterBenchmark(("BM_FkBatch_Soa_" + name).c_str(), fkBatch, id, BatchImpl::Soa);
   RegisterBenchmark(("BM_FkBatch_SoaDh_" + name).c_str(), fkBatch, id, BatchImpl::SoaDh);
+  // the 4-lane (AVX2) path whatever the processor, and the same path before issue 29
+  RegisterBenchmark(("BM_FkBatch_SoaAvx2_" + name).c_str(), fkBatch, id, BatchImpl::SoaAvx2);
+  RegisterBenchmark(("BM_FkBatch_SoaAvx2Baseline_" + name).c_str(), fkBatch, id, BatchImpl::SoaAvx2Baseline);
+  // the public function's path before issue 29 (8 lanes on AVX-512 processors, as BM_FkBatch_Soa takes)
+  RegisterBenchmark(("BM_FkBatch_SoaBaseline_" + name).c_str(), fkBatch, id, BatchImpl::SoaBaseline);
+  RegisterBenchmark(("BM_JacobianBatch_Geometric_" + name).c_str(), jacobianBatch, id);
   RegisterBenchmark(("BM_FkBatch_SoaThreads2_" + name).c_str(), fkBatch, id, BatchImpl::SoaThreads2)->UseRealTime();
 }
 

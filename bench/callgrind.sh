@@ -11,10 +11,11 @@ exe="$BUILD/bench/lowpair_callgrind_calls"
 command -v valgrind >/dev/null || { echo "error: valgrind not installed (apt-get install valgrind)" >&2; exit 2; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-printf '%-20s %14s\n' operation instructions/call
-for op in fk_poe fk_dh jacobian_spatial jacobian_geometric batch_poe fk_kdl jacobian_kdl fk_mujoco jacobian_mujoco; do
+printf '%-28s %14s\n' operation instructions/call
+for op in fk_poe fk_poe_previous fk_dh jacobian_spatial jacobian_spatial_previous jacobian_geometric batch_poe \
+  batch_poe_previous batch_jacobian fk_kdl jacobian_kdl fk_mujoco jacobian_mujoco; do
   valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$tmp/$op.out" "$exe" "$op" "$CALLS" \
     >/dev/null 2>"$tmp/$op.log" || { cat "$tmp/$op.log" >&2; exit 1; }
   ir=$(sed -n 's/^totals: *\([0-9]*\).*/\1/p' "$tmp/$op.out")
-  awk -v op="$op" -v ir="$ir" -v calls="$CALLS" 'BEGIN { printf "%-20s %14.1f\n", op, ir / calls }'
+  awk -v op="$op" -v ir="$ir" -v calls="$CALLS" 'BEGIN { printf "%-28s %14.1f\n", op, ir / calls }'
 done

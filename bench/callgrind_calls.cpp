@@ -3,7 +3,8 @@
 //   valgrind --tool=callgrind --instr-atstart=no lowpair_callgrind_calls OP CALLS
 // reports the loop's instructions (Ir); divided by CALLS it is the cost of one call. Times vary with the
 // machine's load; these counts do not. OP: fk_poe fk_dh jacobian_spatial jacobian_geometric batch_poe
-// fk_mujoco jacobian_mujoco fk_kdl jacobian_kdl.
+// batch_jacobian fk_mujoco jacobian_mujoco fk_kdl jacobian_kdl, and fk_poe_previous jacobian_spatial_previous
+// batch_poe_previous (the kernel before issue 29, chain_baseline.cpp).
 #include <valgrind/callgrind.h>
 
 #include <mujoco/mujoco.h>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "kdl_peer.hpp"
+#include "chain_baseline.hpp"
 #include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
 #include "robots_lowpair.hpp"
@@ -100,6 +102,31 @@ int main(int argc, char** argv) {
     for (int k = 0; k < kPool; ++k) q.row(k) = qOf(r, k).transpose();
     start();
     for (int done = 0; done < calls; done += kPool) forwardKinematicsBatch(poe, q, poses);
+    stop();
+    sink = poses(0, 0);
+  } else if (op == "batch_jacobian") {  // geometric, with the poses; calls = configurations, in blocks of kPool
+    MatX q(kPool, r.dof), poses(kPool, 12), jacobians(kPool, 6 * r.dof);
+    for (int k = 0; k < kPool; ++k) q.row(k) = qOf(r, k).transpose();
+    start();
+    for (int done = 0; done < calls; done += kPool) computeJacobiansBatch(poe, q, JacobianFrame::Geometric, jacobians, poses);
+    stop();
+    sink = jacobians(0, 0);
+  } else if (op == "fk_poe_previous") {  // the kernel before issue 29 (chain_baseline.cpp)
+    start();
+    for (int c = 0; c < calls; ++c) baseline::forwardKinematics(poe.chain(), data, qOf(r, c).data());
+    stop();
+  } else if (op == "jacobian_spatial_previous") {
+    start();
+    for (int c = 0; c < calls; ++c) {
+      baseline::computeJacobians(poe.chain(), data, qOf(r, c).data());
+      getSpatialJacobian(data, J);
+    }
+    stop();
+  } else if (op == "batch_poe_previous") {
+    MatX q(kPool, r.dof), poses(kPool, 12);
+    for (int k = 0; k < kPool; ++k) q.row(k) = qOf(r, k).transpose();
+    start();
+    for (int done = 0; done < calls; done += kPool) baseline::forwardKinematicsBatch(poe.chain(), q, poses);
     stop();
     sink = poses(0, 0);
   } else if (op == "fk_mujoco" || op == "jacobian_mujoco") {

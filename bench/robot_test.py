@@ -24,6 +24,8 @@ EXPECTED = {f"BM_{family}_{NAME}" for family in (
     "Fk_Poe", "Fk_Dh", "Jacobian_Spatial", "Jacobian_Body", "Jacobian_Geometric",
     "FkBatch_Scalar", "FkBatch_Soa", "FkBatch_SoaDh", "FkBatch_SoaThreads2", "Ik_Pose", "Ik_Position",
     "Ik_KdlNrJl", "Ik_KdlLma",  # (no Ik_ClosedFormAll: the RRPR arm has no closed form)
+    "Fk_PoeBaseline", "Jacobian_SpatialBaseline", "Jacobian_GeometricBaseline", "FkBatch_SoaAvx2",
+    "FkBatch_SoaAvx2Baseline", "FkBatch_SoaBaseline", "JacobianBatch_Geometric",
     "Fk_Mujoco", "Jacobian_Mujoco", "Fk_Kdl", "Jacobian_Kdl")}
 
 
@@ -65,7 +67,8 @@ def test_run(build, robot, tmp):
     if errors:
         fail(f"benchmarks with errors: {errors}")
     for row in (f"BM_Fk_Poe_{NAME}", f"BM_Jacobian_Geometric_{NAME}", f"BM_FkBatch_Soa_{NAME}"):
-        if not re.search(rf"^{row} +\S+ +\S+ +\S+x +\S+x$", result.stdout, re.M):
+        # real, cpu, x MuJoCo, x KDL, x previous (a ratio, or '-' where no previous kernel is timed)
+        if not re.search(rf"^{row} +\S+ +\S+ +\S+x +\S+x +(\S+x|-)$", result.stdout, re.M):
             fail(f"report.py printed no ratios to MuJoCo and KDL for {row}", result)
     if "note:" in result.stderr:
         fail("a note with the MJCF beside the robot file", result)

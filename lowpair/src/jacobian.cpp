@@ -31,23 +31,6 @@ inline void checkSameColumns(const char* function, Eigen::Index in, Eigen::Index
   if (LP_UNLIKELY(in != out)) throwConversionColumns(function, in, out);
 }
 
-void fillSpatial(Data& data, const KinematicChain& chain) {
-  for (int i = 0; i < data.dof; ++i) {
-    const ChainLink& link = chain.links[static_cast<size_t>(i)];
-    const Pose& F = data.T_base_joint[static_cast<size_t>(i)];
-    const double j = link.motion.scale * link.turn, k = link.motion.scale * link.slide;
-    const double z0 = F.R(0, 2), z1 = F.R(1, 2), z2 = F.R(2, 2);
-    const double o0 = F.p[0], o1 = F.p[1], o2 = F.p[2];
-    double* c = data.J_spatial.col(i).data();  // [j z; j o x z + k z]
-    c[0] = j * z0;
-    c[1] = j * z1;
-    c[2] = j * z2;
-    c[3] = j * (o1 * z2 - o2 * z1) + k * z0;
-    c[4] = j * (o2 * z0 - o0 * z2) + k * z1;
-    c[5] = j * (o0 * z1 - o1 * z0) + k * z2;
-  }
-}
-
 }  // namespace
 
 void spatialToBody(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& J_spatial, Eigen::Ref<Mat6X> J_body) {
@@ -99,14 +82,22 @@ void geometricToSpatial(const Pose& T_base_tool, const Eigen::Ref<const Mat6X>& 
 
 void computeJacobians(const PoeModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
   detail::checkChainCall("computeJacobians", model.chain(), data, q.size());
-  detail::chainFrames(model.chain(), data, q.data());
-  fillSpatial(data, model.chain());
+  detail::chainJacobian(model.chain(), data, q.data());
 }
 
 void computeJacobians(const DhModel& model, Data& data, const Eigen::Ref<const VecX>& q) {
   detail::checkChainCall("computeJacobians", model.chain(), data, q.size());
-  detail::chainFrames(model.chain(), data, q.data());
-  fillSpatial(data, model.chain());
+  detail::chainJacobian(model.chain(), data, q.data());
+}
+
+void computeJacobiansBatch(const PoeModel& model, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                           Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses) {
+  detail::jacobianBatch(model.chain(), q, frame, jacobians, poses);
+}
+
+void computeJacobiansBatch(const DhModel& model, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                           Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses) {
+  detail::jacobianBatch(model.chain(), q, frame, jacobians, poses);
 }
 
 void getSpatialJacobian(const Data& data, Eigen::Ref<Mat6X> J_spatial) {

@@ -14,7 +14,9 @@
 #include <unistd.h>
 #endif
 
+#include "lowpair/jacobian.hpp"
 #include "lowpair/kinematics.hpp"
+#include "lowpair/singularity.hpp"
 #include "lowpair/tolerances.hpp"
 #include "common.hpp"
 
@@ -25,6 +27,13 @@ namespace {
 // Batched FK, chunk by chunk: 256 configurations (a multiple of every SIMD block, 4 or 8, so the blocks are
 // those of one whole call) keep the chunk's joint values and poses (36 KB for six joints) in the L1 cache.
 constexpr Eigen::Index kFkChunk = 256;
+// The Jacobians' chunk: 64 configurations (a multiple of 8) keep a chunk's 6 n Jacobian columns (18 KB for six
+// joints) in the L1 cache while they are written and copied out (measured: 128 was slower).
+constexpr Eigen::Index kJacobianChunk = 64;
+// The chunk's Jacobian columns lie this many rows apart beyond the chunk: at a power-of-two stride (64 rows, 512
+// bytes) the 6 n columns fall on an eighth of the L1 cache's sets and evict each other (measured: the copy out
+// then cost as much as the Jacobians); 4 more rows (544 bytes) spread them over all sets.
+constexpr Eigen::Index kJacobianColumnPad = 4;
 // Results of at least this many bytes are written with non-temporal stores when their pages are resident: they
 // bypass the caches the result would not fit in anyway, and skip reading each line before writing it (12.8 MB for
 // N = 100,000). Smaller results stay in the cache for the caller's next read. Into pages not yet faulted in
@@ -42,6 +51,16 @@ bool resident(const void* p, size_t bytes) {
 #else
   (void)p, (void)bytes;
   return true;
+#endif
+}
+
+// Whether a result of `bytes` at `out` is written with non-temporal stores (kStreamBytes).
+bool streamable(const double* out, size_t bytes) {
+#if defined(__SSE2__)
+  return bytes >= kStreamBytes && reinterpret_cast<uintptr_t>(out) % 16 == 0 && resident(out, bytes);
+#else
+  (void)out, (void)bytes;
+  return false;
 #endif
 }
 
@@ -115,7 +134,72 @@ void repackChunk(const MatX& poses, Eigen::Index len, double* out, bool stream) 
   }
 }
 
+// The library's (len x 6 dof) Jacobians, one row per configuration in numpy's (6, dof) order, column-major, as len
+// row-major rows at `out`: two configurations and two columns at a time (6 dof is even), each 2 x 2 block
+// transposed in registers (SSE2) as repackChunk does, the two rows written in order.
+void repackJacobians(const MatX& J, Eigen::Index len, double* out) {
+  const Eigen::Index ld = J.outerStride(), width = J.cols();
+  const double* c = J.data();
+  Eigen::Index k = 0;
+#if defined(__SSE2__)
+  for (; k + 2 <= len; k += 2, out += 2 * width) {
+    for (Eigen::Index m = 0; m < width; m += 2) {
+      const __m128d x = _mm_loadu_pd(c + m * ld + k), y = _mm_loadu_pd(c + (m + 1) * ld + k);
+      _mm_storeu_pd(out + m, _mm_unpacklo_pd(x, y));
+      _mm_storeu_pd(out + width + m, _mm_unpackhi_pd(x, y));
+    }
+  }
+#endif
+  for (; k < len; ++k, out += width) {
+    for (Eigen::Index m = 0; m < width; ++m) out[m] = c[m * ld + k];
+  }
+}
+
+// Each chunk of `count` rows of q (row-major, dof values each) transposed into Q (limits checked on the way, as fk
+// checks them), then `evaluate(Q.topRows(len), start, len)`.
+template <class Evaluate>
+void forEachChunk(const Robot& r, const double* q, Eigen::Index count, Eigen::Index chunk, Evaluate evaluate) {
+  const Eigen::Index dof = r.dof();
+  MatX Q(std::min(count, chunk), dof);
+  const std::vector<double> bound = jointMagnitudeBounds(r.poe);
+  for (Eigen::Index start = 0; start < count; start += chunk) {
+    const Eigen::Index len = std::min(chunk, count - start);
+    if (!transposeChunk(q + start * dof, len, dof, bound.data(), Q)) {
+      requireWithinLimits(r.poe, q + start * dof, len, r.subject(), "q", true, start);  // throws, naming the value
+    }
+    evaluate(Q.topRows(len), start, len);
+  }
+}
+
 }  // namespace
+
+void jacobianBatchInto(const Robot& r, JacobianFrame frame, const double* q, Eigen::Index count, double* out) {
+  const Eigen::Index dof = r.dof(), rows = std::min(count, kJacobianChunk);
+  MatX J(rows + kJacobianColumnPad, 6 * dof), poses(rows, 12);
+  forEachChunk(r, q, count, kJacobianChunk, [&](const Eigen::Ref<const MatX>& Q, Eigen::Index start, Eigen::Index len) {
+    computeJacobiansBatch(r.poe, Q, frame, J.topRows(len), poses.topRows(len));
+    repackJacobians(J, len, out + start * 6 * dof);
+  });
+}
+
+void singularBatchInto(const Robot& r, const double* q, Eigen::Index count, long long* rank, double* tolerance,
+                       double* sigma) {
+  const Eigen::Index dof = r.dof(), rows = std::min(count, kJacobianChunk), m = std::min<Eigen::Index>(6, dof);
+  MatX J(rows + kJacobianColumnPad, 6 * dof), poses(rows, 12);
+  Mat6X Jk(6, dof);
+  forEachChunk(r, q, count, kJacobianChunk, [&](const Eigen::Ref<const MatX>& Q, Eigen::Index start, Eigen::Index len) {
+    computeJacobiansBatch(r.poe, Q, JacobianFrame::Geometric, J.topRows(len), poses.topRows(len));
+    for (Eigen::Index k = 0; k < len; ++k) {
+      for (Eigen::Index i = 0; i < dof; ++i) {
+        for (int row = 0; row < 6; ++row) Jk(row, i) = J(k, row * dof + i);
+      }
+      const JacobianRank rule = jacobianRank(r.poe, Jk);
+      rank[start + k] = rule.rank;
+      tolerance[start + k] = rule.tolerance;
+      for (Eigen::Index j = 0; j < m; ++j) sigma[(start + k) * m + j] = rule.singular_values(j);
+    }
+  });
+}
 
 std::vector<double> jointMagnitudeBounds(const PoeModel& model) {
   std::vector<double> bound(static_cast<size_t>(model.dof()));
@@ -147,28 +231,16 @@ bool withinBounds(const double* q, Eigen::Index count, Eigen::Index dof, const s
 }
 
 void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, double* out) {
-  const Eigen::Index dof = r.dof(), rows = std::min(count, kFkChunk);
-  MatX Q(rows, dof), poses(rows, 12);
-  bool stream = false;
-#if defined(__SSE2__)
-  const size_t bytes = static_cast<size_t>(count) * 16 * sizeof(double);
-  stream = bytes >= kStreamBytes && reinterpret_cast<uintptr_t>(out) % 16 == 0 && resident(out, bytes);
-#endif
-  // |q_i| within bound[i] keeps joint i within its limits; a value beyond is checked exactly
-  const std::vector<double> bound = jointMagnitudeBounds(r.poe);
-  for (Eigen::Index start = 0; start < count; start += kFkChunk) {
-    const Eigen::Index len = std::min(kFkChunk, count - start);
-    if (!transposeChunk(q + start * dof, len, dof, bound.data(), Q)) {
-      // throws, naming the first value beyond its limit (rows before this chunk were within)
-      requireWithinLimits(r.poe, q + start * dof, len, r.subject(), "q", true, start);
-    }
+  MatX poses(std::min(count, kFkChunk), 12);
+  const bool stream = streamable(out, static_cast<size_t>(count) * 16 * sizeof(double));
+  forEachChunk(r, q, count, kFkChunk, [&](const Eigen::Ref<const MatX>& Q, Eigen::Index start, Eigen::Index len) {
     if (poe) {
-      forwardKinematicsBatch(r.poe, Q.topRows(len), poses.topRows(len));
+      forwardKinematicsBatch(r.poe, Q, poses.topRows(len));
     } else {
-      forwardKinematicsBatch(r.dhModel(), Q.topRows(len), poses.topRows(len));
+      forwardKinematicsBatch(r.dhModel(), Q, poses.topRows(len));
     }
     repackChunk(poses, len, out + 16 * start, stream);
-  }
+  });
 #if defined(__SSE2__)
   if (stream) _mm_sfence();  // the non-temporal stores are visible before the GIL is taken back
 #endif

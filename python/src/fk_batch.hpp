@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "lowpair/jacobian.hpp"
 #include "robot.hpp"
 
 namespace lowpair::python {
@@ -29,5 +30,15 @@ std::vector<double> jointMagnitudeBounds(const PoeModel& model);
 bool withinBounds(const double* q, Eigen::Index count, Eigen::Index dof, const std::vector<double>& bound);
 
 void fkBatchInto(const Robot& r, bool poe, const double* q, Eigen::Index count, double* out);
+
+// Batched Jacobians of the POE model (Robot.jacobian(Q)): `count` configurations (row-major count x dof `q`) into
+// `out` (count x 6 x dof, row-major), chunk by chunk as fkBatchInto (computeJacobiansBatch). Called without the GIL.
+void jacobianBatchInto(const Robot& r, JacobianFrame frame, const double* q, Eigen::Index count, double* out);
+
+// The rank rule of Robot.singular(q) (jacobianRank) at each of `count` configurations: per row the rank, the
+// tolerance and the min(6, dof) singular values (into `rank`, `tolerance` and the row-major count x min(6, dof)
+// `sigma`). Called without the GIL.
+void singularBatchInto(const Robot& r, const double* q, Eigen::Index count, long long* rank, double* tolerance,
+                       double* sigma);
 
 }  // namespace lowpair::python

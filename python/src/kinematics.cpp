@@ -2,6 +2,8 @@
 // (lowpair.Robot.fk, jacobian, dh, singular; the classes DhTable and Singularity).
 #include "kinematics.hpp"
 
+#include <algorithm>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -30,6 +32,26 @@ void writePose(const Pose& T, double* dst) {
     dst[4 * a + 0] = T.R(a, 0), dst[4 * a + 1] = T.R(a, 1), dst[4 * a + 2] = T.R(a, 2), dst[4 * a + 3] = T.p(a);
   }
   dst[12] = 0.0, dst[13] = 0.0, dst[14] = 0.0, dst[15] = 1.0;
+}
+
+// The joint values of a batch (count x dof at q) about to be evaluated into `out` (values_per_row per row; null: a
+// fresh array). Into the caller's buffer every value is checked before the first result is written, so a refusal
+// leaves `out` as it was (the kernel checks chunk by chunk, after earlier chunks were written); and results written
+// over joint values not read yet would be read back as joint values, so q is copied into `copy` first when `out`
+// shares its memory, as numpy copies an input that overlaps a ufunc's out=. Returns the values to evaluate.
+const double* batchInput(const Robot& r, const double* q, py::ssize_t count, const double* out, py::ssize_t values_per_row,
+                         std::vector<double>& copy) {
+  if (!out) return q;
+  const int dof = r.dof();
+  const size_t values = static_cast<size_t>(count) * static_cast<size_t>(dof);
+  if (!withinBounds(q, count, dof, jointMagnitudeBounds(r.poe))) {
+    requireWithinLimits(r.poe, q, count, r.subject(), "q", true);  // throws, naming the value
+  }
+  if (sharesBytes(q, values * sizeof(double), out, static_cast<size_t>(count * values_per_row) * sizeof(double))) {
+    copy.assign(q, q + values);
+    return copy.data();
+  }
+  return q;
 }
 
 }  // namespace
@@ -85,43 +107,83 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
   }
   {
     py::gil_scoped_release release;
-    const double* x = q.data();
-    std::vector<double> copy;  // q when `out` shares its memory
-    if (out_arg) {
-      // into the caller's buffer: every value checked before the first result is written, so a refusal leaves
-      // `out` as it was (the kernel checks chunk by chunk, after earlier chunks were written)
-      const size_t values = static_cast<size_t>(count) * static_cast<size_t>(dof);
-      if (!withinBounds(x, count, dof, jointMagnitudeBounds(r.poe))) {
-        requireWithinLimits(r.poe, x, count, r.subject(), "q", true);  // throws, naming the value
-      }
-      // results written over joint values not read yet would be read back as joint values: q is copied first,
-      // as numpy copies an input that overlaps a ufunc's out=
-      if (sharesBytes(x, values * sizeof(double), dst, static_cast<size_t>(count) * 16 * sizeof(double))) {
-        copy.assign(x, x + values);
-        x = copy.data();
-      }
-    }
+    std::vector<double> copy;
+    const double* x = batchInput(r, q.data(), count, out_arg ? dst : nullptr, 16, copy);
     fkBatchInto(r, kind == "poe", x, count, dst);
   }
   if (out_arg) return *out_arg;
   return std::move(result);
 }
 
-py::array_t<double> jacobian(const Robot& r, const InArray& q, const std::string& frame) {
-  if (frame != "spatial" && frame != "body" && frame != "geometric") {
-    throw UsageError("frame", "expected 'spatial', 'body' or 'geometric', got " + io::quotedFileText(frame));
+namespace {
+
+JacobianFrame jacobianFrame(const std::string& frame) {
+  if (frame == "spatial") return JacobianFrame::Spatial;
+  if (frame == "body") return JacobianFrame::Body;
+  if (frame == "geometric") return JacobianFrame::Geometric;
+  throw UsageError("frame", "expected 'spatial', 'body' or 'geometric', got " + io::quotedFileText(frame));
+}
+
+// q of a function with a single (n,) and a batched (N, n) form: whether it is the batch (2-D; the C-contiguous
+// float64 copy of a batch, when it is not one, is left in `batch`). Other shapes are refused as fk refuses them.
+bool isBatch(const Robot& r, const InArray& q, CArray& batch) {
+  requireAccepted(q, r.subject(), "q");
+  const int dof = r.dof();
+  if (q.ndim() == 1) return false;
+  if (q.ndim() != 2) {
+    throw UsageError(r.subject(), "q: expected shape (" + std::to_string(dof) + ",) or (N, " + std::to_string(dof) +
+                                      "), got shape " + shapeText(q));
   }
-  const VecX x = jointVector(q, r.dof(), r.subject(), "q", &r.poe);
-  Mat6X J(6, r.dof());
+  if (q.shape(1) != dof) {
+    throw UsageError(r.subject(), "q: expected shape (N, " + std::to_string(dof) + "), got shape " + shapeText(q));
+  }
+  batch = cArray(q, "q", r.subject());
+  return true;
+}
+
+}  // namespace
+
+py::object jacobian(const Robot& r, const InArray& q, const std::string& frame_name,
+                    const std::optional<py::array>& out_arg) {
+  const JacobianFrame frame = jacobianFrame(frame_name);
+  const int dof = r.dof();
+  CArray Q;
+  if (isBatch(r, q, Q)) {
+    const py::ssize_t count = Q.shape(0);
+    double* dst = outBuffer<3>(out_arg, {count, 6, dof});
+    py::array_t<double> result;
+    if (!dst) {
+      result = newArray<3>({count, 6, dof});
+      dst = result.mutable_data();
+    }
+    {
+      py::gil_scoped_release release;
+      std::vector<double> copy;
+      const double* x = batchInput(r, Q.data(), count, out_arg ? dst : nullptr, 6 * dof, copy);
+      jacobianBatchInto(r, frame, x, count, dst);
+    }
+    if (out_arg) return *out_arg;
+    return std::move(result);
+  }
+  const VecX x = jointVector(q, dof, r.subject(), "q", &r.poe);
+  double* dst = outBuffer<2>(out_arg, {6, dof});
+  py::array_t<double> result;
+  if (!dst) {
+    result = newArray<2>({6, dof});
+    dst = result.mutable_data();
+  }
   {
     py::gil_scoped_release release;
-    Data& data = threadData(r.poe.chain(), r.dof());
+    Data& data = threadData(r.poe.chain(), dof);
     computeJacobians(r.poe, data, x);
-    if (frame == "spatial") getSpatialJacobian(data, J);
-    if (frame == "body") getBodyJacobian(data, J);
-    if (frame == "geometric") getGeometricJacobian(data, J);
+    Mat6X J(6, dof);
+    if (frame == JacobianFrame::Spatial) getSpatialJacobian(data, J);
+    if (frame == JacobianFrame::Body) getBodyJacobian(data, J);
+    if (frame == JacobianFrame::Geometric) getGeometricJacobian(data, J);
+    Eigen::Map<Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>>(dst, 6, dof) = J;
   }
-  return matrixArray(J);
+  if (out_arg) return *out_arg;
+  return std::move(result);
 }
 
 DhTable dhTable(const Robot& r, double parallel_threshold, bool modified) {
@@ -134,14 +196,43 @@ DhTable dhTable(const Robot& r, double parallel_threshold, bool modified) {
   return DhTable{std::move(c), check, std::move(j)};
 }
 
-Singularity singular(const Robot& r, const InArray& q) {
+py::object singular(const Robot& r, const InArray& q) {
+  CArray Q;
+  if (isBatch(r, q, Q)) return py::cast(singularBatch(r, Q));
   const VecX x = jointVector(q, r.dof(), r.subject(), "q", &r.poe);
   SingularityOptions options;
   options.max_null_vectors = io::kPrintedNullVectors;
   options.validate();
   SingularityReport report = analyzeSingularity(r.poe, x, options);
   json j = io::singularityJson(r.file, x, report);
-  return Singularity{std::move(report), std::move(j)};
+  return py::cast(Singularity{std::move(report), std::move(j)});
+}
+
+SingularityBatch singularBatch(const Robot& r, const CArray& Q) {
+  const py::ssize_t count = Q.shape(0), m = std::min(6, r.dof());
+  SingularityBatch b{py::array_t<long long>(count), py::array_t<bool>(count), newArray<1>({count}),
+                     newArray<1>({count}),          newArray<1>({count}),     newArray<1>({count}),
+                     newArray<2>({count, m})};
+  long long* rank = b.rank.mutable_data();
+  bool* is_singular = b.singular.mutable_data();
+  double *sigma_min = b.sigma_min.mutable_data(), *manipulability = b.manipulability.mutable_data();
+  double *condition = b.condition.mutable_data(), *tolerance = b.tolerance.mutable_data();
+  double* sigma = b.singular_values.mutable_data();
+  {
+    py::gil_scoped_release release;
+    singularBatchInto(r, Q.data(), count, rank, tolerance, sigma);
+    // what analyzeSingularity derives from the singular values, in its order of operations (prod over a VecX)
+    VecX sv(m);
+    for (py::ssize_t k = 0; k < count; ++k) {
+      for (py::ssize_t j = 0; j < m; ++j) sv(j) = sigma[k * m + j];
+      const double sigma_max = m > 0 ? sv(0) : 0.0;
+      is_singular[k] = rank[k] < m;
+      sigma_min[k] = m > 0 ? sv(m - 1) : 0.0;
+      manipulability[k] = sv.prod();
+      condition[k] = sigma_min[k] > 0.0 ? sigma_max / sigma_min[k] : std::numeric_limits<double>::infinity();
+    }
+  }
+  return b;
 }
 
 namespace {
@@ -227,11 +318,32 @@ void exposeSingularity(py::module_& m) {
       });
 }
 
+void exposeSingularityBatch(py::module_& m) {
+  py::class_<SingularityBatch>(m, "SingularityBatch",
+                               "Robot.singular(Q), Q of shape (N, n): per row, the rank rule of Robot.singular(q) (arrays).")
+      .def_readonly("rank", &SingularityBatch::rank, "(N,) int64: the numerical rank of each row.")
+      .def_readonly("singular", &SingularityBatch::singular, "(N,) bool: rank < min(6, dof).")
+      .def_readonly("sigma_min", &SingularityBatch::sigma_min, "(N,): smallest singular value of the dimensionless Jacobian.")
+      .def_readonly("manipulability", &SingularityBatch::manipulability, "(N,): the product of the singular values.")
+      .def_readonly("condition", &SingularityBatch::condition, "(N,): sigma_max / sigma_min (inf when singular to zero).")
+      .def_readonly("tolerance", &SingularityBatch::tolerance, "(N,): the rank threshold of each row.")
+      .def_readonly("singular_values", &SingularityBatch::singular_values,
+                    "(N, min(6, n)): descending singular values of the dimensionless Jacobian, a row per configuration.")
+      .def("__len__", [](const SingularityBatch& b) { return b.rank.shape(0); })
+      .def("__repr__", [](const SingularityBatch& b) {
+        const bool* s = b.singular.data();
+        const auto singular = std::count(s, s + b.singular.shape(0), true);
+        return "<lowpair.SingularityBatch " + std::to_string(b.rank.shape(0)) + " rows, " + std::to_string(singular) +
+               " singular>";
+      });
+}
+
 }  // namespace
 
 void exposeKinematics(py::module_& m) {
   exposeDhTable(m);
   exposeSingularity(m);
+  exposeSingularityBatch(m);
 }
 
 }  // namespace lowpair::python

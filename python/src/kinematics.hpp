@@ -16,8 +16,10 @@ namespace lowpair::python {
 py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::string>& model,
               const std::optional<py::array>& out_arg);
 
-// Robot.jacobian: the spatial, body or geometric Jacobian at q (n,), (6, n).
-py::array_t<double> jacobian(const Robot& r, const InArray& q, const std::string& frame);
+// Robot.jacobian: the spatial, body or geometric Jacobian at q (n,), (6, n); or at each row of (N, n), (N, 6, n)
+// batched (fk_batch.hpp).
+// out: an optional preallocated array of the result's shape, as fk's.
+py::object jacobian(const Robot& r, const InArray& q, const std::string& frame, const std::optional<py::array>& out);
 
 // ----- the D-H table -----------------------------------------------------------------------------------
 
@@ -36,6 +38,16 @@ struct Singularity {
   json j;
 };
 
-Singularity singular(const Robot& r, const InArray& q);
+// The rank rule of Singularity at each row of an (N, n) q (Robot.singular(Q)): arrays with a row per configuration.
+struct SingularityBatch {
+  py::array_t<long long> rank;
+  py::array_t<bool> singular;
+  py::array_t<double> sigma_min, manipulability, condition, tolerance;
+  py::array_t<double> singular_values;  // (N, min(6, n))
+};
+
+// Robot.singular: the Singularity at q (n,), or the SingularityBatch of (N, n).
+py::object singular(const Robot& r, const InArray& q);
+SingularityBatch singularBatch(const Robot& r, const CArray& Q);
 
 }  // namespace lowpair::python

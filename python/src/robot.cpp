@@ -172,12 +172,15 @@ void exposeRobotMethods(py::class_<Robot, RobotPtr>& robot) {
            "docs/python.md). out: an optional preallocated C-contiguous float64 array of the result's shape,\n"
            "filled and returned. Cost: see docs/python.md, \"Speed\".\n"
            "Raises lowpair.Error for a wrong shape or a non-finite value.")
-      .def("jacobian", &jacobian, py::arg("q"), py::arg("frame") = "spatial",
-           "jacobian(q, frame='spatial') -> numpy.ndarray (6, n)\n\n"
-           "The manipulator Jacobian at q (n,), as `lowpair jacobian --frame`:\n"
+      .def("jacobian", &jacobian, py::arg("q"), py::arg("frame") = "spatial", py::arg("out") = py::none(),
+           "jacobian(q, frame='spatial', out=None) -> numpy.ndarray (6, n) or (N, 6, n)\n\n"
+           "The manipulator Jacobian at q (n,), as `lowpair jacobian --frame`; at each row of q (N, n), batched\n"
+           "(computeJacobiansBatch, SIMD, GIL released: equal to the single form to rounding, docs/python.md):\n"
            "'spatial': rows [w; v], twist coordinates in the base frame; 'body': rows [w; v] in the tool frame;\n"
            "'geometric': rows [v; w], v the tool origin's velocity, base coordinates (Paden-Sastry eq. 3.13).\n"
-           "Columns are d/dq_i (they carry the joint scale); w in rad per unit q, v in length_unit per unit q.")
+           "Columns are d/dq_i (they carry the joint scale); w in rad per unit q, v in length_unit per unit q.\n"
+           "out: an optional preallocated C-contiguous float64 array of the result's shape, filled and returned (as\n"
+           "fk's out=).")
       .def("dh", [](const Robot& r, double t, bool modified) { return dhTable(r, t, modified); },
            py::arg("parallel_threshold") = 0.0, py::arg("modified") = false,
            "dh(parallel_threshold=0.0, modified=False) -> DhTable\n\n"
@@ -185,9 +188,12 @@ void exposeRobotMethods(py::class_<Robot, RobotPtr>& robot) {
            "as `lowpair poe2dh [--modified] --json` (DhTable.to_dict() is that JSON's content). Angles rad, lengths\n"
            "length_unit. parallel_threshold: sin(angle) below which axes count as parallel (0: rounding level).")
       .def("singular", &singular, py::arg("q"),
-           "singular(q) -> Singularity\n\n"
+           "singular(q) -> Singularity or SingularityBatch\n\n"
            "Singularity analysis at q (n,), as `lowpair singular --json`: rank, sigma_min, manipulability, condition\n"
-           "of the dimensionless geometric Jacobian, the classes C1..C7, the wrist/arm split, null vectors.")
+           "of the dimensionless geometric Jacobian, the classes C1..C7, the wrist/arm split, null vectors.\n"
+           "q (N, n): a SingularityBatch, the same rank rule at every row (rank, singular, sigma_min, manipulability,\n"
+           "condition, tolerance, singular_values as arrays with a row per configuration), from batched Jacobians\n"
+           "with the GIL released; for the classes, null vectors and wrist/arm split call singular(q) on a row.")
       .def("save", [](const Robot& r, const py::object& path) { exportTo(r, pathArgument(path), r.ownDh() ? "dh" : "poe"); },
            py::arg("path"),
            "save(path) -> None\n\n"

@@ -80,6 +80,11 @@ def cal_result(cal):
     return d
 
 
+def singular_rows(s):
+    return {key: getattr(s, key) for key in ("rank", "singular", "sigma_min", "manipulability", "condition",
+                                             "tolerance", "singular_values")}
+
+
 def sim_result(m):
     return {"q": m.q, "positions": m.positions, "rotations": m.rotations}
 
@@ -119,9 +124,13 @@ SLOTS = [
     Slot("fk.Q(dh)", "q", lambda a: puma.fk(a, model="dh"), QN, Q01_N, r"\[0, 1\]: '-?(nan|inf)' is not finite",
          [WRONG_COUNT, SHAPE_3D], empty_ok=True),
     Slot("jacobian.q", "q", lambda a: puma.jacobian(a, frame="geometric"), Q1, Q01_1,
-         r"\[1\]: '-?(nan|inf)' is not finite", [WRONG_COUNT, SHAPE_3D, ("row of a batch", lambda x: x[None], None)]),
+         r"\[1\]: '-?(nan|inf)' is not finite", [WRONG_COUNT, SHAPE_3D]),
+    Slot("jacobian.Q", "q", lambda a: puma.jacobian(a, frame="body"), QN, Q01_N,
+         r"\[0, 1\]: '-?(nan|inf)' is not finite", [WRONG_COUNT, SHAPE_3D], empty_ok=True),
     Slot("singular.q", "q", lambda a: puma.singular(a).to_dict(), Q1, Q01_1, r"\[1\]: '-?(nan|inf)' is not finite",
-         [WRONG_COUNT, SHAPE_3D, ("row of a batch", lambda x: x[None], None)]),
+         [WRONG_COUNT, SHAPE_3D]),
+    Slot("singular.Q", "q", lambda a: singular_rows(puma.singular(a)), QN, Q01_N,
+         r"\[0, 1\]: '-?(nan|inf)' is not finite", [WRONG_COUNT, SHAPE_3D], empty_ok=True),
     Slot("transformed.T", "T", lambda a: puma.transformed(a).fk(QN), T1, T01, r"\[0, 1\]: '-?(nan|inf)' is not finite",
          [("(4, 3)", _drop_col, None), SHAPE_3D, ("(16,)", lambda x: x.reshape(-1), None)],
          f32="round"),
@@ -296,8 +305,12 @@ def test_float32_is_converted(slot):
 def test_zero_rows_give_an_empty_result(slot):
     empty = np.zeros((0,) + slot.ref.shape[1:])
     got = slot.call(empty)
-    if isinstance(got, dict):  # IkSolutions: q keeps its n columns
+    if isinstance(got, dict) and "q" in got:  # IkSolutions: q keeps its n columns
         assert got["q"].shape == (0, puma.dof) and got["status"] == []
+    elif isinstance(got, dict):  # SingularityBatch: a row per configuration, singular values keep min(6, n)
+        assert got["rank"].shape == (0,) and got["singular_values"].shape == (0, 6)
+    elif slot.name.startswith("jacobian"):
+        assert got.shape == (0, 6, puma.dof)
     else:
         assert got.shape == (0, 4, 4)
 

@@ -115,6 +115,21 @@ TEST(Alloc, BatchForwardKinematicsAllocatesNothing) {
             0);
 }
 
+TEST(Alloc, BatchJacobiansAllocateNothing) {
+  const PoeModel model = testPoe();
+  const DhModel dh = testDh();
+  constexpr int kCount = 37;  // four full 8-lane blocks (nine 4-lane ones) and a partial one
+  const MatX q = MatX::Constant(kCount, model.dof(), 0.5);
+  MatX jacobians(kCount, 6 * model.dof()), poses(kCount, 12);
+  EXPECT_EQ(allocationsOf([&] {
+              for (const JacobianFrame frame : {JacobianFrame::Spatial, JacobianFrame::Body, JacobianFrame::Geometric}) {
+                computeJacobiansBatch(model, q, frame, jacobians, poses);
+                computeJacobiansBatch(dh, q, frame, jacobians, poses);
+              }
+            }),
+            0);
+}
+
 TEST(Alloc, JacobiansAllocateNothing) {
   const PoeModel model = testPoe();
   Data data(model);

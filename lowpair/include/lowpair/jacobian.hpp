@@ -14,8 +14,8 @@
 /// A helical joint of pitch `h_i` (length/rad) contributes `h_i z_i` to the linear part.
 ///
 /// Compute, then get (as Pinocchio's computeJointJacobians / getJointJacobian): computeJacobians runs
-/// forward kinematics once (forwardKinematicsWithFrames: the joint frames are what the columns are made
-/// of) and fills `data.J_spatial`; the three getters read `data` and never recompute.
+/// forward kinematics once, filling the joint frames as forwardKinematicsWithFrames does (they are what the
+/// columns are made of) and `data.J_spatial` in the same pass; the three getters read `data` and never recompute.
 /// Nothing allocates: outputs are preallocated `6 x dof` matrices.
 ///
 /// | function | fills / reads | cost (PUMA 560, bench/README.md) |
@@ -26,6 +26,7 @@
 /// | getSpatialJacobian | reads `J_spatial` | a copy |
 /// | getGeometricJacobian | reads `J_spatial`, `T_base_tool` | one cross product per column |
 /// | getBodyJacobian | reads `J_spatial`, `T_base_tool` | one adjoint per column |
+/// | computeJacobiansBatch | many configurations: poses and one Jacobian each | SIMD across configurations |
 
 #include "lowpair/kinematics.hpp"
 #include "lowpair/model.hpp"
@@ -50,6 +51,26 @@ void getBodyJacobian(const Data& data, Eigen::Ref<Mat6X> J_body);
 /// Geometric Jacobian (Paden-Sastry eq. 3.13), rows `[v; w]`: column i =
 /// `scale_i [j_i z_i x (o_tool - o_i) + k_i z_i; j_i z_i]` (`(j, k)` of JointMotion).
 void getGeometricJacobian(const Data& data, Eigen::Ref<Mat6X> J_geometric);
+
+/// The frame and coordinates of a Jacobian (file comment): spatial `[w; v]` base frame, body `[w; v]` tool frame,
+/// geometric `[v; w]` (the tool origin's velocity), base frame.
+enum class JacobianFrame { Spatial, Body, Geometric };
+
+/// Batched computeJacobians + get, structure of arrays as forwardKinematicsBatch (kinematics.hpp): SIMD across
+/// configurations (4 lanes with AVX2, 8 with AVX-512), the same results as the single form to rounding.
+/// Allocates nothing.
+/// @param q `count x dof`: column i holds joint i of every configuration.
+/// @param frame which Jacobian (getSpatialJacobian, getBodyJacobian, getGeometricJacobian).
+/// @param jacobians `count x 6 dof` output: row k is configuration k's `6 x dof` Jacobian, row-major (entry
+/// `(r, i)` in column `r dof + i`), the order of numpy's `(count, 6, dof)`.
+/// @param poses `count x 12` output: `T_base_tool` as forwardKinematicsBatch writes it.
+/// @throws std::invalid_argument, in every build type, when q does not have dof columns
+/// ("computeJacobiansBatch: q has 5 columns, the model has 6 joints"), poses is not `count x 12` or jacobians
+/// not `count x 6 dof`.
+void computeJacobiansBatch(const PoeModel& model, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                           Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses);
+void computeJacobiansBatch(const DhModel& model, const Eigen::Ref<const MatX>& q, JacobianFrame frame,
+                           Eigen::Ref<MatX> jacobians, Eigen::Ref<MatX> poses);
 
 /// `J_body = Ad(T_base_tool^-1) J_spatial`. Column by column, so `J_body` may alias `J_spatial`.
 /// The four conversions throw std::invalid_argument when input and output differ in column count.

@@ -16,6 +16,7 @@ from ._lowpair import (  # noqa: F401
     Plan,
     Robot,
     Singularity,
+    SingularityBatch,
     __version__,
     calibrate,
     compensate,
@@ -30,5 +31,5 @@ from ._lowpair import (  # noqa: F401
 )
 
 __all__ = ["Calibration", "DhTable", "Error", "Identifiability", "IkAllSolutions", "IkSolutions", "Measurements",
-           "Plan", "Robot", "Singularity", "calibrate", "compensate", "export", "identifiability", "ik", "ik_all",
-           "load", "plan", "read_measurements", "simulate"]
+           "Plan", "Robot", "Singularity", "SingularityBatch", "calibrate", "compensate", "export", "identifiability",
+           "ik", "ik_all", "load", "plan", "read_measurements", "simulate"]

@@ -65,10 +65,13 @@ class Robot:
         """The same robot seen from another frame: fk(q) becomes T @ fk(q)."""
     def fk(self, q: ArrayLike, model: Optional[Literal["poe", "dh"]] = None, out: Optional[Array] = None) -> Array:
         """q (n,) -> (4, 4); q (N, n) -> (N, 4, 4) (batched, GIL released); out: filled and returned."""
-    def jacobian(self, q: ArrayLike, frame: Literal["spatial", "body", "geometric"] = "spatial") -> Array:
-        """(6, n); spatial/body rows [w; v], geometric rows [v; w]."""
+    def jacobian(self, q: ArrayLike, frame: Literal["spatial", "body", "geometric"] = "spatial",
+                 out: Optional[Array] = None) -> Array:
+        """q (n,) -> (6, n); q (N, n) -> (N, 6, n) (batched, GIL released); spatial/body rows [w; v], geometric rows
+        [v; w]; out: filled and returned."""
     def dh(self, parallel_threshold: float = 0.0, modified: bool = False) -> DhTable: ...
-    def singular(self, q: ArrayLike) -> Singularity: ...
+    def singular(self, q: ArrayLike) -> Union[Singularity, SingularityBatch]:
+        """q (n,) -> Singularity; q (N, n) -> SingularityBatch (the rank rule at every row)."""
     def save(self, path: "str | os.PathLike[str]") -> None: ...
 
 class DhTable:
@@ -127,6 +130,25 @@ class Singularity:
     def null_space(self) -> Array: ...
     def to_dict(self) -> Dict[str, Any]:
         """The content of `lowpair singular --json`."""
+
+class SingularityBatch:
+    """Robot.singular(Q), Q (N, n): a row per configuration."""
+    @property
+    def rank(self) -> IntArray: ...
+    @property
+    def singular(self) -> BoolArray: ...
+    @property
+    def sigma_min(self) -> Array: ...
+    @property
+    def manipulability(self) -> Array: ...
+    @property
+    def condition(self) -> Array: ...
+    @property
+    def tolerance(self) -> Array: ...
+    @property
+    def singular_values(self) -> Array:
+        """(N, min(6, n))."""
+    def __len__(self) -> int: ...
 
 class Identifiability:
     @property
