@@ -34,3 +34,8 @@
       throw std::invalid_argument(lp_check_stream_.str()); \
     }                                                      \
   } while (false)
+
+namespace lowpair::detail {
+/// "1 joint", "6 joints": a count and its noun, for check messages.
+inline std::string counted(long long n, const char* noun) { return std::to_string(n) + " " + noun + (n == 1 ? "" : "s"); }
+}  // namespace lowpair::detail
