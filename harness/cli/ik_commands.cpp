@@ -408,23 +408,10 @@ int runCompensate(const CompensateOptions& o) {
   std::vector<VecX> rows_q;  // (only --approach reads them)
   for (Eigen::Index k = 0; !o.approach.empty() && k < q_nominal.rows(); ++k) rows_q.push_back(q_nominal.row(k).transpose());
   const std::vector<VecX> signs = commands::approachSigns(o.approach, rows_q, n, false, cliSpelling());
-  const JointDeflection applied = commands::appliedDeflection(calibrated_file, !signs.empty());
-  const bool compliance = !applied.empty();
   const std::string deflection_note = commands::deflectionNote(calibrated_file, !signs.empty());
   if (!deflection_note.empty()) std::cerr << "note: " << deflection_note << "\n";
-  if (compliance) {
-    const MassModel masses = calibrated_file.masses.value_or(MassModel{});
-    for (size_t k = 0; k < rows.size(); ++k) {
-      IkRow& row = rows[k];
-      if (const std::optional<VecX> command = commandFor(calibrated, masses, applied, row.result.q, signs.empty() ? VecX() : signs[k])) {
-        row.result.q = *command;
-      } else {
-        row.result.status = IkStatus::NotConverged;
-        row.result.converged = false;
-        row.result.reason = "the command under the compliance did not converge (commandFor, docs/calibration.md)";
-      }
-    }
-  }
+  commands::applyDeflection(calibrated_file, calibrated, rows, signs);
+  const JointDeflection applied = commands::appliedDeflection(calibrated_file, !signs.empty());  // (JSON's flags)
   const Summary s = summarize(rows);
   const bool pose = options.measure == Measure::Pose;
   const std::string command = "lowpair compensate " + o.calibrated.path +

@@ -5,7 +5,9 @@
 #include <array>
 #include <cmath>
 
+#include "commands/deflection_inputs.hpp"
 #include "io/output.hpp"
+#include "lowpair/deflection.hpp"
 #include "lowpair/interrupt.hpp"
 
 namespace lowpair::commands {
@@ -197,6 +199,24 @@ std::string undeterminedToolNote(const io::RobotFile& calibrated, bool pose) {
            " has tool_frame: origin: calibrated from position measurements); its origin is compensated";
   }
   return "";
+}
+
+bool applyDeflection(const io::RobotFile& calibrated_file, const PoeModel& calibrated, std::vector<IkRow>& rows,
+                     const std::vector<VecX>& signs) {
+  const JointDeflection applied = appliedDeflection(calibrated_file, !signs.empty());
+  if (applied.empty()) return false;
+  const MassModel masses = calibrated_file.masses.value_or(MassModel{});
+  for (size_t k = 0; k < rows.size(); ++k) {
+    IkRow& row = rows[k];
+    if (const std::optional<VecX> command = commandFor(calibrated, masses, applied, row.result.q, signs.empty() ? VecX() : signs[k])) {
+      row.result.q = *command;
+    } else {
+      row.result.status = IkStatus::NotConverged;
+      row.result.converged = false;
+      row.result.reason = "the command under the compliance did not converge (commandFor, docs/calibration.md)";
+    }
+  }
+  return true;
 }
 
 }  // namespace lowpair::commands

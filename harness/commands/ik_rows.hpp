@@ -83,6 +83,13 @@ IkAllRow solveAll(const PoeModel& model, ClosedFormWorkspace* closed, Data& data
                   size_t row, int seeds, unsigned long long seed, const std::vector<Range>& ranges,
                   const IkOptions& options, long long line);
 
+/// A deflecting calibrated robot's commands (docs/calibration.md "Beyond geometry"): with appliedDeflection of
+/// `calibrated_file` (its compliance under its masses; its backlash when `signs`, one approach-sign vector per row,
+/// are given), each row's solution q becomes the command whose joints, deflected, stand at q (commandFor); a row whose
+/// command does not converge becomes not_converged. Returns whether a deflection applied (rows unchanged if not).
+bool applyDeflection(const io::RobotFile& calibrated_file, const PoeModel& calibrated, std::vector<IkRow>& rows,
+                     const std::vector<VecX>& signs);
+
 /// Whether compensateJointRows can keep branches for these models and options, and if not why ("" when it can):
 /// both robots need a closed form, the task a pose.
 std::string branchUnavailable(const PoeModel& nominal, const PoeModel& calibrated, const IkOptions& options);

@@ -162,9 +162,9 @@ enum class Fill { Tool, Frames, Jacobian };
 // z axis Z and origin P as vectors of their three rows (the batch's JacobianBlock writes the same per lane).
 LP_ALWAYS_INLINE inline void spatialColumn(const ChainLink& link, Vec4d Z, Vec4d P, double* column) {
   const double j = link.motion.scale * link.turn, k = link.motion.scale * link.slide;
-  const Vec4u yzx{1, 2, 0, 3}, zxy{2, 0, 1, 3};
-  const Vec4d o_cross_z =
-      __builtin_shuffle(P, yzx) * __builtin_shuffle(Z, zxy) - __builtin_shuffle(P, zxy) * __builtin_shuffle(Z, yzx);
+  // o x z by the rows (y, z, x) and (z, x, y) of each vector (__builtin_shufflevector: GCC 12 and clang)
+  const Vec4d o_cross_z = __builtin_shufflevector(P, P, 1, 2, 0, 3) * __builtin_shufflevector(Z, Z, 2, 0, 1, 3) -
+                          __builtin_shufflevector(P, P, 2, 0, 1, 3) * __builtin_shufflevector(Z, Z, 1, 2, 0, 3);
   storeColumn(column, j * Z);
   storeColumn(column + 3, j * o_cross_z + k * Z);
 }

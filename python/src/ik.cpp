@@ -290,12 +290,15 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
   options.measure = measure == "pose" ? Measure::Pose : Measure::Position;
   options.validate("compensate");
   IkSolutions s;
+  bool compliance = false;
   {
     py::gil_scoped_release release;
     std::vector<long long> lines(static_cast<size_t>(Q.rows()));
     for (size_t k = 0; k < lines.size(); ++k) lines[k] = static_cast<long long>(k);
     const bool branch = !seeded && commands::branchUnavailable(nominal.poe, calibrated.poe, options).empty();
     s.rows = commands::compensateJointRows(nominal.poe, calibrated.poe, Q, lines, options, branch);
+    // a calibrated file's compliance (with its masses), as `lowpair compensate` applies it (backlash: no approach signs)
+    compliance = commands::applyDeflection(calibrated.file, calibrated.poe, s.rows, {});
   }
   long long kept = 0;
   for (const commands::IkRow& row : s.rows) kept += row.branch.has_value();
@@ -307,6 +310,7 @@ IkSolutions compensateRows(const Robot& calibrated, const Robot& nominal, const 
          {"measure", measure},
          {"counts", commands::ikCountsJson(s.rows)},
          {"branch_kept", kept}};
+  if (compliance) s.j["compliance_applied"] = true;  // (only then, as the CLI's JSON)
   const std::string tool_note = commands::undeterminedToolNote(calibrated.file, measure == "pose");
   s.j["tool_determined"] = tool_note.empty();
   s.j["tool_note"] = tool_note.empty() ? json(nullptr) : json(tool_note);

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "commands/deflection_inputs.hpp"
 #include "expose.hpp"
 #include "fk_batch.hpp"
 #include "io/output.hpp"
@@ -54,6 +55,19 @@ const double* batchInput(const Robot& r, const double* q, py::ssize_t count, con
   return q;
 }
 
+// The joint values a compliant file's robot stands at for each of the `count` rows of `q` (standingJoints), moved
+// into `rows` once all are computed (q may be rows' own data). Returns rows' data.
+const double* standingRows(const Robot& r, const double* q, py::ssize_t count, std::vector<double>& rows) {
+  const int dof = r.dof();
+  std::vector<double> standing(static_cast<size_t>(count) * static_cast<size_t>(dof));
+  for (py::ssize_t k = 0; k < count; ++k) {
+    const VecX row = Eigen::Map<const VecX>(q + k * dof, dof);
+    Eigen::Map<VecX>(standing.data() + k * dof, dof) = commands::standingJoints(r.file, r.poe, row);
+  }
+  rows = std::move(standing);
+  return rows.data();
+}
+
 }  // namespace
 
 py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::string>& model,
@@ -76,15 +90,18 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
       result = newArray<2>({4, 4});
       dst = result.mutable_data();
     }
+    // a file's compliance (calibrate --compliance --out) applies as in `lowpair fk`: the joints stand at q + c tau(q)
+    const VecX standing = commands::appliesCompliance(r.file) ? commands::standingJoints(r.file, r.poe, x) : VecX();
+    const Eigen::Map<const VecX> at(standing.size() > 0 ? standing.data() : x.data(), dof);
     // no GIL release: one FK costs less than releasing and taking it again (docs/python.md, "Speed")
     if (kind == "poe") {
       Data& data = threadData(r.poe.chain(), dof);
-      forwardKinematics(r.poe, data, x);
+      forwardKinematics(r.poe, data, at);
       writePose(data.T_base_tool, dst);
     } else {
       const DhModel& dh = r.dhModel();
       Data& data = threadData(dh.chain(), dof);
-      forwardKinematics(dh, data, x);
+      forwardKinematics(dh, data, at);
       writePose(data.T_base_tool, dst);
     }
     if (out_arg) return *out_arg;
@@ -109,6 +126,7 @@ py::object fk(const Robot& r, const py::object& q_arg, const std::optional<std::
     py::gil_scoped_release release;
     std::vector<double> copy;
     const double* x = batchInput(r, q.data(), count, out_arg ? dst : nullptr, 16, copy);
+    if (commands::appliesCompliance(r.file)) x = standingRows(r, x, count, copy);
     fkBatchInto(r, kind == "poe", x, count, dst);
   }
   if (out_arg) return *out_arg;

@@ -64,7 +64,8 @@ class Robot:
     def transformed(self, T: ArrayLike) -> Robot:
         """The same robot seen from another frame: fk(q) becomes T @ fk(q)."""
     def fk(self, q: ArrayLike, model: Optional[Literal["poe", "dh"]] = None, out: Optional[Array] = None) -> Array:
-        """q (n,) -> (4, 4); q (N, n) -> (N, 4, 4) (batched, GIL released); out: filled and returned."""
+        """q (n,) -> (4, 4); q (N, n) -> (N, 4, 4) (batched, GIL released); out: filled and returned. A file's
+        compliance (with masses) applies as in `lowpair fk`: the joints stand at q + c tau(q)."""
     def jacobian(self, q: ArrayLike, frame: Literal["spatial", "body", "geometric"] = "spatial",
                  out: Optional[Array] = None) -> Array:
         """q (n,) -> (6, n); q (N, n) -> (N, 6, n) (batched, GIL released); spatial/body rows [w; v], geometric rows
