@@ -1,10 +1,12 @@
-// lowpair plan --tracker (docs/plan.md "Line of sight"): on the PUMA 560 and the Stanford arm with capsule
-// geometry and on a Menagerie-style arm on a table with a fixture, every planned pose is checked here, independently, in MuJoCo
-// (the MJCF loaded as it is: mj_forward, ncon, mj_ray from the tracker to each SMR at the tool site, the angle
-// to its normal); --partial's measured lists are checked both ways (listed: seen; not listed: hidden); the
-// plan beats the best of 100 random sets of the feasible candidates; a tracker inside the world's geometry
-// (exit 2), no feasible candidate (exit 1, nothing written), bad --tracker/--smr-angle/normal (exit 2); and
-// the loop: the planned poses simulated on an actual robot and calibrated.
+// lowpair plan --tracker (docs/plan.md "Line of sight"): on the four bundled robots with capsule geometry (the
+// PUMA 560, the Stanford arm, the Rhino XR-3 on its slide, the elbow manipulator) and on a Menagerie-style arm on a
+// table with a fixture, every planned pose is checked here, independently, in MuJoCo (the MJCF loaded as it is:
+// mj_forward, ncon, mj_ray from the tracker to each SMR at the tool site, the angle to its normal; a slide's q
+// scaled to metres; the floor by the moving geoms' lowest points); --partial's measured lists are checked both ways
+// (listed: seen; not listed: hidden); the plan beats the best of 100 random sets of the feasible candidates; a
+// tracker inside the world's geometry (exit 2), no feasible candidate (exit 1, nothing written), bad
+// --tracker/--smr-angle/normal (exit 2); and the loop: the planned poses simulated on an actual robot and
+// calibrated.
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
@@ -50,6 +52,12 @@ const Case kCell{kCellYaml, kCellXml, 1.0, {1.2, -0.6, 0.8}, "--candidates 3000"
 // the Stanford arm: its floor at the pedestal's foot (z = 0)
 const Case kStanford{kData + "stanford_smr.yaml", kData + "stanford_capsules.xml", 1.0, {1.2, 0.8, 1.6},
                      "--floor 0 --candidates 3000", {0, 0, 1}};
+// the Rhino XR-3 on its slide (cm; the MJCF in metres): its floor 5 mm below the carriage
+const Case kRhino{kData + "rhino_smr.yaml", kData + "rhino_capsules.xml", 0.01, {120, 50, 40},
+                  "--floor -1.5 --candidates 3000", {0, 0, 1}};
+// the elbow manipulator: its floor at the pedestal's foot (z = 0)
+const Case kElbow{kData + "elbow_smr.yaml", kData + "elbow_capsules.xml", 1.0, {3, 1.5, 2},
+                  "--floor 0 --candidates 3000", {0, 1, 0}};
 
 std::string trackerText(const Case& c) {
   return std::to_string(c.tracker[0]) + "," + std::to_string(c.tracker[1]) + "," + std::to_string(c.tracker[2]);
@@ -65,15 +73,21 @@ json plan(const Case& c, const std::string& args) {
 // The MJCF loaded by MuJoCo as it is: the independent judge of contacts and rays.
 class Judge {
  public:
-  explicit Judge(const std::string& xml)
-      : m_(mj_loadXML(xml.c_str(), nullptr, error_, sizeof error_), mj_deleteModel), d_(nullptr, mj_deleteData) {
+  explicit Judge(const Case& c)
+      : m_(mj_loadXML(c.xml.c_str(), nullptr, error_, sizeof error_), mj_deleteModel),
+        d_(nullptr, mj_deleteData),
+        metres_(c.metres) {
     if (m_) d_.reset(mj_makeData(m_.get()));
   }
   bool loaded() const { return m_ && d_; }
-  // mj_forward at q (every hinge of these models is a chain joint, in order; qpos = qpos0 + q)
+  const char* error() const { return error_; }
+  // mj_forward at q (every joint of these models is a chain joint, in order; qpos = qpos0 + q, a slide's q
+  // from the robot file's unit to MuJoCo's metres)
   int contactsAt(const std::vector<double>& q) {
     mju_copy(d_->qpos, m_->qpos0, m_->nq);
-    for (size_t i = 0; i < q.size(); ++i) d_->qpos[m_->jnt_qposadr[i]] += q[i];
+    for (size_t i = 0; i < q.size(); ++i) {
+      d_->qpos[m_->jnt_qposadr[i]] += m_->jnt_type[i] == mjJNT_SLIDE ? q[i] * metres_ : q[i];
+    }
     mj_forward(m_.get(), d_.get());
     return d_->ncon;
   }
@@ -127,6 +141,7 @@ class Judge {
   char error_[1000] = "";
   std::unique_ptr<mjModel, void (*)(mjModel*)> m_;
   std::unique_ptr<mjData, void (*)(mjData*)> d_;
+  double metres_;
 };
 
 // The robot file's targets in metres, their unit normals.
@@ -153,8 +168,8 @@ std::vector<double> trackerMetres(const Case& c) {
 // Every planned pose contact-free and every target it lists seen; with `both_ways`, every target it does not
 // list hidden.
 void checkPlanInMujoco(const Case& c, const json& j, bool both_ways) {
-  Judge judge(c.xml);
-  ASSERT_TRUE(judge.loaded());
+  Judge judge(c);
+  ASSERT_TRUE(judge.loaded()) << judge.error();
   const Smrs s = smrs(j, c);
   const auto q = j["q"].get<std::vector<std::vector<double>>>();
   ASSERT_EQ(j["measured"].size(), q.size());
@@ -198,6 +213,17 @@ json checkedPlan(const Case& c, int poses, const std::vector<std::string>& reaso
   return j;
 }
 
+// The floor (not in the judge's model, at `floor` in the robot file's unit): every moving geom above it at every
+// planned pose.
+void checkAboveFloor(const Case& c, const json& j, double floor) {
+  Judge judge(c);
+  ASSERT_TRUE(judge.loaded()) << judge.error();
+  for (const auto& q : j["q"].get<std::vector<std::vector<double>>>()) {
+    judge.contactsAt(q);
+    EXPECT_GE(judge.lowestMovingPoint(), floor * c.metres);
+  }
+}
+
 }  // namespace
 
 TEST(PlanSight, PumaCapsulesEveryPlannedPoseIsFreeAndSeesEverySmr) {
@@ -213,12 +239,20 @@ TEST(PlanSight, StanfordCapsulesEveryPlannedPoseIsFreeAndSeesEverySmr) {
   const json j = checkedPlan(kStanford, 12, {"world", "floor", "occluded", "angle"});
   ASSERT_FALSE(j.empty());
   EXPECT_EQ(j["feasibility"]["rejected"]["self_collision"].get<int>(), 0);
-  // the floor (not in the judge's model): every moving geom above z = 0 at every planned pose
-  Judge judge(kStanford.xml);
-  for (const auto& q : j["q"].get<std::vector<std::vector<double>>>()) {
-    judge.contactsAt(q);
-    EXPECT_GE(judge.lowestMovingPoint(), 0.0);
-  }
+  checkAboveFloor(kStanford, j, 0.0);
+}
+
+TEST(PlanSight, RhinoCapsulesEveryPlannedPoseIsFreeAndSeesEverySmr) {
+  // five revolute joints on a slide in cm: the judge moves the carriage by q1 x 0.01 m
+  const json j = checkedPlan(kRhino, 12, {"self_collision", "world", "floor", "occluded", "angle"});
+  ASSERT_FALSE(j.empty());
+  checkAboveFloor(kRhino, j, -1.5);
+}
+
+TEST(PlanSight, ElbowCapsulesEveryPlannedPoseIsFreeAndSeesEverySmr) {
+  const json j = checkedPlan(kElbow, 12, {"self_collision", "world", "floor", "occluded", "angle"});
+  ASSERT_FALSE(j.empty());
+  checkAboveFloor(kElbow, j, 0.0);
 }
 
 TEST(PlanSight, PartialListsExactlyTheTargetsEachPoseSees) {
