@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <filesystem>
 
-#include <unistd.h>
 
 #include "io/robot_file.hpp"
 #include "mujoco/messages.hpp"
@@ -23,15 +22,10 @@ using tinyxml2::XMLElement;
 
 constexpr const char* kFloorName = "lowpair-floor";
 
-// A temporary .xml file, removed with the object.
+// A temporary .xml file (createTemporaryFile), removed with the object.
 struct TempXml {
   std::string path;
-  explicit TempXml(const std::string& model) {
-    path = (fs::temp_directory_path() / "lowpair_floor_XXXXXX.xml").string();
-    const int fd = mkstemps(path.data(), 4);
-    if (fd < 0) io::failFile(model, "cannot create a temporary copy in " + fs::temp_directory_path().string());
-    ::close(fd);
-  }
+  explicit TempXml(const std::string& model) : path(createTemporaryFile(model, "lowpair_floor", ".xml")) {}
   ~TempXml() { std::remove(path.c_str()); }
 };
 

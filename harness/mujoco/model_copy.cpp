@@ -563,16 +563,20 @@ class Copier {
 
 }  // namespace
 
+std::string createTemporaryFile(const std::string& model, const std::string& stem, const std::string& ext) {
+  // mkstemps replaces the six Xs with a unique suffix and keeps the extension
+  std::string path = (fs::temp_directory_path() / (stem + "_XXXXXX" + ext)).string();
+  const int fd = mkstemps(path.data(), static_cast<int>(ext.size()));
+  if (fd < 0) throw RobotFileError(model + ": cannot create a temporary copy in " + fs::temp_directory_path().string());
+  ::close(fd);
+  return path;
+}
+
 ModelCopy::ModelCopy(const std::string& path, std::vector<std::string>* notes, CopyContent content) {
   std::vector<std::string> local;
   Copier copier(path, &local, content);
   const bool mjcf = copier.build() == "mujoco";
-  // mkstemps replaces the six Xs with a unique suffix and keeps the extension
-  const std::string ext = mjcf ? ".xml" : ".urdf";
-  std::string copy = (fs::temp_directory_path() / ("lowpair_model_XXXXXX" + ext)).string();
-  const int fd = mkstemps(copy.data(), static_cast<int>(ext.size()));
-  if (fd < 0) throw RobotFileError(path + ": cannot create a temporary copy in " + fs::temp_directory_path().string());
-  ::close(fd);
+  const std::string copy = createTemporaryFile(path, "lowpair_model", mjcf ? ".xml" : ".urdf");
   try {
     copier.trialLoad(copy, mjcf);
   } catch (...) {

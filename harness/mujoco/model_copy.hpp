@@ -62,7 +62,12 @@ enum class CopyContent {
   Collision,   ///< collision geoms, contact pairs/excludes and meshes kept (no `<inertial>`)
 };
 
-/// A temporary kinematics-only copy (a unique file in the temp folder, made with mkstemps); the file is
+/// A new empty file `STEM_XXXXXX.EXT` in the temp folder, its six Xs made unique by mkstemps; the caller removes it.
+/// @param ext the extension with its dot (".xml")
+/// @throws io::RobotFileError ("MODEL: cannot create a temporary copy in DIR")
+std::string createTemporaryFile(const std::string& model, const std::string& stem, const std::string& ext);
+
+/// A temporary kinematics-only copy (a unique file in the temp folder, createTemporaryFile); the file is
 /// removed when the object is destroyed. It has been loaded by MuJoCo once when the constructor returns.
 class ModelCopy {
  public:

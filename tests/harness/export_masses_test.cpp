@@ -93,10 +93,18 @@ TEST(ExportMasses, MjcfCarriesTheFilesGravity) {
 }
 
 // A file without masses exports as before: token-mass inertials, zero gravity in the MJCF.
-TEST(ExportMasses, WithoutMassesThePlaceholdersAndZeroGravityStay) {
+TEST(ExportMasses, WithoutMassesTheTokenMassesAndZeroGravityStay) {
   const RobotFile file = readRobotFile(std::string(LOWPAIR_MODELS) + "/puma560_corke.yaml");
   ASSERT_FALSE(file.masses.has_value());
   const std::string mjcf = exportRobot(file, ExportFormat::Mjcf, {}).text;
+  // every inertial the 1 g token mass (a simulator needs one), none other
+  size_t token = 0, masses = 0;
+  for (size_t at = mjcf.find("mass=\""); at != std::string::npos; at = mjcf.find("mass=\"", at + 1)) {
+    ++masses;
+    token += mjcf.compare(at, 12, "mass=\"0.001\"") == 0;
+  }
+  EXPECT_GT(masses, 0u);
+  EXPECT_EQ(token, masses);
   EXPECT_NE(mjcf.find("gravity=\"0 0 0\""), std::string::npos);
   EXPECT_EQ(mjcf.find("payload"), std::string::npos);
   const std::string urdf = exportRobot(file, ExportFormat::Urdf, {}).text;
